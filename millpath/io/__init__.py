@@ -1,0 +1,1 @@
+"""File formats: tool tables, tool libraries, atomic output."""

@@ -1,0 +1,111 @@
+"""TOML tool library: ``[[tools]]`` tables carrying everything a :class:`Tool` has.
+
+Keys: ``number`` (required), ``type`` (flat | ball | bull | drill), ``diameter``,
+``corner_radius`` (bull), ``flutes``, ``flute_length``, ``stickout`` (holder face to
+tip), ``holder`` (``[[diameter, length], ...]`` from the holder face upward),
+``material``, ``point_angle`` (drill, degrees), ``shank_diameter``, ``length`` (gauge
+length for the tool table; default stickout + holder), ``comment``. Lengths are in the
+job's units.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from pathlib import Path
+from typing import Any
+
+import tomli_w
+
+from millpath.errors import JobError
+from millpath.job.schema import Param, validate
+from millpath.model.tool import TOOL_TYPES, Tool
+
+TOOL = {
+    "number": Param("int", positive=True),
+    "type": Param("str", "flat", choices=TOOL_TYPES),
+    "diameter": Param("float", positive=True),
+    "corner_radius": Param("float", 0.0, nonneg=True),
+    "flutes": Param("int", 2, positive=True),
+    "flute_length": Param("float", None, positive=True),
+    "stickout": Param("float", None, positive=True),
+    "holder": Param("list", []),
+    "material": Param("str", "carbide"),
+    "point_angle": Param("float", 118.0, positive=True),
+    "shank_diameter": Param("float", None, positive=True),
+    "length": Param("float", None, positive=True),
+    "comment": Param("str", ""),
+}
+
+
+def tools_from_tables(tables: Any, file: str | Path | None = None,
+                      units: str = "mm") -> dict[int, Tool]:
+    """Validate a list of ``[[tools]]`` tables and build Tools keyed by number."""
+    if not isinstance(tables, list):
+        raise JobError("tools: expected an array of tables [[tools]]", file)
+    out: dict[int, Tool] = {}
+    for i, t in enumerate(tables):
+        where = f"tools[{i}]"
+        v = validate(t, TOOL, where, file)
+        holder = []
+        for j, h in enumerate(v["holder"]):
+            if (not isinstance(h, list) or len(h) != 2
+                    or not all(isinstance(x, (int, float)) and not isinstance(x, bool) and x > 0
+                               for x in h)):
+                raise JobError(f"{where}.holder[{j}]: expected [diameter, length] > 0", file)
+            holder.append((float(h[0]), float(h[1])))
+        if v["number"] in out:
+            raise JobError(f"{where}.number: tool {v['number']} is defined twice", file)
+        d = v["diameter"]
+        scale = 25.4 if units == "mm" else 1.0
+        flute = v["flute_length"] or max(3.0 * d, 0.5 * scale)
+        stick = v["stickout"] or max(flute + 0.2 * scale, 1.5 * flute)
+        try:
+            out[v["number"]] = Tool(
+                number=v["number"], type=v["type"], diameter=d,
+                corner_radius=v["corner_radius"], flutes=v["flutes"], flute_length=flute,
+                stickout=stick, holder=holder, material=v["material"],
+                point_angle=v["point_angle"], shank_diameter=v["shank_diameter"],
+                length=v["length"], comment=v["comment"])
+        except ValueError as e:
+            raise JobError(f"{where}: {e}", file) from None
+        if flute > stick:
+            raise JobError(f"{where}.flute_length: longer than the stickout", file)
+    return out
+
+
+def read_tool_library(path: str | Path, units: str = "mm") -> dict[int, Tool]:
+    """Read a TOML tool library file (``[[tools]]`` entries)."""
+    p = Path(path)
+    try:
+        data = tomllib.loads(p.read_text(encoding="utf-8"))
+    except tomllib.TOMLDecodeError as e:
+        raise JobError(f"invalid TOML: {getattr(e, 'msg', e)}", p,
+                       getattr(e, "lineno", None)) from None
+    for k in data:
+        if k not in ("tools", "units"):
+            raise JobError(f"{k}: unknown key (allowed: tools, units)", p)
+    return tools_from_tables(data.get("tools", []), p, data.get("units", units))
+
+
+def tool_to_table(t: Tool) -> dict[str, Any]:
+    d: dict[str, Any] = {"number": t.number, "type": t.type, "diameter": t.diameter}
+    if t.type == "bull":
+        d["corner_radius"] = t.corner_radius
+    d.update(flutes=t.flutes, flute_length=t.flute_length, stickout=t.stickout,
+             holder=[[a, b] for a, b in t.holder], material=t.material)
+    if t.type == "drill":
+        d["point_angle"] = t.point_angle
+    if t.shank_diameter is not None:
+        d["shank_diameter"] = t.shank_diameter
+    if t.length is not None:
+        d["length"] = t.length
+    if t.comment:
+        d["comment"] = t.comment
+    return d
+
+
+def write_tool_library(tools: dict[int, Tool] | list[Tool], units: str = "mm") -> str:
+    """TOML text of a tool library; ``read_tool_library`` gives the same tools back."""
+    seq = tools.values() if isinstance(tools, dict) else tools
+    return tomli_w.dumps({"units": units,
+                          "tools": [tool_to_table(t) for t in sorted(seq, key=lambda t: t.number)]})

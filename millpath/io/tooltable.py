@@ -1,0 +1,117 @@
+"""LinuxCNC tool table files: ``T1 P1 D6.000 Z50.000 ;comment``.
+
+Each line: ``T`` tool number, ``P`` pocket, offsets ``X Y Z A B C U V W``, ``D``
+diameter, ``I J Q`` (lathe), then ``;`` and a comment. Values are in the machine's
+units: LinuxCNC's standalone ``rs274`` reads them as inches whatever the program's
+units; millpath writes them in the job's units and checks programs with matching
+machine units.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from millpath.errors import MillpathError
+
+_FIELDS = "XYZABCUVWDIJQ"
+
+
+@dataclass
+class ToolEntry:
+    """One tool table row. ``offsets`` maps axis letters (X..W) to length offsets."""
+
+    number: int
+    pocket: int
+    diameter: float = 0.0
+    offsets: dict[str, float] = field(default_factory=dict)
+    front_angle: float = 0.0
+    back_angle: float = 0.0
+    orientation: int = 0
+    comment: str = ""
+
+    @property
+    def z(self) -> float:
+        return self.offsets.get("Z", 0.0)
+
+
+def _fmt(v: float) -> str:
+    s = f"{v:.6f}".rstrip("0").rstrip(".")
+    return "0" if s in ("-0", "") else s
+
+
+def format_tool_table(entries: list[ToolEntry]) -> str:
+    lines = []
+    for e in sorted(entries, key=lambda e: e.number):
+        parts = [f"T{e.number}", f"P{e.pocket}"]
+        for a in "XYZABCUVW":
+            if a in e.offsets:
+                parts.append(f"{a}{_fmt(e.offsets[a])}")
+        parts.append(f"D{_fmt(e.diameter)}")
+        if e.front_angle:
+            parts.append(f"I{_fmt(e.front_angle)}")
+        if e.back_angle:
+            parts.append(f"J{_fmt(e.back_angle)}")
+        if e.orientation:
+            parts.append(f"Q{e.orientation}")
+        line = " ".join(parts)
+        if e.comment:
+            line += " ;" + e.comment.replace("\n", " ")
+        lines.append(line)
+    return "\n".join(lines) + "\n"
+
+
+def parse_tool_table(text: str, file: str | Path | None = None) -> list[ToolEntry]:
+    """Parse a LinuxCNC tool table; errors name the file and line."""
+    out: list[ToolEntry] = []
+    seen: set[int] = set()
+    for lineno, raw in enumerate(text.splitlines(), 1):
+        body, _, comment = raw.partition(";")
+        body = body.strip()
+        if not body:
+            continue
+        words: dict[str, float] = {}
+        for w in body.split():
+            letter, val = w[0].upper(), w[1:]
+            if letter not in "TP" + _FIELDS:
+                raise MillpathError(f"unknown word {w!r} in tool table", file, lineno)
+            if letter in words:
+                raise MillpathError(f"word {letter} given twice", file, lineno)
+            try:
+                num = float(val)
+            except ValueError:
+                raise MillpathError(f"bad number in word {w!r}", file, lineno) from None
+            if not math.isfinite(num):
+                raise MillpathError(f"non-finite number in word {w!r}", file, lineno)
+            words[letter] = num
+        if "T" not in words:
+            raise MillpathError("tool table line without a T word", file, lineno)
+        t = words["T"]
+        if t != int(t) or t < 0:
+            raise MillpathError(f"tool number must be a non-negative integer, got {t:g}",
+                                file, lineno)
+        if int(t) in seen:
+            raise MillpathError(f"tool {int(t)} listed twice", file, lineno)
+        seen.add(int(t))
+        out.append(ToolEntry(
+            number=int(t), pocket=int(words.get("P", t)), diameter=words.get("D", 0.0),
+            offsets={a: words[a] for a in "XYZABCUVW" if a in words},
+            front_angle=words.get("I", 0.0), back_angle=words.get("J", 0.0),
+            orientation=int(words.get("Q", 0)), comment=comment.strip()))
+    return out
+
+
+def read_tool_table(path: str | Path) -> list[ToolEntry]:
+    p = Path(path)
+    return parse_tool_table(p.read_text(encoding="utf-8", errors="replace"), p)
+
+
+def entries_from_tools(tools) -> list[ToolEntry]:
+    """Tool table rows for millpath Tools (Z = gauge length, D = diameter)."""
+    seq = tools.values() if isinstance(tools, dict) else tools
+    return [ToolEntry(number=t.number, pocket=t.number, diameter=t.diameter,
+                      offsets={"Z": t.gauge_length},
+                      comment=t.comment or f"{t.type} D{t.diameter:g}"
+                      + (f" R{t.corner_radius:g}" if t.type == "bull" else ""))
+            for t in seq]

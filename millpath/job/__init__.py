@@ -1,0 +1,1 @@
+"""Job files (TOML): stock, machine, tools and operations."""

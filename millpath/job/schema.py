@@ -1,0 +1,128 @@
+"""Validation of TOML tables against small schemas, with errors naming key and file.
+
+A schema maps each allowed key to a :class:`Param`. Unknown keys, missing required
+keys, wrong types, NaN and out-of-range values raise :class:`JobError`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Callable
+
+from millpath.errors import JobError
+
+REQUIRED = object()
+
+
+@dataclass(frozen=True)
+class Param:
+    """One key: ``kind`` is "float", "int", "bool", "str", "path", "list", "table",
+    "floats" (list of numbers), "points" (list of [x, y(, z)]) or "any"."""
+
+    kind: str
+    default: Any = REQUIRED
+    choices: tuple | None = None
+    positive: bool = False
+    nonneg: bool = False
+    doc: str = ""
+    length: int | None = None   # exact list length for "floats"
+    check: Callable[[Any], str | None] | None = None
+
+
+def _is_num(v: Any) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
+def _check_number(v: Any, key: str, p: Param, file: str | None) -> float:
+    if not _is_num(v):
+        raise JobError(f"{key}: expected a number, got {type(v).__name__} {v!r}", file)
+    if not math.isfinite(v):
+        raise JobError(f"{key}: must be finite, got {v!r}", file)
+    if p.positive and v <= 0:
+        raise JobError(f"{key}: must be positive, got {v!r}", file)
+    if p.nonneg and v < 0:
+        raise JobError(f"{key}: must not be negative, got {v!r}", file)
+    return v
+
+
+def _floats(v: Any, key: str, file: str | None) -> list[float]:
+    if not isinstance(v, list) or not all(_is_num(x) for x in v):
+        raise JobError(f"{key}: expected a list of numbers", file)
+    if not all(math.isfinite(x) for x in v):
+        raise JobError(f"{key}: numbers must be finite", file)
+    return [float(x) for x in v]
+
+
+def validate(table: Any, schema: dict[str, Param], where: str, file: str | Path | None,
+             base_dir: Path | None = None) -> dict[str, Any]:
+    """Check ``table`` against ``schema``; return a dict with defaults filled in.
+
+    ``where`` prefixes key names in messages (e.g. ``operations[2]``). Paths (kind
+    "path") are resolved relative to ``base_dir``.
+    """
+    f = str(file) if file is not None else None
+    if not isinstance(table, dict):
+        raise JobError(f"{where}: expected a table", f)
+    out: dict[str, Any] = {}
+    for key in table:
+        if key not in schema:
+            allowed = ", ".join(sorted(schema))
+            raise JobError(f"{where}.{key}: unknown key (allowed: {allowed})", f)
+    for key, p in schema.items():
+        name = f"{where}.{key}" if where else key
+        if key not in table:
+            if p.default is REQUIRED:
+                raise JobError(f"{name}: missing required key", f)
+            out[key] = p.default
+            continue
+        v = table[key]
+        if p.kind == "float":
+            v = float(_check_number(v, name, p, f))
+        elif p.kind == "int":
+            if not isinstance(v, int) or isinstance(v, bool):
+                raise JobError(f"{name}: expected an integer, got {v!r}", f)
+            _check_number(v, name, p, f)
+        elif p.kind == "bool":
+            if not isinstance(v, bool):
+                raise JobError(f"{name}: expected true or false, got {v!r}", f)
+        elif p.kind in ("str", "path"):
+            if not isinstance(v, str):
+                raise JobError(f"{name}: expected a string, got {v!r}", f)
+            if p.kind == "path":
+                path = Path(v)
+                if not path.is_absolute() and base_dir is not None:
+                    path = base_dir / path
+                v = path
+        elif p.kind == "floats":
+            v = _floats(v, name, f)
+            if p.length is not None and len(v) != p.length:
+                raise JobError(f"{name}: expected {p.length} numbers, got {len(v)}", f)
+            for x in v:
+                if p.positive and x <= 0:
+                    raise JobError(f"{name}: numbers must be positive", f)
+        elif p.kind == "points":
+            if not isinstance(v, list) or not v:
+                raise JobError(f"{name}: expected a list of points", f)
+            pts = []
+            for i, q in enumerate(v):
+                pts.append(_floats(q, f"{name}[{i}]", f))
+                if len(pts[-1]) not in (2, 3):
+                    raise JobError(f"{name}[{i}]: a point has 2 or 3 coordinates", f)
+            v = pts
+        elif p.kind == "list":
+            if not isinstance(v, list):
+                raise JobError(f"{name}: expected a list, got {v!r}", f)
+        elif p.kind == "table":
+            if not isinstance(v, dict):
+                raise JobError(f"{name}: expected a table, got {v!r}", f)
+        if p.choices is not None and v not in p.choices:
+            raise JobError(f"{name}: must be one of {', '.join(map(repr, p.choices))}, "
+                           f"got {v!r}", f)
+        if p.check is not None:
+            msg = p.check(v)
+            if msg:
+                raise JobError(f"{name}: {msg}", f)
+        out[key] = v
+    return out

@@ -1,0 +1,27 @@
+"""Operation types of job files and the modules that plan them.
+
+Modules are imported only when a job uses their type, so a missing optional
+dependency of one strategy does not break the others.
+"""
+
+from __future__ import annotations
+
+import importlib
+from types import ModuleType
+
+from millpath.errors import JobError
+
+STRATEGIES: dict[str, str] = {
+    "grid-pocket": "millpath.plan.gridpocket.operation",
+    "die-cavity": "millpath.plan.diecavity.operation",
+    "features": "millpath.plan.features.operation",
+    "surface-finish": "millpath.plan.surface.operation",
+}
+
+
+def strategy(op_type: str, where: str = "operations", file=None) -> ModuleType:
+    """The module planning ``op_type``; JobError if the type is unknown."""
+    if op_type not in STRATEGIES:
+        raise JobError(f"{where}.type: unknown operation type {op_type!r} "
+                       f"(known: {', '.join(sorted(STRATEGIES))})", file)
+    return importlib.import_module(STRATEGIES[op_type])
