@@ -1,0 +1,41 @@
+"""Shared fixtures: LinuxCNC's rs274 and the read-only ../shared material."""
+
+from __future__ import annotations
+
+import os
+import shutil
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _shared() -> Path | None:
+    env = os.environ.get("MILLPATH_SHARED")
+    for cand in ([Path(env)] if env else []) + [ROOT.parent / "shared"]:
+        if cand.is_dir():
+            return cand
+    return None
+
+
+@pytest.fixture(scope="session")
+def shared_dir() -> Path:
+    """The read-only ../shared folder (LinuxCNC test programs, STEP samples)."""
+    d = _shared()
+    if d is None:
+        pytest.skip("../shared is not present (only CI and developers have it)")
+    return d
+
+
+@pytest.fixture(scope="session")
+def rs274() -> str:
+    """Path of LinuxCNC's rs274; skip with a reason when missing (fail under CI)."""
+    exe = shutil.which("rs274") or ("/usr/bin/rs274" if os.path.exists("/usr/bin/rs274") else None)
+    if exe is None:
+        msg = ("LinuxCNC's rs274 is not installed: "
+               "apt-get install -y --no-install-recommends linuxcnc-uspace")
+        if os.environ.get("CI") == "true":
+            pytest.fail(msg)
+        pytest.skip(msg)
+    return exe
