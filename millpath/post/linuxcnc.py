@@ -1,0 +1,310 @@
+"""Post-processor for the LinuxCNC dialect of RS274NGC.
+
+Writes a :class:`~millpath.model.Toolpath` as a program: a safe preamble
+(``G17 G90 G94 G40 G49 G80``, ``G91.1`` incremental arc centres, ``G20``/``G21``), per
+operation a comment, tool change ``Tn M6`` with ``G43 Hn``, spindle (``M3``/``M4``)
+and coolant (``M7``/``M8``), then motion: ``G0``/``G1`` with modal motion codes and only
+the axes that change, ``G2``/``G3`` with ``I J K`` in ``G17``/``G18``/``G19`` (``P`` for
+extra turns), ``G5`` cubic Bezier splines in XY, canned drilling cycles
+(``G81 G82 G83 G73 G85 G89`` with ``G98``/``G99``) closed by ``G80``, cutter radius
+compensation ``G41``/``G42 Dn`` and ``G40``, and ``M2``.
+
+Numbers: 4 decimals in mm, 5 in inch, trailing zeros dropped, never ``-0``. Arc centres
+are recomputed from the *written* (rounded) start and end points so that LinuxCNC sees
+equal start and end radii.
+"""
+
+from __future__ import annotations
+
+import math
+
+from millpath.model import Tool, Toolpath
+from millpath.model.toolpath import PLANE_AXES, Move
+
+_PLANE_CODE = {"XY": "G17", "XZ": "G18", "YZ": "G19"}
+_IJK = "IJK"
+
+
+class _Fmt:
+    def __init__(self, units: str):
+        self.decimals = 5 if units == "inch" else 4
+        self.q = 10.0 ** -self.decimals
+
+    def r(self, v: float) -> float:
+        """The value as it will be written (rounded), as a float."""
+        return float(self.s(v))
+
+    def s(self, v: float) -> str:
+        t = f"{v:.{self.decimals}f}"
+        if "." in t:
+            t = t.rstrip("0").rstrip(".")
+        if t in ("-0", ""):
+            t = "0"
+        return t
+
+
+def _num(v: float, digits: int = 3) -> str:
+    t = f"{v:.{digits}f}"
+    if "." in t:
+        t = t.rstrip("0").rstrip(".")
+    return "0" if t in ("-0", "") else t
+
+
+def _comment(text: str) -> str:
+    clean = text.replace("(", "[").replace(")", "]").replace("\n", " ")
+    return f"({clean})"
+
+
+class _Writer:
+    def __init__(self, tp: Toolpath, tools: dict[int, Tool], title: str):
+        self.tp = tp
+        self.tools = tools
+        self.f = _Fmt(tp.units)
+        self.lines: list[str] = []
+        self.pos: list[float | None] = [None, None, None]   # last written position
+        self.motion: str | None = None
+        self.feed: float | None = None
+        self.plane = "XY"
+        self.tool: int | None = None
+        self.spindle: float | None = None
+        self.coolant = "off"
+        self.comp = "off"
+        self.cycle_key: tuple | None = None
+        self.title = title
+
+    # --- helpers ------------------------------------------------------------------
+    def emit(self, s: str) -> None:
+        self.lines.append(s)
+
+    def _feed_word(self, feed: float) -> str:
+        if feed <= 0 or not math.isfinite(feed):
+            raise ValueError(f"feed move with feed rate {feed!r}")
+        if self.feed is None or abs(feed - self.feed) > 1e-9:
+            self.feed = feed
+            return " F" + _num(feed)
+        return ""
+
+    def _end_cycle(self) -> None:
+        if self.cycle_key is not None:
+            self.emit("G80")
+            self.cycle_key = None
+            self.motion = None
+
+    def _set_plane(self, plane: str) -> None:
+        if plane != self.plane:
+            self.emit(_PLANE_CODE[plane])
+            self.plane = plane
+
+    def _axes(self, end, force: bool = False) -> str:
+        words = []
+        for i, a in enumerate("XYZ"):
+            v = self.f.r(end[i])
+            if force or self.pos[i] is None or v != self.pos[i]:
+                words.append(a + self.f.s(end[i]))
+        return " ".join(words)
+
+    def _moved(self, end) -> None:
+        self.pos = [self.f.r(v) for v in end]
+
+    # --- program parts ------------------------------------------------------------
+    def preamble(self) -> None:
+        if self.title:
+            self.emit(_comment(self.title))
+        self.emit(_comment(f"millpath post: LinuxCNC, units {self.tp.units}"))
+        used = sorted({op.tool for op in self.tp.ops})
+        for n in used:
+            t = self.tools.get(n)
+            if t is not None:
+                desc = f"T{n} {t.type} D{_num(t.diameter, 4)}"
+                if t.type == "bull":
+                    desc += f" R{_num(t.corner_radius, 4)}"
+                self.emit(_comment(desc + (f" {t.comment}" if t.comment else "")))
+        self.emit("G17 G90 G94 G40 G49 G80")
+        self.emit("G91.1")
+        self.emit("G20" if self.tp.units == "inch" else "G21")
+
+    def begin_op(self, i: int) -> None:
+        op = self.tp.ops[i]
+        self._end_cycle()
+        if self.comp != "off":
+            raise ValueError(f"operation {op.name!r} starts with cutter compensation on")
+        self.emit(_comment(f"operation {i + 1}: {op.type} - {op.name}"))
+        if op.tool != self.tool:
+            if self.tool is not None:
+                self.emit("M5")
+                if self.coolant != "off":
+                    self.emit("M9")
+                    self.coolant = "off"
+                self.spindle = None
+            self.emit(f"T{op.tool} M6")
+            self.emit(f"G43 H{op.tool}")
+            self.tool = op.tool
+            self.pos = [None, None, None]
+            self.motion = None
+        if op.spindle != self.spindle:
+            if op.spindle == 0:
+                self.emit("M5")
+            else:
+                code = "M3" if op.spindle > 0 else "M4"
+                self.emit(f"S{_num(abs(op.spindle), 0)} {code}")
+            self.spindle = op.spindle
+        if op.coolant != self.coolant:
+            self.emit({"flood": "M8", "mist": "M7", "off": "M9"}[op.coolant])
+            self.coolant = op.coolant
+
+    def move(self, m: Move) -> None:
+        k = m.kind
+        if k != "drill":
+            self._end_cycle()
+        if k == "rapid":
+            ax = self._axes(m.end)
+            if ax:
+                self.emit(("G0 " if self.motion != "G0" else "") + ax)
+                self.motion = "G0"
+            self._moved(m.end)
+        elif k == "line":
+            ax = self._axes(m.end)
+            fw = self._feed_word(m.feed)
+            if ax:
+                self.emit(("G1 " if self.motion != "G1" else "") + ax + fw)
+                self.motion = "G1"
+            elif fw:
+                self.emit(fw.strip())
+            self._moved(m.end)
+        elif k == "arc":
+            self.arc(m)
+        elif k == "cubic":
+            self.cubic(m)
+        elif k == "drill":
+            self.drill(m)
+        elif k == "comp":
+            self.compensation(m)
+        else:
+            raise ValueError(f"unknown move kind {k!r}")
+
+    def arc(self, m: Move) -> None:
+        if any(p is None for p in self.pos):
+            raise ValueError("an arc cannot be the first move after a tool change")
+        self._set_plane(m.plane)
+        a1, a2, an = PLANE_AXES[m.plane]
+        s = [float(p) for p in self.pos]              # written start
+        e = [self.f.r(v) for v in m.end]              # written end
+        c = m.center
+        assert c is not None
+        # centre on the bisector of the written chord nearest the planned centre
+        s1, s2, e1, e2 = s[a1], s[a2], e[a1], e[a2]
+        c1, c2 = c[a1], c[a2]
+        d1, d2 = e1 - s1, e2 - s2
+        chord = math.hypot(d1, d2)
+        if chord > 1e-12:
+            m1, m2 = (s1 + e1) / 2, (s2 + e2) / 2
+            n1, n2 = -d2 / chord, d1 / chord
+            t = (c1 - m1) * n1 + (c2 - m2) * n2
+            c1, c2 = m1 + t * n1, m2 + t * n2
+        i1, i2 = self.f.r(c1 - s1), self.f.r(c2 - s2)
+        r0 = math.hypot(i1, i2)
+        r1 = math.hypot(s1 + i1 - e1, s2 + i2 - e2)
+        if r0 < 10 * self.f.q:
+            raise ValueError(f"arc radius {r0:g} is too small to write")
+        if abs(r0 - r1) > 2 * self.f.q and chord > 1e-12:
+            raise ValueError(f"arc end point is not on the arc (radius {r0:g} vs {r1:g})")
+        code = "G2" if m.clockwise else "G3"
+        words = [code]
+        axes = "XYZ"
+        for ax in (a1, a2, an):
+            if ax == an and self.pos[ax] is not None and e[ax] == self.pos[ax]:
+                continue
+            if ax != an and chord <= 1e-12 and e[ax] == s[ax]:
+                continue        # full circle: end = start, axes may be left out
+            words.append(axes[ax] + self.f.s(e[ax]))
+        words.append(_IJK[a1] + self.f.s(i1))
+        words.append(_IJK[a2] + self.f.s(i2))
+        if m.turns > 1:
+            words.append(f"P{m.turns}")
+        self.emit(" ".join(words) + self._feed_word(m.feed))
+        self.motion = code
+        self.pos = list(e)
+
+    def cubic(self, m: Move) -> None:
+        if self.comp != "off":
+            raise ValueError("G5 splines cannot be written with cutter compensation on")
+        if any(p is None for p in self.pos):
+            raise ValueError("a cubic cannot be the first move after a tool change")
+        if self.f.r(m.end[2]) != self.pos[2]:
+            raise ValueError("G5 cubics stay at constant Z")
+        self._set_plane("XY")
+        assert m.c1 is not None and m.c2 is not None
+        s = self.pos
+        i, j = m.c1[0] - s[0], m.c1[1] - s[1]          # type: ignore[operator]
+        p, q = m.c2[0] - m.end[0], m.c2[1] - m.end[1]
+        self.emit(f"G5 X{self.f.s(m.end[0])} Y{self.f.s(m.end[1])} I{self.f.s(i)} "
+                  f"J{self.f.s(j)} P{self.f.s(p)} Q{self.f.s(q)}" + self._feed_word(m.feed))
+        self.motion = "G5"
+        self._moved(m.end)
+
+    def drill(self, m: Move) -> None:
+        if self.comp != "off":
+            raise ValueError("canned cycles cannot be used with cutter compensation on")
+        if any(p is None for p in self.pos):
+            raise ValueError("a drilling cycle cannot be the first move after a tool change")
+        self._set_plane("XY")
+        key = (m.cycle, self.f.r(m.end[2]), self.f.r(m.r_plane), m.peck, m.dwell,
+               m.retract_initial, m.feed)
+        initial_z = self.pos[2]
+        if key != self.cycle_key:
+            self._end_cycle()
+            words = ["G98" if m.retract_initial else "G99", m.cycle,
+                     f"X{self.f.s(m.end[0])}", f"Y{self.f.s(m.end[1])}",
+                     f"Z{self.f.s(m.end[2])}", f"R{self.f.s(m.r_plane)}"]
+            if m.cycle in ("G83", "G73"):
+                if m.peck <= 0:
+                    raise ValueError(f"{m.cycle} needs a positive peck increment")
+                words.append(f"Q{self.f.s(m.peck)}")
+            if m.cycle in ("G82", "G89") or (m.dwell and m.cycle in ("G83",)):
+                words.append(f"P{_num(m.dwell, 3)}")
+            self.feed = None
+            self.emit(" ".join(words) + self._feed_word(m.feed))
+            self.cycle_key = key
+            self.cycle_initial = initial_z
+        else:
+            self.emit(f"X{self.f.s(m.end[0])} Y{self.f.s(m.end[1])}")
+        z_clear = max(self.cycle_initial, self.f.r(m.r_plane)) if m.retract_initial \
+            else self.f.r(m.r_plane)
+        self.pos = [self.f.r(m.end[0]), self.f.r(m.end[1]), z_clear]
+
+    def compensation(self, m: Move) -> None:
+        self._end_cycle()
+        if m.comp == "off":
+            self.emit("G40")
+        else:
+            code = "G41" if m.comp == "left" else "G42"
+            self.emit(f"{code} D{m.comp_d}")
+        self.comp = m.comp
+
+    def end(self) -> None:
+        self._end_cycle()
+        if self.comp != "off":
+            self.emit("G40")
+        self.emit("M5")
+        if self.coolant != "off":
+            self.emit("M9")
+        self.emit("M2")
+
+
+def post(toolpath: Toolpath, tools: dict[int, Tool], *, title: str = "") -> str:
+    """RS274NGC text (LinuxCNC dialect) for ``toolpath``; ``tools`` gives tool comments.
+
+    Raises ValueError for moves LinuxCNC cannot run as written (non-positive feeds,
+    splines or cycles under cutter compensation, degenerate arcs).
+    """
+    toolpath.check_finite()
+    w = _Writer(toolpath, tools, title)
+    w.preamble()
+    current = -1
+    for m in toolpath.moves:
+        if m.op != current:
+            w.begin_op(m.op)
+            current = m.op
+        w.move(m)
+    w.end()
+    return "\n".join(w.lines) + "\n"
