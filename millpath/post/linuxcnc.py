@@ -297,14 +297,28 @@ def post(toolpath: Toolpath, tools: dict[int, Tool], *, title: str = "") -> str:
     Raises ValueError for moves LinuxCNC cannot run as written (non-positive feeds,
     splines or cycles under cutter compensation, degenerate arcs).
     """
+    return post_with_lines(toolpath, tools, title=title)[0]
+
+
+def post_with_lines(toolpath: Toolpath, tools: dict[int, Tool], *,
+                    title: str = "") -> tuple[str, list[int | None]]:
+    """Like :func:`post`, also returning for each move the 1-based program line that
+    carries it (None where the move writes no motion, e.g. a rapid to where the tool
+    already is)."""
     toolpath.check_finite()
     w = _Writer(toolpath, tools, title)
     w.preamble()
     current = -1
+    where: list[int | None] = []
     for m in toolpath.moves:
         if m.op != current:
             w.begin_op(m.op)
             current = m.op
+        before = len(w.lines)
         w.move(m)
+        if len(w.lines) == before or m.kind == "comp":
+            where.append(None)
+        else:
+            where.append(len(w.lines))
     w.end()
-    return "\n".join(w.lines) + "\n"
+    return "\n".join(w.lines) + "\n", where

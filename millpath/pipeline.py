@@ -1,0 +1,198 @@
+"""Run a job: plan -> fit -> post -> interpret -> simulate -> report.
+
+The program is written only if it interprets cleanly with millpath's own interpreter
+(machine units = the job's units, tool table = the job's tools) and the interpreted
+motion gives back the planned toolpath. All files of a run are written atomically:
+after an error nothing in the output folder has changed.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from millpath.errors import MillpathError, PlanningError
+from millpath.io.atomic import staged_dir
+from millpath.io.tooltable import entries_from_tools, format_tool_table
+from millpath.job.jobfile import Job, load_job
+from millpath.model import Stock, Toolpath
+from millpath.plan.base import PlanContext, PlanResult
+from millpath.plan.registry import strategy
+
+
+class MinDesign:
+    """The part after several operations: the lowest of their designs at each point."""
+
+    def __init__(self, designs: list[Any]):
+        self.designs = designs
+
+    def height(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+        z = np.asarray(self.designs[0].height(x, y), dtype=float)
+        for d in self.designs[1:]:
+            z = np.minimum(z, d.height(x, y))
+        return z
+
+
+@dataclass
+class RunResult:
+    job: Job
+    toolpath: Toolpath
+    program: str
+    report: dict[str, Any]
+    files: list[Path] = field(default_factory=list)
+    seconds: float = 0.0
+
+
+def plan_job(job: Job) -> tuple[Toolpath, list[PlanResult], Stock]:
+    """Plan every operation of ``job`` and join their toolpaths in order."""
+    ctx = PlanContext(units=job.units, stock=job.stock, machine=job.machine, tools=job.tools,
+                      base_dir=job.base_dir, job_file=job.path)
+    total = Toolpath(job.units)
+    results: list[PlanResult] = []
+    for i, (op_type, params) in enumerate(job.operations):
+        mod = strategy(op_type, f"operations[{i}]", job.path)
+        res = mod.plan(ctx, params)
+        if res.toolpath.units != job.units:
+            raise PlanningError(f"operations[{i}]: strategy returned {res.toolpath.units} "
+                                f"moves for a {job.units} job", job.path)
+        if ctx.stock is None and res.stock is not None:
+            ctx.stock = res.stock
+        try:
+            res.toolpath.check_finite()
+        except ValueError as e:
+            raise PlanningError(f"operations[{i}]: {e}", job.path) from None
+        total.extend(res.toolpath)
+        results.append(res)
+    stock = job.stock or ctx.stock
+    if stock is None:
+        raise MillpathError("stock: the job gives no [stock] box and no operation implies one",
+                            job.path)
+    if not total.moves:
+        raise PlanningError("the job's operations produced no moves", job.path)
+    return total, results, stock
+
+
+def _fit(job: Job, tp: Toolpath) -> Toolpath:
+    if job.fit == "none":
+        return tp
+    from millpath.fit import fit_toolpath
+    radius = max((job.tools[o.tool].radius for o in tp.ops if o.tool in job.tools), default=0.0)
+    return fit_toolpath(tp, job.fit_tolerance, job.fit, min_radius=radius)
+
+
+def default_resolution(job: Job, stock: Stock, tp: Toolpath) -> float:
+    """Simulation grid step: a tenth of the smallest tool diameter, but at most about
+    1500 cells along the longest stock side (job units)."""
+    if job.simulation.get("resolution"):
+        return float(job.simulation["resolution"])
+    d = min((job.tools[o.tool].diameter for o in tp.ops if o.tool in job.tools), default=1.0)
+    return max(d / 10.0, max(stock.size[0], stock.size[1]) / 1500.0)
+
+
+def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False) -> RunResult:
+    """Run the job file at ``job_path``, writing program.ngc, tools.tbl, report.json,
+    preview.png, stock.png and deviation.png into ``outdir``."""
+    t0 = time.perf_counter()
+    job = load_job(job_path)
+    tp, results, stock = plan_job(job)
+    tp = _fit(job, tp)
+
+    from millpath.post.linuxcnc import post_with_lines
+    title = f"{job.name}: {len(tp.ops)} operations, units {job.units}"
+    try:
+        program, move_lines = post_with_lines(tp, job.tools, title=title)
+    except ValueError as e:
+        raise PlanningError(f"cannot post the tool path: {e}", job.path) from None
+
+    from millpath.interpret import InterpreterError, interpret
+    try:
+        motions = interpret(program, job.tools, machine_units=job.units)
+    except InterpreterError as e:
+        raise MillpathError(f"the generated program does not interpret: line {e.line}: "
+                            f"{e.message}", job.path) from None
+    from millpath.verify.roundtrip import compare_toolpath
+    tol = 2e-4 if job.units == "mm" else 2e-5
+    diffs = compare_toolpath(tp, move_lines, motions, tol)
+    if diffs:
+        raise MillpathError("interpreted program differs from the planned tool path: "
+                            + diffs[0] + (f" (+{len(diffs) - 1} more)" if len(diffs) > 1 else ""),
+                            job.path)
+
+    designs = [r.design for r in results if r.design is not None]
+    design = MinDesign(designs) if designs else None
+    report: dict[str, Any] = {
+        "job": str(job.path) if job.path else None,
+        "name": job.name,
+        "units": job.units,
+        "program": "program.ngc",
+        "lines": program.count("\n"),
+        "bytes": len(program.encode()),
+        "moves": tp.counts(),
+        "stock": list(stock.box),
+        "fit": {"mode": job.fit, "tolerance": job.fit_tolerance},
+    }
+    sim = None
+    if job.simulation.get("enabled", True):
+        from millpath.simulate import simulate_motions, cycle_time
+        res = default_resolution(job, stock, tp)
+        sim = simulate_motions(motions, job.tools, stock, resolution=res, design=design,
+                               machine=job.machine, progress=progress)
+        report["verification"] = sim.to_json()
+        per_op = cycle_time(tp, job.machine, per_operation=True)
+    else:
+        from millpath.simulate import cycle_time
+        report["verification"] = {"skipped": "simulation disabled in the job"}
+        per_op = cycle_time(tp, job.machine, per_operation=True)
+    report["cycle_time_s"] = per_op["total"]
+    counts_by_op: dict[int, dict[str, int]] = {}
+    for m in tp.moves:
+        c = counts_by_op.setdefault(m.op, {"rapid": 0, "line": 0, "arc": 0, "cubic": 0,
+                                          "drill": 0})
+        if m.kind in c:
+            c[m.kind] += 1
+    report["operations"] = [
+        {"type": o.type, "name": o.name, "tool": o.tool, "spindle": o.spindle,
+         "moves": counts_by_op.get(i, {}), "cycle_time_s": per_op["operations"][i]}
+        for i, o in enumerate(tp.ops)]
+    for r in results:
+        for k, v in r.report.items():
+            if k in report and isinstance(report[k], dict) and isinstance(v, dict):
+                report[k].update(v)
+            elif k in report and isinstance(report[k], list) and isinstance(v, list):
+                report[k].extend(v)
+            else:
+                report[k] = v
+
+    from millpath.report.preview import render_preview
+    out = Path(outdir)
+    files = []
+    with staged_dir(out) as tmp:
+        (tmp / "program.ngc").write_text(program)
+        (tmp / "tools.tbl").write_text(
+            f"; millpath tool table, values in {job.units}\n"
+            + format_tool_table(entries_from_tools(job.tools)))
+        render_preview(tp, tmp / "preview.png", title=job.name)
+        if sim is not None:
+            from millpath.simulate import render_deviation, render_stock
+            render_stock(sim.zmap, tmp / "stock.png")
+            if design is not None:
+                render_deviation(sim.zmap, design, tmp / "deviation.png")
+        report["seconds"] = round(time.perf_counter() - t0, 3)
+        (tmp / "report.json").write_text(json.dumps(report, indent=2, default=_json_default))
+        files = [out / f.name for f in sorted(tmp.iterdir())]
+    return RunResult(job, tp, program, report, files, time.perf_counter() - t0)
+
+
+def _json_default(o: Any) -> Any:
+    if isinstance(o, (np.floating, np.integer)):
+        return o.item()
+    if isinstance(o, np.ndarray):
+        return o.tolist()
+    if isinstance(o, Path):
+        return str(o)
+    raise TypeError(f"cannot write {type(o).__name__} to JSON")

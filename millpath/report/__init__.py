@@ -1,0 +1,1 @@
+"""Reports: report.json contents and the tool path preview picture."""

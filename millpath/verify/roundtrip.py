@@ -1,0 +1,90 @@
+"""Round trip: the interpreted motion of a posted program must give back the toolpath.
+
+:func:`compare_toolpath` pairs each toolpath move with the motions the interpreter made
+for the program line that carries it (see ``post_with_lines``) and lists every
+difference beyond ``tol`` (job units). Moves under cutter radius compensation are moved
+by the control on purpose and are not compared point by point; canned cycles are
+compared by where they leave the tool.
+"""
+
+from __future__ import annotations
+
+from collections import defaultdict
+
+from millpath.interpret.motion import Motion
+from millpath.model import Toolpath
+from millpath.model.toolpath import PLANE_AXES
+
+_KIND = {"rapid": "traverse", "line": "feed", "arc": "arc", "cubic": "cubic"}
+
+
+def _dist(a, b) -> float:
+    return max(abs(p - q) for p, q in zip(a, b))
+
+
+def compare_toolpath(toolpath: Toolpath, move_lines: list[int | None],
+                     motions: list[Motion], tol: float) -> list[str]:
+    """Differences between the planned ``toolpath`` and interpreted ``motions``."""
+    by_line: dict[int, list[Motion]] = defaultdict(list)
+    for mo in motions:
+        if mo.kind != "dwell":
+            by_line[mo.line].append(mo)
+    diffs: list[str] = []
+    comp = "off"
+    pos = None
+    for i, (m, line) in enumerate(zip(toolpath.moves, move_lines)):
+        if m.kind == "comp":
+            comp = m.comp
+            continue
+        got = by_line.get(line, []) if line is not None else []
+        if comp != "off":
+            pos = m.end
+            continue
+        if m.kind in ("rapid", "line"):
+            if not got:
+                if pos is not None and _dist(pos, m.end) > tol:
+                    diffs.append(f"move {i} ({m.kind}): no motion at line {line}")
+            elif len(got) != 1 or got[0].kind != _KIND[m.kind]:
+                diffs.append(f"move {i} ({m.kind}) line {line}: got "
+                             f"{[g.kind for g in got]}")
+            elif _dist(got[0].end, m.end) > tol:
+                diffs.append(f"move {i} ({m.kind}) line {line}: end {got[0].end} "
+                             f"vs planned {m.end}")
+        elif m.kind == "arc":
+            if len(got) != 1 or got[0].kind != "arc":
+                diffs.append(f"move {i} (arc) line {line}: got {[g.kind for g in got]}")
+            else:
+                g = got[0]
+                a1, a2, _ = PLANE_AXES[m.plane]
+                rot = -m.turns if m.clockwise else m.turns
+                if _dist(g.end, m.end) > tol:
+                    diffs.append(f"move {i} (arc) line {line}: end {g.end} vs {m.end}")
+                assert m.center is not None and g.center is not None
+                if max(abs(g.center[a1] - m.center[a1]), abs(g.center[a2] - m.center[a2])) > tol:
+                    diffs.append(f"move {i} (arc) line {line}: center {g.center} vs "
+                                 f"{m.center}")
+                if g.plane != m.plane or g.rotation != rot:
+                    diffs.append(f"move {i} (arc) line {line}: plane/rotation "
+                                 f"{g.plane}/{g.rotation} vs {m.plane}/{rot}")
+        elif m.kind == "cubic":
+            if len(got) != 1 or got[0].kind not in ("cubic", "nurbs"):
+                diffs.append(f"move {i} (cubic) line {line}: got {[g.kind for g in got]}")
+            elif got[0].kind == "cubic" and _dist(got[0].end, m.end) > tol:
+                diffs.append(f"move {i} (cubic) line {line}: end {got[0].end} vs {m.end}")
+        elif m.kind == "drill":
+            if not got:
+                diffs.append(f"move {i} (drill) line {line}: no motion")
+            else:
+                bottom = min(g.end[2] for g in got)
+                if abs(bottom - m.end[2]) > tol or _dist(got[-1].end[:2], m.end[:2]) > tol:
+                    diffs.append(f"move {i} (drill) line {line}: hole at "
+                                 f"{got[-1].end[:2]} to {bottom} vs {m.end}")
+        if m.kind == "drill" and got:
+            pos = got[-1].end
+        else:
+            pos = m.end
+        if len(diffs) > 50:
+            diffs.append("... (more differences not listed)")
+            break
+    return diffs
+
