@@ -20,9 +20,9 @@ class Stock:
     def from_box(cls, box) -> "Stock":
         b = [float(v) for v in box]
         if len(b) != 6:
-            raise ValueError("stock box needs 6 numbers: xmin ymin zmin xmax ymax zmax")
+            raise ValueError("needs 6 numbers: xmin ymin zmin xmax ymax zmax")
         if not (b[0] < b[3] and b[1] < b[4] and b[2] < b[5]):
-            raise ValueError("stock box: each min must be below its max")
+            raise ValueError("each min must be below its max")
         return cls(*b)
 
     @property

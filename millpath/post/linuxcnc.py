@@ -274,6 +274,7 @@ class _Writer:
 
     def compensation(self, m: Move) -> None:
         self._end_cycle()
+        self._set_plane("XY")           # LinuxCNC compensates in the XY plane only
         if m.comp == "off":
             self.emit("G40")
         else:
