@@ -210,5 +210,6 @@ def test_rs274_accepts_every_move_kind_and_reproduces_the_toolpath(rs274, units)
     assert r.motions[0].tool_offset[2] == pytest.approx(tools[1].gauge_length, abs=1e-4)
     # the compensated square runs tool radius inside (G41 on a CCW square is inside)
     ends = [m.end[:2] for m in r.motions if m.kind == "feed"]
-    for corner in ((17, 3), (17, 17), (3, 17)):
-        assert any(math.dist(e, (corner[0] * k, corner[1] * k)) < 1e-4 for e in ends)
+    r = tools[1].radius
+    for corner in ((20 * k - r, r), (20 * k - r, 20 * k - r), (r, 20 * k - r)):
+        assert any(math.dist(e, corner) < 1e-4 for e in ends)
