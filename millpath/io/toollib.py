@@ -10,7 +10,6 @@ job's units.
 
 from __future__ import annotations
 
-import tomllib
 from pathlib import Path
 from typing import Any
 
@@ -76,11 +75,8 @@ def tools_from_tables(tables: Any, file: str | Path | None = None,
 def read_tool_library(path: str | Path, units: str = "mm") -> dict[int, Tool]:
     """Read a TOML tool library file (``[[tools]]`` entries)."""
     p = Path(path)
-    try:
-        data = tomllib.loads(p.read_text(encoding="utf-8"))
-    except tomllib.TOMLDecodeError as e:
-        raise JobError(f"invalid TOML: {getattr(e, 'msg', e)}", p,
-                       getattr(e, "lineno", None)) from None
+    from millpath.job.jobfile import parse_toml
+    data = parse_toml(p.read_text(encoding="utf-8"), p)
     for k in data:
         if k not in ("tools", "units"):
             raise JobError(f"{k}: unknown key (allowed: tools, units)", p)

@@ -17,6 +17,7 @@ Relative paths inside the file are resolved from the job file's folder.
 
 from __future__ import annotations
 
+import re
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -81,13 +82,25 @@ def load_job(path: str | Path) -> Job:
         raise JobError("no such job file", p) from None
     except UnicodeDecodeError:
         raise JobError("not a UTF-8 text file", p) from None
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as e:
-        line = getattr(e, "lineno", None)
-        msg = getattr(e, "msg", str(e))
-        raise JobError(f"invalid TOML: {msg}", p, line) from None
+    data = parse_toml(text, p)
     return job_from_dict(data, p)
+
+
+def parse_toml(text: str, path: Path | None) -> dict:
+    """tomllib.loads with errors as JobError naming the file and line."""
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        msg = str(e)
+        line = None
+        m = re.search(r"\s*\(at line (\d+), column \d+\)", msg)
+        if m:
+            line = int(m.group(1))
+            msg = msg[:m.start()] + msg[m.end():]
+        elif "(at end of document)" in msg:
+            line = text.count("\n") + (0 if text.endswith("\n") else 1)
+            msg = msg.replace(" (at end of document)", " at end of file")
+        raise JobError(f"invalid TOML: {msg}", path, line) from None
 
 
 def job_from_dict(data: dict, path: Path | None = None) -> Job:
