@@ -1,0 +1,442 @@
+"""Drop-cutter (inverse tool offset) against a triangle mesh, exact, batched, all cores.
+
+For a point (x, y) the drop-cutter returns the lowest tool-tip Z at which the cutter
+touches the mesh without cutting into it, i.e. the maximum over all triangles of the
+contact Z, and the contact point. Units are the mesh's (job units); the tool axis is +Z.
+
+The cutter is its profile (:class:`~millpath.plan.surface.cutter.Cutter`: radius R,
+corner radius rc, flat part a = R - rc). The algorithm is written once for that profile:
+
+- vertex: ``z = pz - h(d)`` for vertices at horizontal distance ``d <= R``;
+- facet: the cutter touches a plane of upward unit normal ``n`` at the point whose
+  outward normal is ``-n``: ``cc = (x, y, tip + rc) - a n_xy/|n_xy| - rc n``; the
+  contact counts when ``cc`` projects inside the triangle;
+- edge: in the vertical plane of the edge at distance ``d`` from the axis, the tip Z
+  for a contact at ``v`` (along the edge from the foot of the perpendicular) is
+  ``f(v) = z_line(v) - h(sqrt(d^2 + v^2))``, a concave function; the drop is its
+  maximum over the part of the edge under the cutter. Flat: an interval end; ball:
+  closed form ``v = m w / sqrt(1 + m^2)``; bull: the one root of a quartic in
+  ``q = rho - a`` on a bracket, by safeguarded Newton to machine precision.
+
+Speed: a uniform XY grid of triangle lists (CSR), each list sorted by the triangle's
+top Z, so a query stops scanning a cell at the first triangle whose top is below the
+best contact found (no contact can be higher than a triangle's top vertex);
+bounding-box rejection before any exact test; ``numba`` ``prange`` over points.
+
+Points where the cutter touches no triangle get ``-inf`` (or ``z_floor``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit, prange
+
+from millpath.part.surface.mesh import Mesh
+from millpath.plan.surface.cutter import Cutter
+
+
+@dataclass
+class MeshIndex:
+    """A mesh with per-triangle data and a uniform XY grid of triangle lists.
+
+    ``cell`` is the grid pitch (job units); ``starts[c]:starts[c+1]`` indexes
+    ``items`` for cell ``c = iy * nx + ix``; each list is sorted by top Z, highest first.
+    """
+
+    mesh: Mesh
+    tri: np.ndarray        # (n, 3, 3)
+    box: np.ndarray        # (n, 4) xmin, xmax, ymin, ymax
+    ztop: np.ndarray       # (n,)
+    plane: np.ndarray      # (n, 4) unit normal (nz >= 0) and offset d = n . p
+    x0: float
+    y0: float
+    cell: float
+    nx: int
+    ny: int
+    starts: np.ndarray     # (nx * ny + 1,) int64
+    items: np.ndarray      # (m,) int32
+
+
+@njit(cache=True)
+def _fill_grid(box, order, x0, y0, cell, nx, ny):
+    counts = np.zeros(nx * ny + 1, np.int64)
+    for k in range(order.shape[0]):
+        t = order[k]
+        ix0 = max(0, min(nx - 1, int((box[t, 0] - x0) / cell)))
+        ix1 = max(0, min(nx - 1, int((box[t, 1] - x0) / cell)))
+        iy0 = max(0, min(ny - 1, int((box[t, 2] - y0) / cell)))
+        iy1 = max(0, min(ny - 1, int((box[t, 3] - y0) / cell)))
+        for iy in range(iy0, iy1 + 1):
+            for ix in range(ix0, ix1 + 1):
+                counts[iy * nx + ix + 1] += 1
+    starts = np.cumsum(counts)
+    fill = starts[:-1].copy()
+    items = np.empty(starts[-1], np.int32)
+    for k in range(order.shape[0]):
+        t = order[k]
+        ix0 = max(0, min(nx - 1, int((box[t, 0] - x0) / cell)))
+        ix1 = max(0, min(nx - 1, int((box[t, 1] - x0) / cell)))
+        iy0 = max(0, min(ny - 1, int((box[t, 2] - y0) / cell)))
+        iy1 = max(0, min(ny - 1, int((box[t, 3] - y0) / cell)))
+        for iy in range(iy0, iy1 + 1):
+            for ix in range(ix0, ix1 + 1):
+                c = iy * nx + ix
+                items[fill[c]] = t
+                fill[c] += 1
+    return starts, items
+
+
+def build_index(mesh: Mesh, cell: float | None = None) -> MeshIndex:
+    """Index a mesh for drop-cutter queries. ``cell`` defaults to about three mean
+    triangle extents (job units); a cell of 0.25 to 0.5 times the cutter radius is a
+    good choice for large batches."""
+    tri = mesh.triangles
+    lo = tri.min(axis=1)
+    hi = tri.max(axis=1)
+    box = np.ascontiguousarray(np.stack([lo[:, 0], hi[:, 0], lo[:, 1], hi[:, 1]], axis=1))
+    ztop = np.ascontiguousarray(hi[:, 2])
+    n = mesh.normals()
+    d = np.einsum("ij,ij->i", n, tri[:, 0])
+    plane = np.ascontiguousarray(np.concatenate([n, d[:, None]], axis=1))
+    (x0, y0, _), (x1, y1, _) = mesh.bounds
+    if cell is None:
+        ext = np.maximum(hi[:, 0] - lo[:, 0], hi[:, 1] - lo[:, 1])
+        cell = 3.0 * float(np.mean(ext)) if len(ext) else 1.0
+    span = max(x1 - x0, y1 - y0, 1e-9)
+    cell = max(float(cell), span / 4096.0)
+    nx = int((x1 - x0) / cell) + 1
+    ny = int((y1 - y0) / cell) + 1
+    order = np.argsort(-ztop, kind="stable").astype(np.int64)
+    starts, items = _fill_grid(box, order, float(x0), float(y0), cell, nx, ny)
+    return MeshIndex(mesh, tri, box, ztop, plane, float(x0), float(y0), cell, nx, ny,
+                     starts, items)
+
+
+@njit(cache=True)
+def _h(r, rc, a):
+    """Profile height above the tip at radial distance r (corner rc, flat part a)."""
+    if r <= a:
+        return 0.0
+    dd = r - a
+    if dd > rc:
+        dd = rc
+    s = rc * rc - dd * dd
+    return rc - math.sqrt(s if s > 0.0 else 0.0)
+
+
+@njit(cache=True)
+def _bull_v(d, m, rc, a):
+    """Stationary point |v| of f(v) = m v - h(sqrt(d^2 + v^2)) for a torus profile.
+
+    Solves q^2 ((a+q)^2 - d^2) = m^2 (rc^2 - q^2) (a+q)^2 for q = rho - a in
+    [max(0, d - a), rc] and returns sqrt((a+q)^2 - d^2).
+    """
+    lo = d - a if d > a else 0.0
+    hi = rc
+    m2 = m * m
+    q = 0.5 * (lo + hi)
+    for _ in range(200):
+        aq = a + q
+        g = aq * aq - d * d
+        s = rc * rc - q * q
+        F = q * q * g - m2 * s * aq * aq
+        if F > 0.0:
+            hi = q
+        else:
+            lo = q
+        dF = 2.0 * q * g + 2.0 * q * q * aq - m2 * (-2.0 * q * aq * aq + 2.0 * s * aq)
+        qn = q - F / dF if dF != 0.0 else 0.5 * (lo + hi)
+        if not (qn > lo and qn < hi):
+            qn = 0.5 * (lo + hi)
+        if abs(qn - q) <= 1e-15 * (rc + a) or hi - lo <= 1e-15 * (rc + a):
+            q = qn
+            break
+        q = qn
+    aq = a + q
+    g = aq * aq - d * d
+    return math.sqrt(g) if g > 0.0 else 0.0
+
+
+@njit(cache=True)
+def _drop_one(x, y, R, rc, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts, items,
+              out_cc):
+    a = R - rc
+    R2 = R * R
+    best = -np.inf
+    ccx = np.nan
+    ccy = np.nan
+    ccz = np.nan
+    ix0 = max(0, int(math.floor((x - R - x0) / cell)))
+    ix1 = min(nx - 1, int(math.floor((x + R - x0) / cell)))
+    iy0 = max(0, int(math.floor((y - R - y0) / cell)))
+    iy1 = min(ny - 1, int(math.floor((y + R - y0) / cell)))
+    icx = int(math.floor((x - x0) / cell))
+    icy = int(math.floor((y - y0) / cell))
+    ncell = (ix1 - ix0 + 1) * (iy1 - iy0 + 1)
+    for n in range(-1, ncell):
+        if n < 0:
+            # the cell under the axis first: it gives a high contact early
+            if icx < ix0 or icx > ix1 or icy < iy0 or icy > iy1:
+                continue
+            ix = icx
+            iy = icy
+        else:
+            ix = ix0 + n % (ix1 - ix0 + 1)
+            iy = iy0 + n // (ix1 - ix0 + 1)
+            if ix == icx and iy == icy:
+                continue
+        c = iy * nx + ix
+        k0 = starts[c]
+        k1 = starts[c + 1]
+        if k0 == k1 or ztop[items[k0]] <= best:
+            continue
+        # distance from the axis to the cell: nothing in it can be higher than its top
+        # triangle lowered by the profile height at that distance
+        gx = x0 + ix * cell
+        gy = y0 + iy * cell
+        ddx = gx - x if x < gx else (x - gx - cell if x > gx + cell else 0.0)
+        ddy = gy - y if y < gy else (y - gy - cell if y > gy + cell else 0.0)
+        dcell = math.sqrt(ddx * ddx + ddy * ddy)
+        if dcell >= R or ztop[items[k0]] - _h(dcell, rc, a) <= best:
+            continue
+        if True:
+            for k in range(k0, k1):
+                t = items[k]
+                if ztop[t] <= best:
+                    break
+                ddx = box[t, 0] - x if x < box[t, 0] else (x - box[t, 1] if x > box[t, 1] else 0.0)
+                ddy = box[t, 2] - y if y < box[t, 2] else (y - box[t, 3] if y > box[t, 3] else 0.0)
+                db2 = ddx * ddx + ddy * ddy
+                if db2 >= R2:
+                    continue
+                if ztop[t] - _h(math.sqrt(db2), rc, a) <= best:
+                    continue
+                # vertices
+                for i in range(3):
+                    pz = tri[t, i, 2]
+                    if pz <= best:
+                        continue
+                    dx = tri[t, i, 0] - x
+                    dy = tri[t, i, 1] - y
+                    d2 = dx * dx + dy * dy
+                    if d2 <= R2:
+                        z = pz - _h(math.sqrt(d2), rc, a)
+                        if z > best:
+                            best = z
+                            ccx = tri[t, i, 0]
+                            ccy = tri[t, i, 1]
+                            ccz = pz
+                # facet
+                nxx = plane[t, 0]
+                nyy = plane[t, 1]
+                nzz = plane[t, 2]
+                if nzz > 1e-12:
+                    s = math.sqrt(nxx * nxx + nyy * nyy)
+                    if s > 1e-14:
+                        px = x - a * nxx / s - rc * nxx
+                        py = y - a * nyy / s - rc * nyy
+                    else:
+                        px = x
+                        py = y
+                    pz = (plane[t, 3] - nxx * px - nyy * py) / nzz
+                    tip = pz - rc + rc * nzz
+                    if tip > best:
+                        # inside test in XY (edge functions, orientation independent)
+                        ax = tri[t, 0, 0]
+                        ay = tri[t, 0, 1]
+                        bx = tri[t, 1, 0]
+                        by = tri[t, 1, 1]
+                        cx = tri[t, 2, 0]
+                        cy = tri[t, 2, 1]
+                        area = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
+                        w0 = (bx - px) * (cy - py) - (by - py) * (cx - px)
+                        w1 = (cx - px) * (ay - py) - (cy - py) * (ax - px)
+                        w2 = (ax - px) * (by - py) - (ay - py) * (bx - px)
+                        if area < 0.0:
+                            w0 = -w0
+                            w1 = -w1
+                            w2 = -w2
+                        eps = -1e-12 * abs(area)
+                        if w0 >= eps and w1 >= eps and w2 >= eps:
+                            best = tip
+                            ccx = px
+                            ccy = py
+                            ccz = pz
+                # edges
+                for i in range(3):
+                    j = (i + 1) % 3
+                    x1 = tri[t, i, 0]
+                    y1 = tri[t, i, 1]
+                    z1 = tri[t, i, 2]
+                    x2 = tri[t, j, 0]
+                    y2 = tri[t, j, 1]
+                    z2 = tri[t, j, 2]
+                    if z1 <= best and z2 <= best:
+                        continue
+                    ex = x2 - x1
+                    ey = y2 - y1
+                    L2 = ex * ex + ey * ey
+                    if L2 < 1e-24:
+                        continue
+                    L = math.sqrt(L2)
+                    tx = ex / L
+                    ty = ey / L
+                    qx = x - x1
+                    qy = y - y1
+                    uc = qx * tx + qy * ty
+                    d = abs(qx * ty - qy * tx)
+                    if d >= R:
+                        continue
+                    w = math.sqrt(R2 - d * d)
+                    lo = uc - w
+                    if lo < 0.0:
+                        lo = 0.0
+                    hi = uc + w
+                    if hi > L:
+                        hi = L
+                    if lo > hi:
+                        continue
+                    m = (z2 - z1) / L
+                    zl = z1 + m * (hi if m > 0.0 else lo)
+                    if zl - _h(d, rc, a) <= best:
+                        continue      # bound: highest edge point, nearest distance
+                    vlo = lo - uc
+                    vhi = hi - uc
+                    if rc == 0.0:
+                        v = vhi if m > 0.0 else vlo
+                    else:
+                        if a == 0.0:
+                            v = m * w / math.sqrt(1.0 + m * m)
+                        elif m == 0.0:
+                            v = 0.0
+                        else:
+                            v = _bull_v(d, m, rc, a)
+                            if m < 0.0:
+                                v = -v
+                        if v < vlo:
+                            v = vlo
+                        elif v > vhi:
+                            v = vhi
+                    u = uc + v
+                    zl = z1 + m * u
+                    z = zl - _h(math.sqrt(d * d + v * v), rc, a)
+                    if z > best:
+                        best = z
+                        ccx = x1 + tx * u
+                        ccy = y1 + ty * u
+                        ccz = zl
+    out_cc[0] = ccx
+    out_cc[1] = ccy
+    out_cc[2] = ccz
+    return best
+
+
+@njit(parallel=True, cache=True)
+def _drop_batch(xy, R, rc, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts, items,
+                z_out, cc_out):
+    for p in prange(xy.shape[0]):
+        z_out[p] = _drop_one(xy[p, 0], xy[p, 1], R, rc, tri, box, ztop, plane, x0, y0,
+                             cell, nx, ny, starts, items, cc_out[p])
+
+
+@dataclass
+class DropResult:
+    """``z``: tool-tip Z per point (``n``,); ``cc``: contact points (``n``, 3), NaN
+    where the cutter touches nothing."""
+
+    z: np.ndarray
+    cc: np.ndarray
+
+
+def drop(index: MeshIndex, cutter: Cutter, xy, z_floor: float = -np.inf) -> DropResult:
+    """Drop ``cutter`` onto the indexed mesh at each of the points ``xy`` (``(n, 2)``,
+    job units); return tip Z (at least ``z_floor``) and contact points."""
+    pts = np.ascontiguousarray(np.asarray(xy, dtype=np.float64).reshape(-1, 2))
+    z = np.empty(len(pts))
+    cc = np.empty((len(pts), 3))
+    if len(pts):
+        _drop_batch(pts, float(cutter.radius), float(cutter.corner), index.tri, index.box,
+                    index.ztop, index.plane, index.x0, index.y0, index.cell, index.nx,
+                    index.ny, index.starts, index.items, z, cc)
+    if z_floor > -np.inf:
+        np.maximum(z, z_floor, out=z)
+    return DropResult(z, cc)
+
+
+def drop_z(index: MeshIndex, cutter: Cutter, x, y, z_floor: float = -np.inf) -> np.ndarray:
+    """Tip Z only, for arrays ``x`` and ``y`` of equal shape (result has that shape)."""
+    x = np.asarray(x, float)
+    y = np.asarray(y, float)
+    xy = np.stack([x.ravel(), y.ravel()], axis=1)
+    return drop(index, cutter, xy, z_floor).z.reshape(x.shape)
+
+
+@njit(cache=True)
+def _height_one(x, y, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts, items):
+    ix = int(math.floor((x - x0) / cell))
+    iy = int(math.floor((y - y0) / cell))
+    best = -np.inf
+    if ix < 0 or iy < 0 or ix >= nx or iy >= ny:
+        return best
+    c = iy * nx + ix
+    for k in range(starts[c], starts[c + 1]):
+        t = items[k]
+        if ztop[t] <= best:
+            break
+        if box[t, 0] > x or box[t, 1] < x or box[t, 2] > y or box[t, 3] < y:
+            continue
+        nzz = plane[t, 2]
+        ax = tri[t, 0, 0]
+        ay = tri[t, 0, 1]
+        bx = tri[t, 1, 0]
+        by = tri[t, 1, 1]
+        cx = tri[t, 2, 0]
+        cy = tri[t, 2, 1]
+        area = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
+        w0 = (bx - x) * (cy - y) - (by - y) * (cx - x)
+        w1 = (cx - x) * (ay - y) - (cy - y) * (ax - x)
+        w2 = (ax - x) * (by - y) - (ay - y) * (bx - x)
+        if area < 0.0:
+            w0 = -w0
+            w1 = -w1
+            w2 = -w2
+        eps = -1e-9 * abs(area)
+        if not (w0 >= eps and w1 >= eps and w2 >= eps):
+            continue
+        if nzz > 1e-12:
+            z = (plane[t, 3] - plane[t, 0] * x - plane[t, 1] * y) / nzz
+        else:
+            z = ztop[t]
+        if z > best:
+            best = z
+    return best
+
+
+@njit(parallel=True, cache=True)
+def _height_batch(xs, ys, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts, items, out):
+    for p in prange(xs.shape[0]):
+        out[p] = _height_one(xs[p], ys[p], tri, box, ztop, plane, x0, y0, cell, nx, ny,
+                             starts, items)
+
+
+class MeshHeight:
+    """The mesh as a height field (a :class:`millpath.plan.base.Design`): the highest
+    triangle above each (x, y), ``-inf`` off the mesh. Job units."""
+
+    def __init__(self, index: MeshIndex):
+        self.index = index
+
+    def height(self, x, y) -> np.ndarray:
+        x = np.asarray(x, float)
+        y = np.asarray(y, float)
+        xs = np.ascontiguousarray(np.broadcast_to(x, np.broadcast_shapes(x.shape, y.shape)).ravel())
+        ys = np.ascontiguousarray(np.broadcast_to(y, np.broadcast_shapes(x.shape, y.shape)).ravel())
+        out = np.empty(len(xs))
+        ix = self.index
+        if len(xs):
+            _height_batch(xs, ys, ix.tri, ix.box, ix.ztop, ix.plane, ix.x0, ix.y0, ix.cell,
+                          ix.nx, ix.ny, ix.starts, ix.items, out)
+        return out.reshape(np.broadcast_shapes(x.shape, y.shape))
