@@ -1,0 +1,524 @@
+"""ISO 10303-21 ("Part 21", STEP physical file) reader: tokens, grammar, instance graph.
+
+Grammar (the subset of ISO 10303-21:2002 edition 2 that exchange files use)::
+
+    file      = "ISO-10303-21;" header data+ "END-ISO-10303-21;"
+    header    = "HEADER;" (record ";")* "ENDSEC;"
+    data      = "DATA" ["(" params ")"] ";" (instance)* "ENDSEC;"
+    instance  = "#" id "=" (record | "(" record+ ")") ";"      -- simple | complex
+    record    = KEYWORD "(" [param ("," param)*] ")"
+    param     = INTEGER | REAL | STRING | "#" id | ENUM | BINARY | "$" | "*"
+              | "(" [param ("," param)*] ")" | KEYWORD "(" param ")"   -- typed value
+
+Values become Python objects: ``int``, ``float``, ``str`` (decoded: ``''``, ``\\\\``,
+``\\X\\hh``, ``\\X2\\...\\X0\\``, ``\\X4\\...\\X0\\``, ``\\S\\c``), :class:`Ref`, :class:`Enum`,
+``None`` for ``$``, :data:`DERIVED` for ``*``, :class:`Binary`, :class:`Typed` and
+``list`` for aggregates. Comments ``/* ... */`` and line breaks anywhere between tokens
+are allowed. Errors raise :class:`~millpath.errors.MillpathError` naming the file, the
+line and the instance id (``#12``).
+
+The tokenizer is one regular expression pass over the text; the parser is a loop over
+the token list with an explicit stack for nested lists (no recursion per value).
+"""
+
+from __future__ import annotations
+
+import bisect
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Iterator
+
+from millpath.errors import MillpathError
+
+
+class StepError(MillpathError):
+    """A malformed Part 21 file (message names file, line and instance id)."""
+
+
+# --- value types -----------------------------------------------------------------------
+class Ref(int):
+    """An instance reference ``#n`` (an int subclass; equal refs compare equal)."""
+
+    __slots__ = ()
+
+    def __repr__(self) -> str:
+        return f"#{int(self)}"
+
+
+class Enum(str):
+    """An enumeration or logical value ``.NAME.`` (stored without the dots)."""
+
+    __slots__ = ()
+
+    def __repr__(self) -> str:
+        return f".{str(self)}."
+
+
+class Binary(str):
+    """A binary value ``"0ABC"``: the hex digits, first digit = count of unused bits."""
+
+    __slots__ = ()
+
+
+class _Derived:
+    """The ``*`` value: an attribute derived in a subtype (singleton :data:`DERIVED`)."""
+
+    _inst = None
+
+    def __new__(cls):
+        if cls._inst is None:
+            cls._inst = super().__new__(cls)
+        return cls._inst
+
+    def __repr__(self) -> str:
+        return "*"
+
+
+DERIVED = _Derived()
+
+
+@dataclass(frozen=True, slots=True)
+class Typed:
+    """A typed parameter such as ``LENGTH_MEASURE(12.5)``: ``name`` and its ``value``."""
+
+    name: str
+    value: Any
+
+
+Record = tuple[str, list]          # (ENTITY_NAME, parameters)
+
+
+@dataclass(slots=True)
+class Instance:
+    """One entity instance ``#id``: a simple one has one record, a complex one several
+    (in file order, normally alphabetical). ``offset`` is its position in the text."""
+
+    id: int
+    records: list[Record]
+    offset: int = 0
+
+    @property
+    def complex(self) -> bool:
+        return len(self.records) > 1
+
+    @property
+    def type(self) -> str:
+        """Entity name of a simple instance; names joined by ``+`` for a complex one."""
+        if len(self.records) == 1:
+            return self.records[0][0]
+        return "+".join(r[0] for r in self.records)
+
+    def names(self) -> list[str]:
+        return [r[0] for r in self.records]
+
+    def has(self, name: str) -> bool:
+        return any(r[0] == name for r in self.records)
+
+    def get(self, name: str) -> list | None:
+        """Parameters of the record ``name`` (None if the instance has no such record)."""
+        for r in self.records:
+            if r[0] == name:
+                return r[1]
+        return None
+
+    @property
+    def params(self) -> list:
+        """Parameters of a simple instance (the first record's for a complex one)."""
+        return self.records[0][1]
+
+
+@dataclass
+class StepFile:
+    """A parsed exchange structure: header records and the instance graph."""
+
+    header: list[Record] = field(default_factory=list)
+    instances: dict[int, Instance] = field(default_factory=dict)
+    file: str | None = None
+    text: str = field(default="", repr=False)
+    _by_type: dict[str, list[int]] | None = field(default=None, repr=False)
+    _inverse: dict[int, list[int]] | None = field(default=None, repr=False)
+    _lines: list[int] | None = field(default=None, repr=False)
+
+    # --- header -------------------------------------------------------------------------
+    def header_record(self, name: str) -> list | None:
+        for n, p in self.header:
+            if n == name:
+                return p
+        return None
+
+    @property
+    def schemas(self) -> list[str]:
+        p = self.header_record("FILE_SCHEMA")
+        if not p or not isinstance(p[0], list):
+            return []
+        return [str(s) for s in p[0]]
+
+    # --- graph --------------------------------------------------------------------------
+    def __getitem__(self, ref: int) -> Instance:
+        return self.instances[int(ref)]
+
+    def __len__(self) -> int:
+        return len(self.instances)
+
+    def __iter__(self) -> Iterator[Instance]:
+        return iter(self.instances.values())
+
+    def by_type(self, name: str) -> list[Instance]:
+        """Instances having a record ``name`` (simple or within a complex instance)."""
+        if self._by_type is None:
+            idx: dict[str, list[int]] = {}
+            for inst in self.instances.values():
+                for rn, _ in inst.records:
+                    idx.setdefault(rn, []).append(inst.id)
+            self._by_type = idx
+        return [self.instances[i] for i in self._by_type.get(name.upper(), ())]
+
+    def inverse(self, ref: int) -> list[Instance]:
+        """Instances whose parameters reference ``#ref`` (each once, in id order)."""
+        if self._inverse is None:
+            inv: dict[int, list[int]] = {}
+            for inst in self.instances.values():
+                seen = set()
+                for r in _refs(inst):
+                    if r not in seen:
+                        seen.add(r)
+                        inv.setdefault(r, []).append(inst.id)
+            self._inverse = inv
+        return [self.instances[i] for i in self._inverse.get(int(ref), ())]
+
+    def users(self, ref: int, name: str, attr: int | None = None) -> list[Instance]:
+        """Instances with a record ``name`` referencing ``#ref`` (at parameter ``attr``
+        of that record when given): the EXPRESS ``USEDIN`` query."""
+        out = []
+        for inst in self.inverse(ref):
+            p = inst.get(name)
+            if p is None:
+                continue
+            if attr is None or (attr < len(p) and isinstance(p[attr], Ref)
+                                and int(p[attr]) == int(ref)):
+                out.append(inst)
+        return out
+
+    def line_of(self, inst_or_offset: Instance | int) -> int:
+        """1-based line number of an instance (or text offset)."""
+        off = inst_or_offset.offset if isinstance(inst_or_offset, Instance) else inst_or_offset
+        if self._lines is None:
+            self._lines = [m.start() for m in re.finditer("\n", self.text)]
+        return bisect.bisect_left(self._lines, off) + 1
+
+    def error(self, inst: Instance | int | None, message: str,
+              cls: type[MillpathError] = MillpathError) -> MillpathError:
+        """A user-facing error about instance ``inst`` (line and ``#id`` filled in)."""
+        if isinstance(inst, int) and not isinstance(inst, Instance):
+            inst = self.instances.get(int(inst))
+        if inst is None:
+            return cls(message, self.file)
+        line = self.line_of(inst) if self.text else None
+        return cls(message, self.file, line, f"#{inst.id}")
+
+    def graph(self) -> tuple:
+        """The comparable content: header and ``{id: records}`` with every value tagged
+        by its kind, so ``1`` and ``1.0``, ``#1`` and ``1``, ``.T.`` and ``'T'`` differ."""
+        return (canonical(self.header),
+                {i: canonical(inst.records) for i, inst in self.instances.items()})
+
+
+def canonical(v: Any) -> Any:
+    """A hashable, kind-tagged copy of a value (lists of records included)."""
+    if isinstance(v, (list, tuple)):
+        return tuple(canonical(x) for x in v)
+    if isinstance(v, Typed):
+        return ("typed", v.name, canonical(v.value))
+    if v is None or v is DERIVED:
+        return repr(v)
+    return (type(v).__name__, v)
+
+
+def _refs(inst: Instance) -> Iterator[int]:
+    stack: list = [p for _, p in inst.records]
+    while stack:
+        v = stack.pop()
+        if isinstance(v, Ref):
+            yield int(v)
+        elif isinstance(v, list):
+            stack.extend(v)
+        elif isinstance(v, Typed):
+            stack.append(v.value)
+
+
+# --- tokenizer -------------------------------------------------------------------------
+_TOKEN = re.compile(r"""
+    (?P<ws>[ \t\r\n]+|/\*.*?\*/)
+  | (?P<str>'(?:[^']|'')*')
+  | (?P<ref>\#[0-9]+)
+  | (?P<enum>\.[A-Za-z_][A-Za-z0-9_]*\.)
+  | (?P<num>[+-]?\.?[0-9][0-9A-Za-z.+-]*)
+  | (?P<kw>!?[A-Za-z_][A-Za-z0-9_]*(?:-[0-9A-Za-z]+)*)
+  | (?P<bin>"[0-9A-Fa-f]*")
+  | (?P<p>[=();,*$])
+  | (?P<bad>/\*|'|"|.)
+""", re.VERBOSE | re.DOTALL)
+
+_INT = re.compile(r"[+-]?[0-9]+\Z")
+_REAL = re.compile(r"[+-]?[0-9]+\.[0-9]*(?:[eE][+-]?[0-9]+)?\Z")
+
+_ESC = re.compile(r"\\X2\\((?:[0-9A-Fa-f]{4})*)\\X0\\|\\X4\\((?:[0-9A-Fa-f]{8})*)\\X0\\"
+                  r"|\\X\\([0-9A-Fa-f]{2})|\\S\\(.)|\\P[A-I]\\|\\\\")
+
+
+def _unescape_match(m: re.Match) -> str:
+    if m.group(1) is not None:
+        h = m.group(1)
+        return "".join(chr(int(h[i:i + 4], 16)) for i in range(0, len(h), 4))
+    if m.group(2) is not None:
+        h = m.group(2)
+        return "".join(chr(int(h[i:i + 8], 16)) for i in range(0, len(h), 8))
+    if m.group(3) is not None:
+        return chr(int(m.group(3), 16))
+    if m.group(4) is not None:
+        return chr(ord(m.group(4)) + 128)
+    if m.group(0) == "\\\\":
+        return "\\"
+    return ""            # \PA\ .. \PI\ code page directives
+
+
+def decode_string(body: str) -> str:
+    """Decode the inside of a Part 21 string literal (without the quotes)."""
+    if "''" in body:
+        body = body.replace("''", "'")
+    if "\\" in body:
+        body = _ESC.sub(_unescape_match, body)
+    return body
+
+
+class _Parser:
+    def __init__(self, text: str, file: str | None):
+        self.text = text
+        self.file = file
+        self._lines: list[int] | None = None
+
+    def line(self, pos: int) -> int:
+        if self._lines is None:
+            self._lines = [m.start() for m in re.finditer("\n", self.text)]
+        return bisect.bisect_left(self._lines, pos) + 1
+
+    def fail(self, pos: int, msg: str, inst: int | None = None) -> StepError:
+        return StepError(msg, self.file, self.line(pos), f"#{inst}" if inst is not None else None)
+
+    def tokens(self) -> list[tuple[str, str, int]]:
+        out = []
+        app = out.append
+        for m in _TOKEN.finditer(self.text):
+            k = m.lastgroup
+            if k == "ws":
+                continue
+            if k == "bad":
+                return self._bad(out, m)
+            app((k, m.group(), m.start()))
+        return out
+
+    def _bad(self, toks: list, m: re.Match) -> list:
+        inst = _last_instance(toks)
+        c = m.group()
+        if c == "'":
+            raise self.fail(m.start(), "unterminated string", inst)
+        if c == "/*":
+            raise self.fail(m.start(), "unterminated comment", inst)
+        if c == '"':
+            raise self.fail(m.start(), "bad binary value", inst)
+        raise self.fail(m.start(), f"unexpected character {c!r}", inst)
+
+    def parse(self) -> StepFile:
+        toks = self.tokens()
+        sf = StepFile(file=self.file, text=self.text)
+        n = len(toks)
+        i = 0
+
+        def expect(i: int, text: str, inst: int | None = None) -> int:
+            if i >= n:
+                raise self.fail(len(self.text), f"truncated file: expected {text!r}", inst)
+            if toks[i][1] != text:
+                raise self.fail(toks[i][2], f"expected {text!r}, found {toks[i][1]!r}", inst)
+            return i + 1
+
+        if n == 0 or toks[0][1] != "ISO-10303-21":
+            pos = toks[0][2] if toks else 0
+            raise self.fail(pos, "not an ISO 10303-21 file (no 'ISO-10303-21;' at the start)")
+        i = expect(1, ";")
+        i = expect(i, "HEADER")
+        i = expect(i, ";")
+        while i < n and toks[i][1] != "ENDSEC":
+            if toks[i][0] != "kw":
+                raise self.fail(toks[i][2], f"expected a header entity, found {toks[i][1]!r}")
+            name = toks[i][1].upper()
+            i = expect(i + 1, "(")
+            params, i, _ = self.params(toks, i, None)
+            i = expect(i, ";")
+            sf.header.append((name, params))
+        i = expect(i, "ENDSEC")
+        i = expect(i, ";")
+        insts = sf.instances
+        while i < n and toks[i][1] == "DATA":
+            i += 1
+            if i < n and toks[i][1] == "(":
+                _, i, _ = self.params(toks, i + 1, None)
+            i = expect(i, ";")
+            while i < n and toks[i][0] == "ref":
+                k, t, pos = toks[i]
+                iid = int(t[1:])
+                i = expect(i + 1, "=", iid)
+                if i >= n:
+                    raise self.fail(len(self.text), "truncated file: instance has no value", iid)
+                records: list[Record] = []
+                if toks[i][1] == "(":
+                    i += 1
+                    while i < n and toks[i][0] == "kw":
+                        name = toks[i][1].upper()
+                        i = expect(i + 1, "(", iid)
+                        params, i, _ = self.params(toks, i, iid)
+                        records.append((name, params))
+                    if not records:
+                        raise self.fail(toks[i][2] if i < n else len(self.text),
+                                        "complex instance without records", iid)
+                    i = expect(i, ")", iid)
+                elif toks[i][0] == "kw":
+                    name = toks[i][1].upper()
+                    i = expect(i + 1, "(", iid)
+                    params, i, _ = self.params(toks, i, iid)
+                    records.append((name, params))
+                else:
+                    raise self.fail(toks[i][2], f"expected an entity name, found {toks[i][1]!r}",
+                                    iid)
+                i = expect(i, ";", iid)
+                if iid in insts:
+                    raise self.fail(pos, f"instance #{iid} is defined twice", iid)
+                insts[iid] = Instance(iid, records, pos)
+            if i >= n:
+                raise self.fail(len(self.text), "truncated file: DATA section has no ENDSEC",
+                                _last_instance(toks))
+            if toks[i][1] != "ENDSEC":
+                raise self.fail(toks[i][2], f"expected an instance '#n=' or ENDSEC, "
+                                f"found {toks[i][1]!r}", _last_instance(toks[:i]))
+            i = expect(i + 1, ";")
+        if i >= n:
+            raise self.fail(len(self.text), "truncated file: no 'END-ISO-10303-21;'")
+        i = expect(i, "END-ISO-10303-21")
+        i = expect(i, ";")
+        if i < n:
+            raise self.fail(toks[i][2], f"text after 'END-ISO-10303-21;': {toks[i][1]!r}")
+        self.check_refs(sf)
+        return sf
+
+    def params(self, toks: list, i: int, iid: int | None) -> tuple[list, int, int]:
+        """Parse a parameter list after its opening ``(``; return (list, next index, refs)."""
+        n = len(toks)
+        stack: list[list] = [[]]
+        typed: list[str | None] = [None]
+        cur = stack[0]
+        expect_value = True      # at start of a list or after a comma
+        while True:
+            if i >= n:
+                raise self.fail(len(self.text), "truncated file: unclosed parameter list", iid)
+            k, t, pos = toks[i]
+            i += 1
+            if k == "p":
+                if t == ")":
+                    if expect_value and cur:
+                        raise self.fail(pos, "missing value before ')'", iid)
+                    done = stack.pop()
+                    name = typed.pop()
+                    if not stack:
+                        return done, i, 0
+                    cur = stack[-1]
+                    if name is not None:
+                        if len(done) != 1:
+                            raise self.fail(pos, f"typed value {name} needs one value", iid)
+                        cur.append(Typed(name, done[0]))
+                    else:
+                        cur.append(done)
+                    expect_value = False
+                    continue
+                if t == ",":
+                    if expect_value:
+                        raise self.fail(pos, "missing value before ','", iid)
+                    expect_value = True
+                    continue
+                if not expect_value:
+                    raise self.fail(pos, f"expected ',' or ')', found {t!r}", iid)
+                if t == "(":
+                    stack.append([])
+                    typed.append(None)
+                    cur = stack[-1]
+                    continue
+                if t == "$":
+                    cur.append(None)
+                elif t == "*":
+                    cur.append(DERIVED)
+                else:
+                    raise self.fail(pos, f"unexpected {t!r} in a parameter list", iid)
+                expect_value = False
+                continue
+            if not expect_value:
+                raise self.fail(pos, f"expected ',' or ')', found {t!r}", iid)
+            expect_value = False
+            if k == "num":
+                if _INT.match(t):
+                    cur.append(int(t))
+                elif _REAL.match(t):
+                    cur.append(float(t))
+                else:
+                    raise self.fail(pos, f"bad number {t!r}", iid)
+            elif k == "str":
+                cur.append(decode_string(t[1:-1]))
+            elif k == "ref":
+                cur.append(Ref(t[1:]))
+            elif k == "enum":
+                cur.append(Enum(t[1:-1].upper()))
+            elif k == "kw":
+                if i >= n or toks[i][1] != "(":
+                    raise self.fail(pos, f"expected '(' after {t}", iid)
+                i += 1
+                stack.append([])
+                typed.append(t.upper())
+                cur = stack[-1]
+                expect_value = True
+            elif k == "bin":
+                cur.append(Binary(t[1:-1]))
+            else:
+                raise self.fail(pos, f"unexpected {t!r}", iid)
+
+    def check_refs(self, sf: StepFile) -> None:
+        insts = sf.instances
+        for inst in insts.values():
+            for r in _refs(inst):
+                if r not in insts:
+                    raise self.fail(inst.offset, f"dangling reference #{r}", inst.id)
+
+
+def _last_instance(toks: list) -> int | None:
+    for k, t, _ in reversed(toks[-200:]):
+        if k == "ref":
+            return int(t[1:])
+    return None
+
+
+def parse(text: str, file: str | Path | None = None) -> StepFile:
+    """Parse Part 21 text into a :class:`StepFile` (raises :class:`StepError`)."""
+    return _Parser(text, str(file) if file is not None else None).parse()
+
+
+def read(path: str | Path) -> StepFile:
+    """Read and parse a Part 21 file (ISO 8859-1 tolerated; the format is 7-bit ASCII)."""
+    p = Path(path)
+    try:
+        data = p.read_bytes()
+    except FileNotFoundError:
+        raise StepError("no such STEP file", p) from None
+    except IsADirectoryError:
+        raise StepError("is a directory, not a STEP file", p) from None
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError:
+        text = data.decode("latin-1")
+    return parse(text, p)

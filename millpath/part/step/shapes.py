@@ -1,0 +1,293 @@
+"""Machinable shapes of AP224 features, in the stock frame, for 3-axis milling from +Z.
+
+:func:`feature_shapes` turns the generic :class:`~millpath.part.step.ap224.Feature`
+records into :class:`HoleShape`, :class:`SlotShape` and :class:`PocketShape` (or an
+:class:`Unmachinable` with the reason). Conventions (lengths in the file's unit,
+angles in degrees):
+
+- Frame: coordinates are in the stock's placement frame (a block's corner of least
+  coordinates is the origin, its top face at ``z = height``).
+- A feature's placement origin is on the face the feature opens into; the placement
+  axis (or the depth path's direction) points into the material, along the depth, as in
+  the published AP224 sample. Only features whose depth direction is -Z are machinable.
+- Hole depth is measured from the entry to the lowest point of the hole (the floor of a
+  flat bottom, the tip of a conical one, the lowest point of a spherical one).
+- A slot's course of travel starts at the placement origin and runs ``length`` along
+  the path direction (default: placement X). Open and flat ends are at the ends of that
+  centreline; radiused ends are half circles centred there (overall length + width).
+  An open end means the slot leaves the part there.
+- A pocket's profile is centred on the placement origin; a rectangle's ``length`` runs
+  along the profile's X direction, ``width`` along its Y.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from millpath.part.step.ap224 import Feature, Part, Placement
+
+MACHINABLE_TYPES = ("ROUND_HOLE", "SLOT", "POCKET")
+
+
+@dataclass
+class HoleShape:
+    id: int
+    x: float
+    y: float
+    z_top: float
+    diameter: float
+    depth: float
+    bottom: str                   # through | flat | spherical | conical | flat with radius
+    bottom_radius: float = 0.0    # spherical radius or flat-with-radius corner radius
+    tip_angle: float = 118.0      # conical bottom, included angle (degrees)
+    kind: str = "hole"
+
+    @property
+    def z_bottom(self) -> float:
+        return self.z_top - self.depth
+
+
+@dataclass
+class SlotShape:
+    id: int
+    start: tuple[float, float]
+    direction: tuple[float, float]       # unit vector in XY
+    length: float                        # course of travel (centreline)
+    width: float
+    depth: float
+    z_top: float
+    ends: tuple[str, str]                # 'open' | 'radiused' | 'flat' at start, end
+    kind: str = "slot"
+
+    @property
+    def end(self) -> tuple[float, float]:
+        return (self.start[0] + self.direction[0] * self.length,
+                self.start[1] + self.direction[1] * self.length)
+
+
+@dataclass
+class PocketShape:
+    id: int
+    center: tuple[float, float]
+    angle: float                         # profile X direction from +X, degrees
+    profile: str                         # rectangular | circular | ngon
+    depth: float
+    z_top: float
+    bottom: str = "planar"               # planar | through
+    length: float = 0.0
+    width: float = 0.0
+    diameter: float = 0.0                # circular; circumscribed for an n-gon
+    sides: int = 0
+    corner_radius: float = 0.0
+    kind: str = "pocket"
+
+    def outline(self, segments_per_quarter: int = 16):
+        """The profile as a shapely Polygon (corner radii included)."""
+        from shapely import affinity
+        from shapely.geometry import Point, Polygon, box
+
+        if self.profile == "circular":
+            poly = Point(0.0, 0.0).buffer(self.diameter / 2.0, quad_segs=segments_per_quarter)
+        elif self.profile == "rectangular":
+            rc = min(self.corner_radius, self.length / 2.0, self.width / 2.0)
+            poly = box(-self.length / 2.0 + rc, -self.width / 2.0 + rc,
+                       self.length / 2.0 - rc, self.width / 2.0 - rc)
+            if rc > 0:
+                poly = poly.buffer(rc, quad_segs=segments_per_quarter)
+        else:
+            r = self.diameter / 2.0
+            a = np.linspace(0.0, 2 * math.pi, self.sides, endpoint=False)
+            poly = Polygon(np.column_stack([r * np.cos(a), r * np.sin(a)]))
+            if self.corner_radius > 0:
+                poly = poly.buffer(-self.corner_radius, join_style="mitre").buffer(
+                    self.corner_radius, quad_segs=segments_per_quarter)
+        poly = affinity.rotate(poly, self.angle, origin=(0.0, 0.0))
+        return affinity.translate(poly, self.center[0], self.center[1])
+
+
+@dataclass
+class Unmachinable:
+    id: int
+    type: str
+    reason: str
+    kind: str = "unmachinable"
+
+
+Shape = HoleShape | SlotShape | PocketShape
+
+
+@dataclass
+class ShapeSet:
+    shapes: list[Shape] = field(default_factory=list)
+    skipped: list[Unmachinable] = field(default_factory=list)
+
+
+class _Missing(Exception):
+    pass
+
+
+def _need(d: dict, *names: str, what: str) -> float:
+    for n in names:
+        if n in d:
+            return float(d[n])
+    raise _Missing(f"{what} has no {names[0]!r}")
+
+
+def _frame(part: Part) -> Placement:
+    if part.stock is not None:
+        return part.stock.placement
+    return Placement()
+
+
+def _local(frame: Placement, pl: Placement) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    m = frame.matrix().T
+    return frame.to_local(pl.origin), m @ np.asarray(pl.axis), m @ np.asarray(pl.ref)
+
+
+def _hole(f: Feature, o, depth_dir) -> HoleShape:
+    prof = f.component("CIRCULAR_CLOSED_PROFILE")
+    path = f.component("PATH_FEATURE_COMPONENT")
+    if prof is None:
+        raise _Missing("no CIRCULAR_CLOSED_PROFILE (diameter)")
+    if path is None:
+        raise _Missing("no PATH_FEATURE_COMPONENT (hole depth)")
+    d = _need(prof.params, "diameter", what="hole profile")
+    depth = _need(path.params, "distance", "length", what="hole depth path")
+    b = f.component("HOLE_BOTTOM")
+    bottom = (b.description or "flat") if b is not None else "through"
+    h = HoleShape(f.id, float(o[0]), float(o[1]), float(o[2]), d, depth, bottom)
+    if b is not None:
+        if bottom == "spherical":
+            h.bottom_radius = float(b.params.get("radius", d / 2.0))
+            if h.bottom_radius < d / 2.0 - 1e-9:
+                raise _Missing("spherical bottom radius smaller than the hole radius")
+        elif bottom == "flat with radius":
+            h.bottom_radius = _need(b.params, "corner radius", "radius", what="hole bottom")
+        elif bottom == "conical":
+            h.tip_angle = float(b.params.get("tip angle", 118.0))
+        elif bottom == "flat with taper":
+            raise _Missing("a 'flat with taper' bottom is not planned")
+        elif bottom not in ("flat", "through"):
+            raise _Missing(f"unknown hole bottom {bottom!r}")
+    if not (d > 0 and depth > 0):
+        raise _Missing("hole diameter and depth must be positive")
+    return h
+
+
+def _slot(f: Feature, o, axis, ref) -> SlotShape:
+    prof = f.component("SQUARE_U_PROFILE")
+    if prof is None:
+        raise _Missing("slot without a SQUARE_U_PROFILE (only square U slots are planned)")
+    w = _need(prof.params, "width", what="slot profile")
+    depth = _need(prof.params, "depth", "profile limit", what="slot profile")
+    for a in ("first angle", "second angle"):
+        if abs(prof.params.get(a, 90.0) - 90.0) > 1e-6:
+            raise _Missing(f"slot wall {a} is not 90 degrees")
+    for r in ("first radius", "second radius"):
+        if prof.params.get(r, 0.0) > 1e-9:
+            raise _Missing(f"slot floor {r} is not 0")
+    path = f.component("PATH_FEATURE_COMPONENT")
+    if path is None:
+        raise _Missing("slot without a course of travel (PATH_FEATURE_COMPONENT)")
+    if path.description not in ("", "linear"):
+        raise _Missing(f"slot course of travel {path.description!r} is not linear")
+    length = _need(path.params, "distance", "length", what="slot course of travel")
+    d = np.asarray(path.direction if path.direction is not None else ref, float)
+    if abs(d[2]) > 1e-6:
+        raise _Missing("slot course of travel is not horizontal")
+    d = d[:2] / np.linalg.norm(d[:2])
+    ends = [c.description for c in f.components if c.type == "SLOT_END"]
+    while len(ends) < 2:
+        ends.append("open")
+    for e in ends:
+        if e not in ("open", "radiused", "flat"):
+            raise _Missing(f"slot end {e!r} is not planned")
+    if not (w > 0 and depth > 0 and length >= 0):
+        raise _Missing("slot width and depth must be positive")
+    return SlotShape(f.id, (float(o[0]), float(o[1])), (float(d[0]), float(d[1])), length, w,
+                     depth, float(o[2]), (ends[0], ends[1]))
+
+
+def _pocket(f: Feature, o, ref, frame: Placement) -> PocketShape:
+    path = f.component("PATH_FEATURE_COMPONENT")
+    if path is None:
+        raise _Missing("pocket without a depth (PATH_FEATURE_COMPONENT)")
+    depth = _need(path.params, "distance", "length", what="pocket depth")
+    b = f.component("POCKET_BOTTOM")
+    bottom = (b.description or "planar") if b is not None else "planar"
+    if bottom not in ("planar", "through"):
+        raise _Missing(f"pocket bottom {bottom!r} is not planned")
+    if b is not None and b.params.get("radius", 0.0) > 1e-9:
+        raise _Missing("pocket floor fillet radius is not planned")
+    prof = f.component("RECTANGULAR_CLOSED_PROFILE", "CIRCULAR_CLOSED_PROFILE",
+                       "NGON_CLOSED_PROFILE")
+    if prof is None:
+        kinds = [c.type for c in f.components if c.type.endswith("PROFILE")]
+        raise _Missing(f"pocket profile {kinds[0] if kinds else 'missing'} is not planned")
+    r = ref
+    if prof.placement is not None:
+        r = frame.matrix().T @ np.asarray(prof.placement.ref)
+    angle = math.degrees(math.atan2(r[1], r[0]))
+    p = PocketShape(f.id, (float(o[0]), float(o[1])), angle, "", depth, float(o[2]), bottom)
+    if prof.type == "RECTANGULAR_CLOSED_PROFILE":
+        p.profile = "rectangular"
+        p.length = _need(prof.params, "length", what="rectangular profile")
+        p.width = _need(prof.params, "width", what="rectangular profile")
+        p.corner_radius = float(prof.params.get("corner radius", 0.0))
+        if not (p.length > 0 and p.width > 0):
+            raise _Missing("pocket length and width must be positive")
+    elif prof.type == "CIRCULAR_CLOSED_PROFILE":
+        p.profile = "circular"
+        p.diameter = _need(prof.params, "diameter", what="circular profile")
+    else:
+        p.profile = "ngon"
+        p.diameter = _need(prof.params, "circumscribed diameter", "diameter",
+                           what="n-gon profile")
+        p.sides = int(round(_need(prof.params, "number of sides", what="n-gon profile")))
+        p.corner_radius = float(prof.params.get("corner radius", 0.0))
+        if p.sides < 3:
+            raise _Missing("an n-gon needs at least 3 sides")
+    if not depth > 0:
+        raise _Missing("pocket depth must be positive")
+    return p
+
+
+def feature_shapes(part: Part) -> ShapeSet:
+    """Machinable shapes of a part's features, and the features left out (with reasons).
+
+    Composite features (e.g. ``COMPOSITE_HOLE``) are covered by their components.
+    """
+    out = ShapeSet()
+    frame = _frame(part)
+    children = {c for f in part.features for c in f.children}
+    for f in part.features:
+        if f.children and all(c in children for c in f.children):
+            continue      # composite: its components are features of their own
+        if f.type not in MACHINABLE_TYPES:
+            out.skipped.append(Unmachinable(f.id, f.type, f"{f.type} features are not planned"))
+            continue
+        if f.placement is None:
+            out.skipped.append(Unmachinable(f.id, f.type, "no placement ('orientation')"))
+            continue
+        o, axis, ref = _local(frame, f.placement)
+        path = f.component("PATH_FEATURE_COMPONENT")
+        depth_dir = axis
+        if f.type != "SLOT" and path is not None and path.direction is not None:
+            depth_dir = frame.matrix().T @ np.asarray(path.direction)
+        if depth_dir[2] > -1 + 1e-6:
+            out.skipped.append(Unmachinable(
+                f.id, f.type, "depth direction is not -Z (not reachable from the top)"))
+            continue
+        try:
+            if f.type == "ROUND_HOLE":
+                out.shapes.append(_hole(f, o, depth_dir))
+            elif f.type == "SLOT":
+                out.shapes.append(_slot(f, o, axis, ref))
+            else:
+                out.shapes.append(_pocket(f, o, ref, frame))
+        except _Missing as e:
+            out.skipped.append(Unmachinable(f.id, f.type, str(e)))
+    return out
