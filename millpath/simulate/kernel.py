@@ -1,0 +1,262 @@
+"""Numba kernels: lower the Z-map under a tool swept along straight chords.
+
+For a tool moving along a straight chord from P0 to P1 with a profile ``f(r)`` (height
+of the cutter surface above the tip at radius ``r <= R``), the lowest point of the
+swept tool above a cell centre at perpendicular distance ``h`` from the chord's XY line
+is ``min over u of  z* + m u + f(sqrt(h^2 + u^2))`` where ``u`` is the distance along the
+line from the foot of the perpendicular, ``z*`` the chord's Z at the foot and ``m`` the
+chord's slope (dZ per unit XY length). The function is convex in ``u`` (the profiles
+are convex and increasing), so its minimum on the feasible interval (the cell within
+``R`` of the tool axis, the tool between P0 and P1) is the unconstrained minimiser
+clamped to the interval. The minimiser is closed-form for flat (interval end), ball
+(``u = -m sqrt((R^2 - h^2) / (1 + m^2))``) and drill cones (``u = -m h / sqrt(k^2 - m^2)``
+when the cone is steeper than the chord); for bull-nose cutters it is found by
+bisection on the derivative. The sweep of a chord is therefore exact at every cell
+centre; the only approximation is the chord tolerance of arcs and cubics.
+
+Tool type codes: 0 flat, 1 ball, 2 bull, 3 drill. Heights never go below the stock
+bottom ``zfloor``. The grid is processed in bands of ``B`` rows; each thread owns whole
+bands and visits the chords in program order, so every cell sees the cuts in order
+(needed to tell rapids through material and holder contacts) without locks.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+FLAT, BALL, BULL, DRILL = 0, 1, 2, 3
+
+
+@njit(cache=True, inline="always")
+def _profile(ttype: int, R: float, rc: float, k: float, d: float) -> float:
+    if ttype == FLAT:
+        return 0.0
+    if ttype == BALL:
+        q = R * R - d * d
+        return R - math.sqrt(q if q > 0.0 else 0.0)
+    if ttype == DRILL:
+        return k * d
+    a = R - rc
+    if d <= a:
+        return 0.0
+    e = d - a
+    q = rc * rc - e * e
+    return rc - math.sqrt(q if q > 0.0 else 0.0)
+
+
+@njit(cache=True)
+def _bull_u(R: float, rc: float, h2: float, m: float, ulo: float, uhi: float) -> float:
+    """Minimiser of z* + m u + f(sqrt(h2 + u^2)) on [ulo, uhi] for a bull-nose profile."""
+    a = R - rc
+
+    def slope_sign(u):
+        d = math.sqrt(h2 + u * u)
+        if d <= a or d == 0.0:
+            return m
+        e = d - a
+        q = rc * rc - e * e
+        if q <= 0.0:
+            return u          # vertical tangent: sign of f'(d) u / d is the sign of u
+        return m + e / math.sqrt(q) * u / d
+
+    if slope_sign(ulo) >= 0.0:
+        return ulo
+    if slope_sign(uhi) <= 0.0:
+        return uhi
+    lo, hi = ulo, uhi
+    for _ in range(48):
+        mid = 0.5 * (lo + hi)
+        if slope_sign(mid) > 0.0:
+            hi = mid
+        else:
+            lo = mid
+        if hi - lo < 1e-12 * (1.0 + abs(hi)):
+            break
+    return 0.5 * (lo + hi)
+
+
+@njit(cache=True, inline="always")
+def _envelope(px, py, x0, y0, z0, ux, uy, L, m, ttype, R, rc, k):
+    """Lowest Z of the tool swept along the chord above (px, py); +inf if not under it.
+
+    (x0, y0, z0) is the chord start, (ux, uy) the XY unit direction, L the XY length
+    (0 for a vertical chord, where z0 must be its lower end), m the slope.
+    """
+    dx = px - x0
+    dy = py - y0
+    R2 = R * R
+    if L <= 0.0:
+        d2 = dx * dx + dy * dy
+        if d2 > R2:
+            return np.inf
+        return z0 + _profile(ttype, R, rc, k, math.sqrt(d2))
+    s = dx * ux + dy * uy
+    hh = dx * uy - dy * ux
+    h2 = hh * hh
+    if h2 > R2:
+        return np.inf
+    w = math.sqrt(R2 - h2)
+    ulo = -w if -w > -s else -s
+    uhi = w if w < L - s else L - s
+    if ulo > uhi:
+        return np.inf
+    if m == 0.0:
+        u = 0.0
+    elif ttype == FLAT:
+        u = ulo if m > 0.0 else uhi
+    elif ttype == BALL:
+        u = -m * w / math.sqrt(1.0 + m * m)
+    elif ttype == DRILL:
+        if k > abs(m):
+            u = -m * abs(hh) / math.sqrt(k * k - m * m)
+        else:
+            u = ulo if m > 0.0 else uhi
+    else:
+        u = _bull_u(R, rc, h2, m, ulo, uhi)
+    if u < ulo:
+        u = ulo
+    elif u > uhi:
+        u = uhi
+    d = math.sqrt(h2 + u * u)
+    if d > R:
+        d = R
+    return z0 + m * (s + u) + _profile(ttype, R, rc, k, d)
+
+
+@njit(cache=True, inline="always")
+def _row_span(yc, x0, y0, x1, y1, R):
+    """Conservative X interval of the chord's R-neighbourhood on the line Y = yc."""
+    if abs(y1 - y0) < 1e-12:
+        if abs(yc - y0) > R:
+            return 1.0, -1.0
+        return min(x0, x1) - R, max(x0, x1) + R
+    ta = (yc - R - y0) / (y1 - y0)
+    tb = (yc + R - y0) / (y1 - y0)
+    if ta > tb:
+        ta, tb = tb, ta
+    if ta < 0.0:
+        ta = 0.0
+    if tb > 1.0:
+        tb = 1.0
+    if ta > tb:
+        return 1.0, -1.0
+    xa = x0 + (x1 - x0) * ta
+    xb = x0 + (x1 - x0) * tb
+    return min(xa, xb) - R, max(xa, xb) + R
+
+
+@njit(cache=True)
+def _sweep_band(H, bmax, B, jlo, jhi, zfloor, gx, gy, dx, dy,
+                x0, y0, z0, x1, y1, z1, ttype, R, rc, k, zoff, cut, eps):
+    """Sweep one chord over rows [jlo, jhi). ``cut``: lower the cells (returns True if
+    any cell had material above the tool); otherwise only test for material above the
+    tool (holder check). ``zoff`` lifts the tool (holder cylinders)."""
+    ny, nx = H.shape
+    ymn = min(y0, y1) - R
+    ymx = max(y0, y1) + R
+    ja = max(jlo, int(math.ceil((ymn - gy) / dy - 0.5)))
+    jb = min(jhi - 1, int(math.floor((ymx - gy) / dy - 0.5)))
+    if ja > jb:
+        return False
+    xmn = min(x0, x1) - R
+    xmx = max(x0, x1) + R
+    ia = max(0, int(math.ceil((xmn - gx) / dx - 0.5)))
+    ib = min(nx - 1, int(math.floor((xmx - gx) / dx - 0.5)))
+    if ia > ib:
+        return False
+    zlow = min(z0, z1) + zoff
+    top = -np.inf
+    for bi in range(ia // B, ib // B + 1):
+        if bmax[bi] > top:
+            top = bmax[bi]
+    if top <= zlow + eps or top <= zfloor + eps:
+        return False
+    Lx = x1 - x0
+    Ly = y1 - y0
+    L = math.sqrt(Lx * Lx + Ly * Ly)
+    if L < 1e-12:
+        L = 0.0
+        ux = 0.0
+        uy = 0.0
+        m = 0.0
+        zs = zlow
+    else:
+        ux = Lx / L
+        uy = Ly / L
+        m = (z1 - z0) / L
+        zs = z0 + zoff
+    hit = False
+    for j in range(ja, jb + 1):
+        yc = gy + (j + 0.5) * dy
+        xa, xb = _row_span(yc, x0, y0, x1, y1, R)
+        if xa > xb:
+            continue
+        i0 = max(ia, int(math.ceil((xa - gx) / dx - 0.5)))
+        i1 = min(ib, int(math.floor((xb - gx) / dx - 0.5)))
+        for i in range(i0, i1 + 1):
+            hcur = H[j, i]
+            if hcur <= zfloor + eps:
+                continue
+            xc = gx + (i + 0.5) * dx
+            z = _envelope(xc, yc, x0, y0, zs, ux, uy, L, m, ttype, R, rc, k)
+            if z < hcur:
+                if z < hcur - eps:
+                    hit = True
+                if cut:
+                    H[j, i] = z if z > zfloor else zfloor
+                elif hit:
+                    return True
+    return hit
+
+
+@njit(cache=True, parallel=True)
+def sweep_chunk(H, zfloor, gx, gy, dx, dy, B, S, E, seg_tool, seg_rapid, seg_motion,
+                ttype, tR, trc, tk, hR, hZ, hN, eps, rapid_hit, holder_hit, nthreads):
+    """Sweep chords ``S[n] -> E[n]`` in order over the Z-map ``H`` (modified in place).
+
+    Tool parameters are indexed by ``seg_tool`` (a slot, not a tool number): type code,
+    radius, corner radius, cone slope ``k`` (height per unit radius); holder cylinders
+    ``hR[slot, c]`` (radius) with bottoms ``hZ[slot, c]`` above the tip, ``hN[slot]`` of
+    them. Sets ``rapid_hit[motion] = 1`` when a rapid chord removes material and
+    ``holder_hit[motion] = 1`` when a holder cylinder meets material (tested before the
+    chord cuts).
+    """
+    ny, nx = H.shape
+    nby = (ny + B - 1) // B
+    nbx = (nx + B - 1) // B
+    nseg = S.shape[0]
+    for t in prange(nthreads):
+        bmax = np.empty(nbx)
+        for bj in range(t, nby, nthreads):
+            jlo = bj * B
+            jhi = min(ny, jlo + B)
+            for bi in range(nbx):
+                ilo = bi * B
+                ihi = min(nx, ilo + B)
+                mx = -np.inf
+                for j in range(jlo, jhi):
+                    for i in range(ilo, ihi):
+                        if H[j, i] > mx:
+                            mx = H[j, i]
+                bmax[bi] = mx
+            for s in range(nseg):
+                slot = seg_tool[s]
+                x0 = S[s, 0]
+                y0 = S[s, 1]
+                z0 = S[s, 2]
+                x1 = E[s, 0]
+                y1 = E[s, 1]
+                z1 = E[s, 2]
+                for c in range(hN[slot]):
+                    if _sweep_band(H, bmax, B, jlo, jhi, zfloor, gx, gy, dx, dy,
+                                   x0, y0, z0, x1, y1, z1, FLAT, hR[slot, c], 0.0, 0.0,
+                                   hZ[slot, c], False, eps):
+                        holder_hit[seg_motion[s]] = 1
+                hit = _sweep_band(H, bmax, B, jlo, jhi, zfloor, gx, gy, dx, dy,
+                                  x0, y0, z0, x1, y1, z1, ttype[slot], tR[slot], trc[slot],
+                                  tk[slot], 0.0, True, eps)
+                if hit and seg_rapid[s]:
+                    rapid_hit[seg_motion[s]] = 1

@@ -1,0 +1,261 @@
+"""Motion for the simulator: Toolpath moves as interpreted motion, and motion as chords.
+
+Everything here works on :class:`millpath.interpret.motion.Motion` records (kinds
+``traverse``, ``feed``, ``arc``, ``cubic``, ``dwell``), whose coordinates are the tool
+tip in program units. A :class:`~millpath.model.Toolpath` is first expanded to motion
+the way LinuxCNC executes it (canned drilling cycles become traverses, feeds and
+dwells); then every motion is cut into straight chords whose distance from the true
+curve is at most a chord tolerance (a length in program units).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from millpath.interpret.motion import Motion
+from millpath.model.toolpath import PLANE_AXES, Move, Toolpath
+
+Vec3 = tuple[float, float, float]
+
+
+# --- Toolpath -> motion ---------------------------------------------------------------
+
+def _drill_motions(m: Move, pos: Vec3, initial_z: float, tool: int, line: int,
+                   units: str) -> list[Motion]:
+    """Expand one canned-cycle move from ``pos`` the way LinuxCNC does (G81-G89).
+
+    Preliminary motion: if Z is below the R plane, traverse up to R; traverse in XY to
+    the hole; traverse down to R. Then feed to the bottom (G83: pecks of ``peck`` with a
+    traverse back to R and down to just above the previous depth; G73: a small
+    chip-breaking retract after each peck), dwell (G82/G89), leave the hole (feed for
+    G85/G89, traverse otherwise) to R (G99) or to the initial Z (G98, at least R).
+    """
+    x, y, zb = m.end
+    r = m.r_plane
+    back = 0.254 if units == "mm" else 0.010          # LinuxCNC's G83/G73 "a bit"
+    out: list[Motion] = []
+    cur = tuple(pos)
+
+    def go(kind: str, p: Vec3, feed: float = 0.0, dwell: float = 0.0) -> None:
+        nonlocal cur
+        if kind == "dwell":
+            out.append(Motion("dwell", line, cur, cur, dwell=dwell, tool=tool))
+            return
+        if any(abs(a - b) > 0.0 for a, b in zip(cur, p)):
+            out.append(Motion(kind, line, cur, p, feed=feed, tool=tool))
+        cur = p
+
+    if cur[2] < r:
+        go("traverse", (cur[0], cur[1], r))
+    go("traverse", (x, y, cur[2]))
+    go("traverse", (x, y, r))
+    feed = m.feed
+    if m.cycle in ("G83", "G73") and m.peck > 0:
+        depth = r
+        while depth - m.peck > zb + 1e-12:
+            depth -= m.peck
+            go("feed", (x, y, depth), feed)
+            if m.cycle == "G83":
+                go("traverse", (x, y, r))
+                go("traverse", (x, y, min(depth + back, r)))
+            else:
+                go("traverse", (x, y, min(depth + back, r)))
+        go("feed", (x, y, zb), feed)
+    else:
+        go("feed", (x, y, zb), feed)
+    if m.cycle in ("G82", "G89") and m.dwell > 0:
+        go("dwell", cur, dwell=m.dwell)
+    clear = max(initial_z, r) if m.retract_initial else r
+    go("feed" if m.cycle in ("G85", "G89") else "traverse", (x, y, clear), feed)
+    return out
+
+
+def toolpath_motions(tp: Toolpath) -> tuple[list[Motion], list[int]]:
+    """Motion of a Toolpath and, for each motion, the index of the move it came from.
+
+    Each motion's ``line`` is its move index (0-based) and ``tool`` the operation's
+    tool. The tool starts at the first move's end point (at the R plane for a drill).
+    ``comp`` moves cannot be expanded without the interpreter: ValueError.
+    """
+    motions: list[Motion] = []
+    src: list[int] = []
+    if not tp.moves:
+        return motions, src
+    first = tp.moves[0]
+    pos: Vec3 = (first.end[0], first.end[1],
+                 max(first.end[2], first.r_plane) if first.kind == "drill" else first.end[2])
+    series_z = pos[2]
+    prev_drill = False
+    for i, m in enumerate(tp.moves):
+        tool = tp.ops[m.op].tool
+        k = m.kind
+        if k == "comp":
+            raise ValueError(
+                f"move {i} is a cutter compensation change ({m.comp}); a Toolpath with "
+                "compensation cannot be simulated directly: post it and simulate the "
+                "interpreted motion (millpath.interpret.interpret + simulate_motions)")
+        if k == "drill":
+            if not prev_drill:
+                series_z = pos[2]
+            ms = _drill_motions(m, pos, series_z, tool, i, tp.units)
+            prev_drill = True
+        else:
+            prev_drill = False
+            if k == "rapid":
+                ms = [Motion("traverse", i, pos, m.end, tool=tool)]
+            elif k == "line":
+                ms = [Motion("feed", i, pos, m.end, feed=m.feed, tool=tool)]
+            elif k == "arc":
+                assert m.center is not None
+                a1, a2, an = PLANE_AXES[m.plane]
+                c = list(m.center)
+                c[an] = pos[an]
+                rot = -m.turns if m.clockwise else m.turns
+                ms = [Motion("arc", i, pos, m.end, feed=m.feed, tool=tool, plane=m.plane,
+                             center=tuple(c), rotation=rot)]
+            elif k == "cubic":
+                ms = [Motion("cubic", i, pos, m.end, feed=m.feed, tool=tool,
+                             controls=(m.c1, m.c2))]
+            else:
+                raise ValueError(f"move {i}: unknown move kind {k!r}")
+        for mo in ms:
+            motions.append(mo)
+            src.append(i)
+        if ms:
+            pos = ms[-1].end
+    return motions, src
+
+
+# --- geometry of one motion -----------------------------------------------------------
+
+def arc_params(mo: Motion) -> tuple[float, float, float, float]:
+    """(radius, start angle, signed sweep, normal travel) of an arc motion.
+
+    The sweep is counter-clockwise positive about the plane's normal and includes the
+    extra full turns of ``|rotation| > 1``; equal start and end make a full circle.
+    """
+    a1, a2, an = PLANE_AXES[mo.plane]
+    c = mo.center
+    assert c is not None
+    s1, s2 = mo.start[a1] - c[a1], mo.start[a2] - c[a2]
+    e1, e2 = mo.end[a1] - c[a1], mo.end[a2] - c[a2]
+    r = math.hypot(s1, s2)
+    t0 = math.atan2(s2, s1)
+    d = math.atan2(e2, e1) - t0
+    turns = max(1, abs(mo.rotation))
+    if mo.rotation < 0:
+        if d >= -1e-12:
+            d -= 2 * math.pi
+        d -= 2 * math.pi * (turns - 1)
+    else:
+        if d <= 1e-12:
+            d += 2 * math.pi
+        d += 2 * math.pi * (turns - 1)
+    return r, t0, d, mo.end[an] - mo.start[an]
+
+
+def motion_points(mo: Motion, chord_tol: float) -> np.ndarray:
+    """Points (n, 3) from start to end whose chords stay within ``chord_tol`` of the
+    motion (lines: the two end points)."""
+    s = np.asarray(mo.start, float)
+    e = np.asarray(mo.end, float)
+    if mo.kind == "arc":
+        r, t0, sweep, dn = arc_params(mo)
+        a1, a2, an = PLANE_AXES[mo.plane]
+        if r <= chord_tol:
+            step = math.pi / 2
+        else:
+            step = 2.0 * math.acos(max(-1.0, 1.0 - chord_tol / r))
+        n = max(2, int(math.ceil(abs(sweep) / max(step, 1e-9))))
+        t = np.linspace(0.0, 1.0, n + 1)
+        c = mo.center
+        assert c is not None
+        out = np.empty((n + 1, 3))
+        out[:, a1] = c[a1] + r * np.cos(t0 + sweep * t)
+        out[:, a2] = c[a2] + r * np.sin(t0 + sweep * t)
+        out[:, an] = s[an] + dn * t
+        out[0] = s
+        out[-1] = e
+        return out
+    if mo.kind == "cubic" and mo.controls is not None:
+        p0, p3 = s[:2], e[:2]
+        p1, p2 = np.asarray(mo.controls[0], float), np.asarray(mo.controls[1], float)
+        # flatness bound: |B''| <= 6 max|second differences|; chord error <= |B''| / (8 n^2)
+        m2 = 6.0 * max(np.linalg.norm(p0 - 2 * p1 + p2), np.linalg.norm(p1 - 2 * p2 + p3))
+        n = max(1, int(math.ceil(math.sqrt(m2 / (8.0 * chord_tol)))))
+        t = np.linspace(0.0, 1.0, n + 1)[:, None]
+        xy = ((1 - t) ** 3 * p0 + 3 * (1 - t) ** 2 * t * p1 + 3 * (1 - t) * t ** 2 * p2
+              + t ** 3 * p3)
+        out = np.empty((n + 1, 3))
+        out[:, :2] = xy
+        out[:, 2] = s[2] + (e[2] - s[2]) * t[:, 0]
+        out[0] = s
+        out[-1] = e
+        return out
+    return np.vstack([s, e])
+
+
+@dataclass
+class Segments:
+    """Straight chords of a motion list, in order.
+
+    ``start``/``end`` (n, 3) tool tip positions, ``motion`` (n,) index of the source
+    motion, ``rapid`` (n,) bool, ``tool`` (n,) tool number.
+    """
+
+    start: np.ndarray
+    end: np.ndarray
+    motion: np.ndarray
+    rapid: np.ndarray
+    tool: np.ndarray
+
+    def __len__(self) -> int:
+        return len(self.motion)
+
+
+def motion_segments(motions: list[Motion], chord_tol: float) -> Segments:
+    """Cut motion into chords within ``chord_tol`` (program units) of the true path."""
+    starts: list = []
+    ends: list = []
+    idx: list = []
+    rap: list = []
+    tools: list = []
+    big_s: list[np.ndarray] = []
+    big_e: list[np.ndarray] = []
+    big_i: list[np.ndarray] = []
+    for k, mo in enumerate(motions):
+        kind = mo.kind
+        if kind == "traverse" or kind == "feed":
+            starts.append(mo.start)
+            ends.append(mo.end)
+            idx.append(k)
+            rap.append(kind == "traverse")
+            tools.append(mo.tool)
+        elif kind == "arc" or kind == "cubic":
+            pts = motion_points(mo, chord_tol)
+            if starts:      # flush the pending straight moves to keep order
+                big_s.append(np.asarray(starts, float).reshape(-1, 3))
+                big_e.append(np.asarray(ends, float).reshape(-1, 3))
+                big_i.append(np.array([idx, rap, tools], dtype=np.int64).reshape(3, -1))
+                starts, ends, idx, rap, tools = [], [], [], [], []
+            n = len(pts) - 1
+            big_s.append(pts[:-1])
+            big_e.append(pts[1:])
+            big_i.append(np.array([[k] * n, [0] * n, [mo.tool] * n], dtype=np.int64))
+        # dwell and unknown kinds make no motion
+    if starts:
+        big_s.append(np.asarray(starts, float).reshape(-1, 3))
+        big_e.append(np.asarray(ends, float).reshape(-1, 3))
+        big_i.append(np.array([idx, rap, tools], dtype=np.int64).reshape(3, -1))
+    if not big_s:
+        z = np.zeros((0, 3))
+        e = np.zeros(0, np.int64)
+        return Segments(z, z.copy(), e, e.astype(bool), e.copy())
+    S = np.ascontiguousarray(np.vstack(big_s))
+    E = np.ascontiguousarray(np.vstack(big_e))
+    I = np.hstack(big_i)
+    return Segments(S, E, np.ascontiguousarray(I[0]), I[1].astype(bool),
+                    np.ascontiguousarray(I[2]))
