@@ -1,0 +1,41 @@
+"""``millpath fit PROGRAM.ngc --tolerance T``: arcs and cubics for an existing program."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import click
+
+from millpath.errors import MillpathError
+from millpath.io.atomic import write_text
+
+
+@click.command(name="fit")
+@click.argument("program", type=click.Path(dir_okay=False, path_type=Path))
+@click.option("--tolerance", "-t", type=float, required=True,
+              help="Largest distance between the original and the fitted path "
+                   "(program units).")
+@click.option("--mode", type=click.Choice(["arcs", "arcs+cubics"]), default="arcs",
+              show_default=True, help="Fit arcs only, or arcs and G5 cubics (XY).")
+@click.option("-o", "--output", type=click.Path(dir_okay=False, path_type=Path),
+              default=None, help="Output program (default: PROGRAM-fit.ngc beside it).")
+def command(program: Path, tolerance: float, mode: str, output: Path | None) -> None:
+    """Rewrite runs of G1 moves in PROGRAM as G2/G3 arcs (and G5 cubics) within
+    --tolerance; every other line stays as written."""
+    from millpath.fit import fit_program
+    try:
+        text = program.read_text()
+    except UnicodeDecodeError:
+        raise MillpathError("not a text file", program) from None
+    t0 = time.perf_counter()
+    out = fit_program(text, tolerance, mode, file=str(program))
+    dt = time.perf_counter() - t0
+    target = output if output is not None else program.with_name(program.stem + "-fit.ngc")
+    if target.resolve() == program.resolve():
+        raise MillpathError("the output would overwrite the input program; give -o", program)
+    write_text(target, out)
+    before = sum(1 for l in text.splitlines() if l.strip())
+    after = sum(1 for l in out.splitlines() if l.strip())
+    click.echo(f"{target}: {before} -> {after} blocks, {len(text.encode())} -> "
+               f"{len(out.encode())} bytes ({dt:.2f} s)")

@@ -1,0 +1,383 @@
+"""Fit the linear runs of an existing RS274NGC (LinuxCNC) program.
+
+The program is read line by line with just enough of the interpreter's modal state to
+know where the tool is: units (G20/G21), distance mode (G90/G91, G90.1/G91.1), plane,
+motion mode, feed mode, cutter compensation. A *fittable* block is a straight feed in
+absolute coordinates (G90, G94, no compensation) that holds only ``N``, ``G1``, ``X``,
+``Y``, ``Z`` and ``F`` words with literal numbers and no comment. Maximal runs of
+consecutive fittable blocks with one feed, whose start point is known, are rewritten by
+:func:`millpath.fit.fit_points`; every other line is copied as written. Anything the
+reader does not follow (parameters, expressions, O-words, G28/G30/G53/G92, work offsets,
+tool changes, tool length offsets, probing, other axes) makes the position unknown until
+the axes are given again, so no run starts from a guessed point.
+
+Written numbers use the program's own decimals where it writes more than the post
+would (4 in mm, 5 in inch), up to 6. After a rewritten run the plane and ``G1`` are
+restored when the run changed them and the following block relies on them.
+"""
+
+from __future__ import annotations
+
+import re
+
+import numpy as np
+
+from millpath.errors import MillpathError
+from millpath.fit import FitSettings, fit_points
+from millpath.fit.segment import PLANE_NAMES, PLANES
+
+_WORD = re.compile(r"([A-Za-z])\s*([-+]?(?:\d+\.?\d*|\.\d+))")
+_COMMENT = re.compile(r"\([^)]*\)|;.*$")
+_PLANE_CODE = {"XY": "G17", "XZ": "G18", "YZ": "G19"}
+_IJK = "IJK"
+# G codes that change neither the position nor how a G1 run is read
+_NEUTRAL_G = {4.0, 17.0, 18.0, 19.0, 40.0, 41.0, 42.0, 61.0, 61.1, 64.0, 90.0, 91.0, 90.1,
+              91.1, 93.0, 94.0, 95.0, 96.0, 97.0, 98.0, 99.0, 80.0, 0.0, 1.0, 2.0, 3.0,
+              5.0, 81.0, 82.0, 83.0, 84.0, 85.0, 86.0, 87.0, 88.0, 89.0, 73.0, 74.0, 8.0,
+              7.0, 20.0, 21.0, 64.0, 49.0, 43.0, 43.1, 43.2, 44.0}
+_MOTION_G = {0.0, 1.0, 2.0, 3.0, 5.0, 73.0, 74.0, 80.0, 81.0, 82.0, 83.0, 84.0, 85.0, 86.0,
+             87.0, 88.0, 89.0, 5.1, 5.2, 5.3, 33.0, 33.1, 38.2, 38.3, 38.4, 38.5, 76.0}
+
+
+def _fmt(v: float, d: int) -> str:
+    t = f"{v:.{d}f}"
+    if "." in t:
+        t = t.rstrip("0").rstrip(".")
+    return "0" if t in ("-0", "", "-") else t
+
+
+def _decimals(s: str) -> int:
+    return len(s.split(".", 1)[1]) if "." in s else 0
+
+
+class _State:
+    def __init__(self) -> None:
+        self.units: str | None = None
+        self.absolute = True
+        self.arc_absolute = False
+        self.plane = "XY"
+        self.motion: float | None = None
+        self.feed_mode = 94.0
+        self.comp = False
+        self.comp_exit = False       # the move after G40 is the compensation exit move
+        self.feed: float | None = None
+        self.pos: list[float | None] = [None, None, None]
+
+    def known(self) -> bool:
+        return all(p is not None for p in self.pos)
+
+
+class _Block:
+    """One parsed line: G codes, other words, and whether it can join a run."""
+
+    def __init__(self, raw: str):
+        self.raw = raw
+        body = raw.strip()
+        self.comment = bool(_COMMENT.search(body))
+        code = _COMMENT.sub("", body).strip()
+        if code.startswith("/"):                 # block delete: optional, not followed
+            self.opaque = True
+            code = code[1:]
+        else:
+            self.opaque = False
+        self.empty = code == "" or code == "%"
+        rest = _WORD.sub("", code).strip()
+        if rest or "#" in code or "[" in code:
+            self.opaque = True                   # expressions, parameters, O-words
+        self.g: list[float] = []
+        self.words: dict[str, float] = {}
+        self.text: dict[str, str] = {}
+        self.letters: list[str] = []
+        for m in _WORD.finditer(code):
+            letter = m.group(1).upper()
+            val = float(m.group(2))
+            self.letters.append(letter)
+            if letter == "G":
+                self.g.append(round(val, 2))
+            elif letter in self.words and letter not in "M":
+                self.opaque = True               # repeated word: leave to LinuxCNC
+            else:
+                self.words[letter] = val
+                self.text[letter] = m.group(2)
+            if letter == "O":
+                self.opaque = True
+
+
+def _apply(st: _State, b: _Block) -> None:
+    """Update the modal state and position for block ``b`` (what LinuxCNC would do, as
+    far as the fitter needs it)."""
+    if b.opaque:
+        st.pos = [None, None, None]
+        st.motion = None if any(g in _MOTION_G for g in b.g) else st.motion
+        return
+    w = b.words
+    lost = False
+    for g in b.g:
+        if g == 20.0:
+            lost = lost or st.units not in (None, "inch")
+            st.units = "inch"
+        elif g == 21.0:
+            lost = lost or st.units not in (None, "mm")
+            st.units = "mm"
+        elif g == 90.0:
+            st.absolute = True
+        elif g == 91.0:
+            st.absolute = False
+        elif g == 90.1:
+            st.arc_absolute = True
+        elif g == 91.1:
+            st.arc_absolute = False
+        elif g in (17.0, 18.0, 19.0):
+            st.plane = {17.0: "XY", 18.0: "XZ", 19.0: "YZ"}[g]
+        elif g in (93.0, 94.0, 95.0):
+            st.feed_mode = g
+        elif g == 40.0:
+            st.comp_exit = st.comp
+            st.comp = False
+        elif g in (41.0, 42.0):
+            st.comp = True
+        elif g in (43.0, 43.1, 43.2, 44.0, 49.0):
+            lost = True                      # the program Z of the tool tip changes
+        elif g in _MOTION_G:
+            st.motion = g
+        elif g not in _NEUTRAL_G:
+            lost = True                      # G10, G28, G30, G52, G53, G54.., G92, ...
+    if "F" in w:
+        st.feed = w["F"]
+    if "M" in w and w["M"] in (6.0, 61.0):
+        lost = True                          # a tool change may move the tool
+    if any(l in w for l in "ABCUVW"):
+        pass                                 # other axes: XYZ still follow the words
+    axes = [a for a in "XYZ" if a in w]
+    moved = bool(axes) and not any(g in (4.0, 10.0, 28.0, 30.0, 52.0, 92.0) for g in b.g)
+    if lost or any(g in (28.0, 30.0, 53.0, 92.0, 10.0, 52.0) for g in b.g):
+        st.pos = [None, None, None]
+        if axes and st.absolute and not any(g in (28.0, 30.0, 53.0, 92.0, 10.0, 52.0)
+                                            for g in b.g):
+            for a in axes:
+                st.pos["XYZ".index(a)] = w[a]
+        return
+    if moved and st.motion is not None:
+        cycle = st.motion in (73.0, 74.0, 81.0, 82.0, 83.0, 84.0, 85.0, 86.0, 87.0, 88.0,
+                              89.0)
+        if st.motion in (5.1, 5.2, 5.3, 33.0, 33.1, 38.2, 38.3, 38.4, 38.5, 76.0):
+            st.pos = [None, None, None]
+            return
+        for a in axes:
+            k = "XYZ".index(a)
+            if st.absolute:
+                st.pos[k] = w[a]
+            else:
+                p = st.pos[k]
+                st.pos[k] = None if p is None else p + w[a]
+        if cycle:
+            st.pos[2] = None                 # back at the R plane or the initial Z
+        if st.comp_exit:
+            st.comp_exit = False
+    elif moved:
+        st.pos = [None, None, None]          # axis words with no motion mode in force
+
+
+def _fittable(st: _State, b: _Block) -> bool:
+    """Can block ``b`` (given the state before it) join a run of G1 moves?"""
+    if b.opaque or b.comment or b.empty:
+        return False
+    if any(l not in "NGXYZF" for l in b.words) or not any(a in b.words for a in "XYZ"):
+        return False
+    if any(g != 1.0 for g in b.g):
+        return False
+    motion = 1.0 if b.g else st.motion
+    return (motion == 1.0 and st.absolute and st.feed_mode == 94.0 and not st.comp
+            and not st.comp_exit)
+
+
+class _Emitter:
+    """Writes the fitted primitives of one run as blocks."""
+
+    def __init__(self, st: _State, d: int):
+        self.d = d
+        self.plane = st.plane
+        self.motion = st.motion
+        self.arc_absolute = st.arc_absolute
+        self.pos = [_fmt(v, d) for v in st.pos]   # type: ignore[arg-type]
+        self.lines: list[str] = []
+
+    def _axes(self, end, skip: tuple[int, ...] = ()) -> list[str]:
+        words = []
+        for k in range(3):
+            s = _fmt(end[k], self.d)
+            if s != self.pos[k] and k not in skip:
+                words.append("XYZ"[k] + s)
+            self.pos[k] = s
+        return words
+
+    def _head(self, code: str, plane: str | None = None) -> list[str]:
+        words = []
+        if plane is not None and plane != self.plane:
+            words.append(_PLANE_CODE[plane])
+            self.plane = plane
+        if self.motion != {"G1": 1.0, "G2": 2.0, "G3": 3.0, "G5": 5.0}[code]:
+            words.append(code)
+            self.motion = {"G1": 1.0, "G2": 2.0, "G3": 3.0, "G5": 5.0}[code]
+        return words
+
+    def line(self, end, feed_word: str) -> None:
+        words = self._head("G1") + self._axes(end)
+        if words:
+            self.lines.append(" ".join(words) + feed_word)
+
+    def verbatim(self, block: "_Block", end) -> None:
+        """Copy an original G1 block, prefixed by G1 when the motion mode changed."""
+        if block.g:                              # the block names G1 itself
+            self.motion = 1.0
+            self.lines.append(block.raw)
+        else:
+            prefix = " ".join(self._head("G1"))
+            self.lines.append((prefix + " " + block.raw.strip()) if prefix else block.raw)
+        for k in range(3):
+            self.pos[k] = _fmt(end[k], self.d)
+
+    def arc(self, start, end, plane: str, c1: float, c2: float, cw: bool,
+            feed_word: str) -> None:
+        a1, a2, _ = PLANES[PLANE_NAMES.index(plane)]
+        words = self._head("G2" if cw else "G3", plane) + self._axes(end)
+        if self.arc_absolute:
+            words += [_IJK[a1] + _fmt(c1, self.d), _IJK[a2] + _fmt(c2, self.d)]
+        else:
+            words += [_IJK[a1] + _fmt(c1 - start[a1], self.d),
+                      _IJK[a2] + _fmt(c2 - start[a2], self.d)]
+        self.lines.append(" ".join(words) + feed_word)
+
+    def cubic(self, start, end, ctrl, feed_word: str) -> None:
+        words = self._head("G5", "XY")
+        words += [f"X{_fmt(end[0], self.d)}", f"Y{_fmt(end[1], self.d)}",
+                  f"I{_fmt(ctrl[0] - start[0], self.d)}", f"J{_fmt(ctrl[1] - start[1], self.d)}",
+                  f"P{_fmt(ctrl[2] - end[0], self.d)}", f"Q{_fmt(ctrl[3] - end[1], self.d)}"]
+        self.pos[0], self.pos[1] = _fmt(end[0], self.d), _fmt(end[1], self.d)
+        self.lines.append(" ".join(words) + feed_word)
+
+
+def _needs_motion(blocks: list[_Block], k: int) -> bool:
+    """Does the block after a run (index ``k``) rely on the modal motion mode?"""
+    for b in blocks[k:]:
+        if b.empty and not b.comment:
+            continue
+        if b.opaque:
+            return True
+        if any(g in _MOTION_G for g in b.g):
+            return False
+        if any(a in b.words for a in "XYZABCUVW"):
+            return True
+        if "M" in b.words and b.words["M"] in (2.0, 30.0):
+            return False
+    return False
+
+
+def _fit_run(st: _State, run: list[_Block], tol: float, mode: str) -> list[str] | None:
+    """Rewritten lines for a run (None: keep it as written)."""
+    base = 5 if st.units != "mm" else 4
+    d = base
+    for b in run:
+        for a in "XYZ":
+            if a in b.text:
+                d = max(d, _decimals(b.text[a]))
+    d = min(d, 6)
+    pts = [list(st.pos)]
+    for b in run:
+        p = list(pts[-1])
+        for a in "XYZ":
+            if a in b.words:
+                p["XYZ".index(a)] = b.words[a]
+        pts.append(p)
+    s = FitSettings("inch" if st.units != "mm" else "mm", tol, mode, decimals=d)
+    P, idx, kinds, ends, par = fit_points(np.array(pts, dtype=float), s)
+    if len(kinds) >= len(run):
+        return None
+    fw = f" F{run[0].text['F']}" if "F" in run[0].text else ""
+    em = _Emitter(st, d)
+    prev = 0
+    for k, e, p in zip(kinds.tolist(), ends.tolist(), par):
+        start, end = P[prev], P[e]
+        if k == 0 and e == prev + 1 and idx[e] == idx[prev] + 1:
+            em.verbatim(run[idx[e] - 1], end)
+            fw = ""
+            prev = e
+            continue
+        if k == 0:
+            em.line(end, fw)
+        elif k == 1:
+            em.arc(start, end, PLANE_NAMES[int(p[0])], float(p[1]), float(p[2]),
+                   bool(p[3] > 0.5), fw)
+        else:
+            em.cubic(start, end, p[:4], fw)
+        fw = ""
+        prev = e
+    return em.lines
+
+
+def fit_program(text: str, tolerance: float, mode: str = "arcs", *,
+                file: str | None = None) -> str:
+    """Return ``text`` with its runs of ``G1`` moves replaced by arcs (and ``G5``
+    cubics with ``mode="arcs+cubics"``) within ``tolerance`` (program units).
+
+    Lines that are not rewritten are copied exactly. ``file`` names the program in
+    error messages.
+    """
+    try:
+        FitSettings("mm", tolerance, mode)
+    except ValueError as e:
+        raise MillpathError(str(e), file) from None
+    src = text.splitlines()
+    blocks = [_Block(l) for l in src]
+    st = _State()
+    out: list[str] = []
+    i = 0
+    n = len(blocks)
+    while i < n:
+        b = blocks[i]
+        if st.known() and _fittable(st, b):
+            feed = b.words.get("F", st.feed)
+            start_state = _State()
+            start_state.__dict__.update(st.__dict__)
+            start_state.pos = list(st.pos)
+            j = i
+            while j < n and _fittable(st, blocks[j]) and blocks[j].words.get("F", feed) == feed:
+                _apply(st, blocks[j])
+                j += 1
+            run = blocks[i:j]
+            new = _fit_run(start_state, run, tolerance, mode) if len(run) >= 2 else None
+            if new is None:
+                out.extend(rb.raw for rb in run)
+            else:
+                out.extend(new)
+                restore = []
+                plane_now = _run_plane(new, start_state.plane)
+                if plane_now != st.plane:
+                    restore.append(_PLANE_CODE[st.plane])
+                if _run_motion(new, start_state.motion) != 1.0 and _needs_motion(blocks, j):
+                    restore.append("G1")
+                if restore:
+                    out.append(" ".join(restore))
+            i = j
+            continue
+        out.append(b.raw)
+        _apply(st, b)
+        i += 1
+    return "\n".join(out) + ("\n" if text.endswith("\n") or not text else "")
+
+
+def _run_plane(lines: list[str], plane: str) -> str:
+    for l in lines:
+        for code, name in (("G17", "XY"), ("G18", "XZ"), ("G19", "YZ")):
+            if re.search(rf"\b{code}\b", l):
+                plane = name
+    return plane
+
+
+def _run_motion(lines: list[str], motion: float | None) -> float | None:
+    for l in lines:
+        for m in re.finditer(r"\bG([0-9.]+)", l):
+            v = float(m.group(1))
+            if v in (1.0, 2.0, 3.0, 5.0):
+                motion = v
+    return motion
