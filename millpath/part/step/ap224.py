@@ -493,7 +493,8 @@ class _Reader:
     def product(self) -> str:
         for p in self.sf.by_type("PRODUCT"):
             pp = p.get("PRODUCT")
-            return " ".join(s for s in pp[:2] if isinstance(s, str) and s)
+            names = [s for s in pp[:2] if isinstance(s, str) and s]
+            return " ".join(dict.fromkeys(names))
         return ""
 
 

@@ -1,0 +1,313 @@
+"""Operation type ``features``: machine the features of an AP224 file.
+
+Job keys (lengths in job units):
+
+- ``step`` (path, required): the AP224 file; its stock is used when the job has none.
+- ``tool``: the only milling cutter to use (drills are still chosen from the library).
+- ``tools``: tool numbers the planner may use (default: all the job's tools).
+- ``finish_allowance``: wall stock left by roughing, removed by the finishing pass
+  (default 0.2 mm / 0.008 in).
+- ``stepover``: radial distance between roughing rings (default 40 % of each tool's
+  diameter; at most 90 % of it).
+- ``step_down``: largest depth per level (default half of each cutter's diameter).
+- ``clearance``: rapid plane above the stock top (default 5 mm / 0.2 in); feeds start
+  1 mm / 0.04 in above the top.
+- ``max_rpm``: spindle limit (default 24000); ``coolant``: flood, mist or off;
+  ``material``: a material class overriding the file's (see
+  :data:`millpath.plan.features.cutting.MATERIALS`).
+
+Holes get canned cycles (G81; G73 chip breaking or G83 full retract pecks of one
+diameter beyond three diameters deep), helical interpolation or a ball plunge; slots and
+pockets are cleared by contour-parallel rings per level plus a finishing wall pass.
+Operations are grouped by tool (one tool change per tool), region milling first.
+Coordinates are in the stock frame of the file (block corner at the origin).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from typing import Any
+
+import numpy as np
+
+from millpath.errors import JobError, PlanningError
+from millpath.job.schema import Param
+from millpath.model import Operation, Stock, Tool, Toolpath
+from millpath.part.step.ap224 import read_part
+from millpath.part.step.shapes import HoleShape, PocketShape, SlotShape, feature_shapes
+from millpath.plan.base import PlanContext, PlanResult
+from millpath.plan.features import paths
+from millpath.plan.features.cutting import MATERIALS, material_class, speeds
+from millpath.plan.features.design import FeatureDesign, slot_outline
+from millpath.plan.features.select import hole_tool, pocket_tool, slot_tool
+
+
+def _tools_check(v: Any) -> str | None:
+    if not all(isinstance(x, int) and not isinstance(x, bool) and x > 0 for x in v):
+        return "expected a list of tool numbers"
+    return None
+
+
+PARAMS: dict[str, Param] = {
+    "step": Param("path", doc="AP224 file"),
+    "tool": Param("int", None, positive=True, doc="only milling cutter to use"),
+    "tools": Param("list", None, check=_tools_check, doc="tool numbers allowed"),
+    "finish_allowance": Param("float", None, nonneg=True),
+    "stepover": Param("float", None, positive=True),
+    "step_down": Param("float", None, positive=True),
+    "clearance": Param("float", None, positive=True),
+    "max_rpm": Param("float", 24000.0, positive=True),
+    "coolant": Param("str", "flood", choices=("flood", "mist", "off")),
+    "material": Param("str", "", check=lambda v: None if not v or v in MATERIALS else
+                      f"unknown material class (known: {', '.join(MATERIALS)})"),
+}
+
+
+@dataclasses.dataclass
+class _Task:
+    shape: Any
+    strategy: str
+    tool: Tool
+    note: str = ""
+
+
+def _scaled(shape, k: float):
+    if k == 1.0:
+        return shape
+    f = {}
+    for name in ("x", "y", "z_top", "diameter", "depth", "length", "width", "corner_radius"):
+        if hasattr(shape, name):
+            f[name] = getattr(shape, name) * k
+    if isinstance(shape, HoleShape) and shape.bottom in ("spherical", "flat with radius"):
+        f["bottom_radius"] = shape.bottom_radius * k
+    if isinstance(shape, SlotShape):
+        f["start"] = (shape.start[0] * k, shape.start[1] * k)
+    if isinstance(shape, PocketShape):
+        f["center"] = (shape.center[0] * k, shape.center[1] * k)
+    return dataclasses.replace(shape, **f)
+
+
+def _position(s) -> tuple[float, float]:
+    if isinstance(s, HoleShape):
+        return (s.x, s.y)
+    if isinstance(s, SlotShape):
+        return s.start
+    return s.center
+
+
+def _order(tasks: list[_Task]) -> list[_Task]:
+    """Nearest-neighbour order, region milling before holes."""
+    out: list[_Task] = []
+    cur = np.zeros(2)
+    for group in ([t for t in tasks if t.strategy in ("slot", "pocket", "circular")],
+                  [t for t in tasks if t.strategy not in ("slot", "pocket", "circular")]):
+        left = list(group)
+        while left:
+            d = [float(np.hypot(*(np.asarray(_position(t.shape)) - cur))) for t in left]
+            t = left.pop(int(np.argmin(d)))
+            out.append(t)
+            cur = np.asarray(_position(t.shape))
+    return out
+
+
+def plan(ctx: PlanContext, params: dict) -> PlanResult:
+    """Plan all machinable features of the AP224 file ``params['step']``."""
+    part = read_part(params["step"])
+    job_mm = 25.4 if ctx.units == "inch" else 1.0
+    k = part.units.length_mm / job_mm
+    inch = ctx.units == "inch"
+    shapes_set = feature_shapes(part)
+    shapes = [_scaled(s, k) for s in shapes_set.shapes]
+    notes: list[str] = []
+
+    file_stock = None
+    if part.stock is not None:
+        b = [v * k for v in part.stock.box()]
+        file_stock = Stock.from_box(b)
+        if part.stock.shape == "cylinder":
+            notes.append("cylindrical stock: its bounding box is used")
+    stock = ctx.stock or file_stock
+    if stock is None:
+        raise PlanningError("the STEP file has no stock and the job gives none",
+                            params["step"])
+    z_top = stock.zmax
+    allowance = params["finish_allowance"]
+    if allowance is None:
+        allowance = 0.008 if inch else 0.2
+    clearance = params["clearance"] or (0.2 if inch else 5.0)
+    h = paths.Heights(z_safe=z_top + clearance, r_plane=z_top + (0.04 if inch else 1.0))
+    breakthrough = 0.02 if inch else 0.5
+    tol = 0.0004 if inch else 0.01
+
+    mat = params["material"] or material_class(part.material)
+    data = MATERIALS[mat]
+
+    allowed = params["tools"]
+    tools = [t for n, t in sorted(ctx.tools.items()) if allowed is None or n in allowed]
+    if allowed is not None:
+        for n in allowed:
+            if n not in ctx.tools:
+                raise JobError(f"tools: tool {n} is not in the job's [[tools]]", ctx.job_file)
+    if params["tool"] is not None:
+        only = ctx.tool(params["tool"], "tool")
+        tools = [t for t in tools if t.type == "drill"] + [only]
+    if not tools:
+        raise PlanningError("the job has no tools to machine the features", ctx.job_file)
+
+    tasks: list[_Task] = []
+    unplanned: list = []            # recognised shapes without a tool: still in the design
+    skipped = [dataclasses.asdict(u) for u in shapes_set.skipped]
+    for s in shapes:
+        if isinstance(s, HoleShape):
+            strat, tool, note = hole_tool(s, tools, tol)
+        elif isinstance(s, SlotShape):
+            strat, tool, note = slot_tool(s, tools, tol)
+        else:
+            strat, tool, note = pocket_tool(s, tools, tol)
+        if tool is None:
+            skipped.append({"id": s.id, "type": type(s).__name__.replace("Shape", "").upper(),
+                            "reason": note, "kind": "no tool"})
+            unplanned.append(s)
+            continue
+        tasks.append(_Task(s, strat, tool, note))
+
+    groups: dict[int, list[_Task]] = {}
+    for t in tasks:
+        groups.setdefault(t.tool.number, []).append(t)
+
+    def group_key(n: int):
+        g = groups[n]
+        region = any(t.strategy in ("slot", "pocket", "circular") for t in g)
+        tool = g[0].tool
+        return (0 if region else 1 if tool.type == "drill" else 2, -tool.diameter, n)
+
+    tp = Toolpath(units=ctx.units)
+    planned = []
+    for n in sorted(groups, key=group_key):
+        group = _order(groups[n])
+        tool = group[0].tool
+        sp = speeds(tool, mat, ctx.units, max_rpm=params["max_rpm"],
+                    max_feed=ctx.machine.max_feed)
+        stepover = params["stepover"] or 0.4 * tool.diameter
+        if stepover > 0.9 * tool.diameter:
+            notes.append(f"stepover {stepover:g} limited to 90 % of T{n}'s diameter")
+            stepover = 0.9 * tool.diameter
+        step_down = params["step_down"] or 0.5 * tool.diameter
+        kinds = sorted({t.strategy for t in group})
+        tp.begin(Operation("features", f"T{n} {tool.type} D{tool.diameter:g}: "
+                           f"{len(group)} feature(s) ({', '.join(kinds)})", n,
+                           spindle=sp.rpm, coolant=params["coolant"],
+                           info={"material": mat, "vc": round(sp.vc, 1), "chip": sp.chip}))
+        for t in group:
+            rec = _cut(tp, t, tool, sp, h, z_top, stock, data.chip_breaking, allowance,
+                       stepover, step_down, breakthrough)
+            rec.update(id=t.shape.id, type=type(t.shape).__name__.replace("Shape", "").upper(),
+                       strategy=t.strategy, tool=n, rpm=sp.rpm, feed=sp.feed)
+            if t.note:
+                rec["note"] = t.note
+            planned.append(rec)
+
+    design = FeatureDesign(z_top, [t.shape for t in tasks] + unplanned,
+                           reach=max(stock.size) * 2 + 100.0)
+    report = {"features": {
+        "file": str(params["step"]),
+        "product": part.product,
+        "file_units": part.units.length,
+        "material": part.material,
+        "material_class": mat,
+        "stock": part.stock.as_dict() if part.stock else None,
+        "tool_changes": len(groups),
+        "planned": planned,
+        "unmachinable": skipped,
+        "notes": notes,
+    }}
+    return PlanResult(toolpath=tp, design=design, report=report,
+                      stock=file_stock if ctx.stock is None else None)
+
+
+def _cut(tp: Toolpath, t: _Task, tool: Tool, sp, h: paths.Heights, z_top: float,
+         stock: Stock, chip_breaking: bool, allowance: float, stepover: float,
+         step_down: float, breakthrough: float) -> dict:
+    s = t.shape
+    if isinstance(s, HoleShape):
+        floor = stock.zmin - breakthrough if s.bottom == "through" else s.z_bottom
+        if t.strategy == "drill":
+            tip = floor - (tool.point_depth() if s.bottom == "through" else 0.0)
+            depth = s.z_top - tip
+            if depth > 3 * tool.diameter:
+                cycle = "G73" if chip_breaking and depth <= 6 * tool.diameter else "G83"
+                peck = tool.diameter
+            else:
+                cycle, peck = "G81", 0.0
+            paths.drill(tp, s.x, s.y, tip, h, sp.feed, cycle, peck)
+            return {"cycle": cycle, "peck": peck, "z": tip}
+        if t.strategy == "plunge":
+            paths.plunge(tp, s.x, s.y, floor, h, sp.plunge)
+            return {"z": floor}
+        paths.bore(tp, s.x, s.y, s.diameter / 2.0, tool.radius, s.z_top, floor, h,
+                   step_down=step_down, stepover=stepover, allowance=allowance,
+                   feed=sp.feed, plunge_feed=sp.plunge)
+        return {"z": floor, "levels": len(paths.levels(s.z_top, floor, step_down))}
+    floor = stock.zmin - breakthrough if getattr(s, "bottom", "") == "through" else \
+        s.z_top - s.depth
+    if t.strategy == "circular":
+        paths.bore(tp, s.center[0], s.center[1], s.diameter / 2.0, tool.radius, s.z_top,
+                   floor, h, step_down=step_down, stepover=stepover, allowance=allowance,
+                   feed=sp.feed, plunge_feed=sp.plunge)
+        return {"z": floor, "levels": len(paths.levels(s.z_top, floor, step_down))}
+    if isinstance(s, SlotShape):
+        rough, finish = _slot_regions(s, tool.radius, allowance, stock)
+    else:
+        outline = s.outline(16)
+        rough = outline.buffer(-(tool.radius + allowance), join_style="mitre")
+        finish = outline.buffer(-tool.radius, join_style="mitre")
+        if rough.is_empty:
+            rough = finish
+        if finish.is_empty:
+            raise PlanningError(f"#{s.id}: tool T{tool.number} does not fit the pocket")
+    paths.clear_region(tp, rough, finish, s.z_top, floor, h, step_down=step_down,
+                       stepover=stepover, feed=sp.feed, plunge_feed=sp.plunge)
+    return {"z": floor, "levels": len(paths.levels(s.z_top, floor, step_down))}
+
+
+def _slot_regions(s: SlotShape, r: float, allowance: float, stock: Stock):
+    """Roughing and finishing regions of the tool centre in a slot (LineString when the
+    tool is as wide as the slot)."""
+    from shapely.geometry import LineString
+
+    d = np.asarray(s.direction)
+    a = np.asarray(s.start, float)
+    b = a + d * s.length
+    # open ends: run out past the stock edge by the tool radius
+    out = max(stock.size) + r + 1.0
+    if s.ends[0] == "open":
+        a = _exit(a, -d, stock) - d * (r + 1.0)
+    if s.ends[1] == "open":
+        b = _exit(b, d, stock) + d * (r + 1.0)
+
+    def region(off: float):
+        half = s.width / 2.0 - off
+        aa = a + d * off if s.ends[0] == "flat" else a
+        bb = b - d * off if s.ends[1] == "flat" else b
+        if half <= 1e-6:
+            return LineString([aa, bb])
+        outline = slot_outline(dataclasses.replace(
+            s, start=(float(aa[0]), float(aa[1])),
+            length=float(np.linalg.norm(bb - aa)), width=2 * half,
+            ends=tuple("radiused" if e == "radiused" else "flat" for e in s.ends)), out)
+        return outline
+
+    finish = region(r)
+    rough = region(r + allowance) if s.width / 2.0 - r - allowance > 1e-6 else finish
+    return rough, finish
+
+
+def _exit(p: np.ndarray, d: np.ndarray, stock: Stock) -> np.ndarray:
+    """Where the ray from ``p`` along ``d`` leaves the stock's XY box (p if outside)."""
+    ts = []
+    for i, (lo, hi) in enumerate(((stock.xmin, stock.xmax), (stock.ymin, stock.ymax))):
+        if abs(d[i]) > 1e-12:
+            ts.append(((hi if d[i] > 0 else lo) - p[i]) / d[i])
+    t = max(0.0, min(ts)) if ts else 0.0
+    return p + d * t
