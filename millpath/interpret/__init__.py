@@ -1,0 +1,47 @@
+"""RS274NGC interpreter: a program -> the motion a LinuxCNC 2.9 machine would make.
+
+``interpret(program, tools=None, *, machine_units="inch") -> list[Motion]`` (a
+:class:`MotionList`, a read-only sequence of :class:`Motion`) raises
+:class:`InterpreterError` (``.line``, ``.message``, ``.motions``) on a G-code error;
+``run(...) -> InterpretResult`` never raises for G-code errors.
+
+``program`` is program text or a :class:`pathlib.Path`. ``tools`` is a LinuxCNC tool
+table path, a list of ``ToolEntry`` or a dict of millpath ``Tool``; its values are in
+``machine_units`` (rs274 reads tool tables as inches). Programs start in mm, G17, G90,
+G94, G40, G49, G99 and G80 like rs274. Coordinates are program coordinates in program
+units; see :mod:`millpath.interpret.motion`.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from millpath.interpret.errors import InterpreterError
+from millpath.interpret.motion import InterpretResult, InterpreterErrorInfo, Motion
+from millpath.interpret.runner import run_program
+from millpath.interpret.store import MotionList
+
+__all__ = ["interpret", "run", "InterpreterError", "Motion", "MotionList", "InterpretResult"]
+
+
+def _text(program: str | Path) -> tuple[str, str | None]:
+    if isinstance(program, Path):
+        return program.read_text(encoding="utf-8", errors="replace"), str(program)
+    return program, None
+
+
+def run(program: str | Path, tools=None, *, machine_units: str = "inch") -> InterpretResult:
+    """Interpret a program; G-code errors are reported in ``result.error``."""
+    text, _ = _text(program)
+    units, motions, err = run_program(text, tools, machine_units)
+    info = InterpreterErrorInfo(err[0], err[1]) if err else None
+    return InterpretResult(units=units, motions=motions, error=info)
+
+
+def interpret(program: str | Path, tools=None, *, machine_units: str = "inch") -> MotionList:
+    """Interpret a program and return its motion; raise InterpreterError on an error."""
+    text, name = _text(program)
+    units, motions, err = run_program(text, tools, machine_units)
+    if err:
+        raise InterpreterError(err[0], err[1], motions, name)
+    return motions

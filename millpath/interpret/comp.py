@@ -1,0 +1,442 @@
+"""Cutter radius compensation (G40/G41/G42/G41.1/G42.1) as LinuxCNC 2.9 does it.
+
+Works in the compensation plane's (first, second, normal) coordinates: XY = (X, Y, Z),
+XZ = (Z, X, Y). The first move after G41/G42 is the entry move (the tool ends a radius
+to the side of the programmed end point). Later moves are queued: each new move fixes
+the end of the queued ones, which is how convex corners get an arc around the
+programmed corner point and concave corners get trimmed. Lengths are program units.
+Errors use rs274's messages.
+"""
+
+from __future__ import annotations
+
+import math
+
+from millpath.interpret.arcs import arc_center_ijk, arc_center_r, find_turn
+from millpath.interpret.errors import GCodeError
+
+LEFT, RIGHT = 2, 1
+PI = math.pi
+HALF_PI = math.pi / 2.0
+SMALL = 0.05                    # radians: LinuxCNC's TOLERANCE_CONCAVE_CORNER
+TOLERANCE_EQUAL = 1e-6
+RADIUS_TOLERANCE = {"inch": 0.00005, "mm": 0.00005 * 25.4}
+SPIRAL_TOLERANCE = {"inch": 2 * 0.001 * math.sqrt(2.0), "mm": 2 * 0.01 * math.sqrt(2.0)}
+
+
+def _inside(side: int, turn: int) -> bool:
+    return (side == LEFT and turn > 0) or (side == RIGHT and turn < 0)
+
+
+class CompMixin:
+    """Compensation state and moves; mixed into the interpreter's Machine."""
+
+    def comp_init(self) -> None:
+        self.comp_side = 0
+        self.comp_radius = 0.0
+        self.comp_first = True
+        self.prog = [0.0, 0.0, 0.0]
+        self.queue: list[list] = []
+        self.endpoint = [0.0, 0.0]
+        self.endpoint_valid = False
+        self.arc_not_allowed = False
+
+    # --- plane mapping ----------------------------------------------------------------
+    def _pc(self, v) -> tuple[float, float, float]:
+        a1, a2, an = self.axes
+        return v[a1], v[a2], v[an]
+
+    def _xyz(self, p1: float, p2: float, p3: float) -> list[float]:
+        a1, a2, an = self.axes
+        out = [0.0, 0.0, 0.0]
+        out[a1], out[a2], out[an] = p1, p2, p3
+        return out
+
+    def _set_current(self, p1: float, p2: float, p3: float) -> None:
+        self.cur = self._xyz(p1, p2, p3)
+
+    def _set_program(self, p1: float, p2: float, p3: float) -> None:
+        self.prog = self._xyz(p1, p2, p3)
+
+    # --- G40 / G41 / G42 --------------------------------------------------------------
+    def comp_on_off(self, code: int, w: dict) -> None:
+        if code == 400:
+            if self.comp_side and self.comp_radius > 0.0 and not self.comp_first:
+                cx, cy, _ = self._pc(self.cur)
+                self.move_endpoint_and_flush(cx, cy)
+                self.dequeue()
+                self.cur = list(self.prog)
+                self.arc_not_allowed = True
+            self.comp_side = 0
+            self.comp_first = True
+            return
+        side = LEFT if code in (410, 411) else RIGHT
+        if self.plane not in ("XY", "XZ"):
+            raise GCodeError("Cutter radius compensation allowed only in XY, XZ planes")
+        if self.comp_side:
+            raise GCodeError("Cannot turn cutter radius comp on when on")
+        if code in (411, 421):
+            if "d" not in w:
+                raise GCodeError(f"G{code // 10}.1 with no D word")
+            radius = w["d"] / 2.0
+        else:
+            if "d" in w:
+                d = w["d"]
+                tool = int(d + 0.5)
+                if abs(tool - d) >= 0.0001:
+                    raise GCodeError(f"G{code // 10} requires D word to be a whole number")
+                if tool < 0:
+                    raise GCodeError("Negative d word tool radius index used")
+                if tool != 0 and tool not in self.tools:
+                    raise GCodeError(f"Requested tool {tool} not found in the tool table")
+                data = self.tool_data(tool)
+            else:
+                data = self.tool_data(0)
+            radius = self.user_to_prog(data[0]) / 2.0
+        if radius < 0.0:
+            radius = -radius
+            side = LEFT if side == RIGHT else RIGHT
+        self.comp_radius = radius
+        self.comp_side = side
+
+    # --- the queue --------------------------------------------------------------------
+    def set_endpoint(self, x: float, y: float) -> None:
+        self.endpoint = [x, y]
+        self.endpoint_valid = True
+
+    def enqueue_straight(self, kind: int, line: int, d, x: float, y: float, z: float,
+                         feed: float) -> None:
+        self.queue.append(["S", kind, line, d[0], d[1], d[2], x, y, z, feed, self._state_idx])
+
+    def enqueue_arc(self, line: int, original: float, e1: float, e2: float, c1: float,
+                    c2: float, turn: int, e3: float, feed: float) -> None:
+        self.queue.append(["A", line, original, e1, e2, c1, c2, turn, e3, feed,
+                           self._state_idx])
+
+    def enqueue_dwell(self, line: int, seconds: float) -> None:
+        if not self.queue:
+            self.emit_dwell(line, seconds)
+        else:
+            self.queue.append(["D", line, seconds, self._state_idx])
+
+    def dequeue(self) -> None:
+        self.endpoint_valid = False
+        if not self.queue:
+            return
+        from millpath.interpret.machine import T_ARC
+        for q in self.queue:
+            if q[0] == "S":
+                self.emit(q[1], q[2], self._xyz(q[6], q[7], q[8]), q[9], None, 0, q[10])
+            elif q[0] == "A":
+                start3 = self._pc(self.out)[2]
+                end = self._xyz(q[3], q[4], q[8])
+                center = self._xyz(q[5], q[6], start3)
+                self.emit(T_ARC, q[1], end, q[9], center, q[7], q[10])
+            else:
+                self.emit_dwell(q[1], q[2], q[3])
+        self.queue = []
+
+    def move_endpoint_and_flush(self, x: float, y: float) -> None:
+        if not self.queue:
+            return
+        for q in self.queue:
+            if q[0] == "A":
+                r1 = math.hypot(q[3] - q[5], q[4] - q[6])
+                l1 = q[2]
+                r2 = math.hypot(x - q[5], y - q[6])
+                l2 = find_turn(self.endpoint[0], self.endpoint[1], q[5], q[6], q[7], x, y)
+                if abs(r1 - r2) > 0.01:
+                    raise GCodeError("BUG: cutter compensation has generated an invalid arc "
+                                     f"with mismatched radii r1 {r1:f} r2 {r2:f}\n")
+                if l1 and self.endpoint_valid and abs(l2) > abs(l1) + 0.001:
+                    raise GCodeError("Arc move in concave corner cannot be reached by the "
+                                     "tool without gouging")
+                q[3], q[4] = x, y
+            elif q[0] == "S":
+                dot = q[3] * (x - self.endpoint[0]) + q[4] * (y - self.endpoint[1])
+                if self.endpoint_valid and dot < 0:
+                    if q[1] == 0:
+                        raise GCodeError("Straight traverse in concave corner cannot be "
+                                         "reached by the tool without gouging")
+                    raise GCodeError("Straight feed in concave corner cannot be reached by "
+                                     "the tool without gouging")
+                q[6], q[7] = x, y
+        self.dequeue()
+        self.set_endpoint(x, y)
+
+    def flush_comp(self, line: int) -> None:
+        """M0/M1/M2/M30: emit what is queued."""
+        cx, cy, _ = self._pc(self.cur)
+        self.move_endpoint_and_flush(cx, cy)
+        self.dequeue()
+
+    def comp_scale(self, f: float) -> None:
+        self.comp_radius *= f
+        if not self.queue:
+            return
+        for q in self.queue:
+            self.endpoint[0] *= f
+            self.endpoint[1] *= f
+            if q[0] == "S":
+                q[6] *= f
+                q[7] *= f
+                q[8] *= f
+            elif q[0] == "A":
+                for k in (3, 4, 5, 6, 8):
+                    q[k] *= f
+
+    # --- straight moves ---------------------------------------------------------------
+    def straight_comp1(self, move: int, line: int, end, feed: float) -> None:
+        radius = self.comp_radius
+        side = self.comp_side
+        cx, cy, cz = self._pc(self.cur)
+        px, py, pz = self._pc(end)
+        distance = math.hypot(px - cx, py - cy)
+        if distance <= radius:
+            raise GCodeError("Length of cutter compensation entry move is not greater than "
+                             "the tool radius")
+        alpha = math.atan2(py - cy, px - cx) + (HALF_PI if side == LEFT else -HALF_PI)
+        end_x = px + radius * math.cos(alpha)
+        end_y = py + radius * math.sin(alpha)
+        self.set_endpoint(cx, cy)
+        self.enqueue_straight(0 if move == 0 else 1, line, (math.cos(alpha), math.sin(alpha), 0.0),
+                              end_x, end_y, pz, feed)
+        self.comp_first = False
+        self._set_current(end_x, end_y, pz)
+        self._set_program(px, py, pz)
+
+    def straight_comp2(self, move: int, line: int, end, feed: float) -> None:
+        kind = 0 if move == 0 else 1
+        cx, cy, cz = self._pc(self.cur)
+        end_x, end_y = cx, cy
+        opx, opy, opz = self._pc(self.prog)
+        px, py, pz = self._pc(end)
+        if py == opy and px == opx:
+            self.enqueue_straight(kind, line, (px - opx, py - opy, pz - opz), cx, cy, pz, feed)
+        else:
+            side = self.comp_side
+            radius = self.comp_radius
+            theta = math.atan2(cy - opy, cx - opx)
+            alpha = math.atan2(py - opy, px - opx)
+            if side == LEFT:
+                if theta < alpha:
+                    theta = theta + 2 * PI
+                beta = (theta - alpha) - HALF_PI
+                gamma = HALF_PI
+            else:
+                if alpha < theta:
+                    alpha = alpha + 2 * PI
+                beta = (alpha - theta) - HALF_PI
+                gamma = -HALF_PI
+            end_x = px + radius * math.cos(alpha + gamma)
+            end_y = py + radius * math.sin(alpha + gamma)
+            mid_x = opx + radius * math.cos(alpha + gamma)
+            mid_y = opy + radius * math.sin(alpha + gamma)
+            front = self.queue[0] if self.queue else None
+            if beta < -SMALL or beta > PI + SMALL:
+                concave = True
+            elif (beta > PI - SMALL and front is not None and front[0] == "A"
+                  and ((side == RIGHT and front[7] > 0) or (side == LEFT and front[7] < 0))):
+                concave = True
+            else:
+                concave = False
+            if not concave and beta > SMALL:
+                self.move_endpoint_and_flush(cx, cy)
+                if move == 10:
+                    self.enqueue_arc(line, 0.0, mid_x, mid_y, opx, opy,
+                                     -1 if side == LEFT else 1, cz, feed)
+                else:
+                    self.enqueue_straight(0, line, (0.0, 0.0, 0.0), mid_x, mid_y, cz, 0.0)
+                self.dequeue()
+                self.set_endpoint(mid_x, mid_y)
+            elif concave:
+                if front is None or front[0] != "A":
+                    halfcorner = (beta + PI) / 2.0
+                    if halfcorner == 0.0:
+                        raise GCodeError("Zero degree inside corner is invalid for cutter "
+                                         "compensation")
+                    retreat = radius / math.tan(halfcorner)
+                    mid_x = cx + retreat * math.cos(theta + gamma)
+                    mid_y = cy + retreat * math.sin(theta + gamma)
+                    self.move_endpoint_and_flush(mid_x, mid_y)
+                else:
+                    prev = front
+                    oldrad = math.hypot(prev[6] - prev[4], prev[5] - prev[3])
+                    base_dir = math.atan2(py - opy, px - opx)
+                    th = base_dir + HALF_PI if prev[7] > 0 else base_dir - HALF_PI
+                    phi = math.atan2(prev[6] - opy, prev[5] - opx)
+                    inside = _inside(side, prev[7])
+                    oldrad_uncomp = oldrad + radius if inside else oldrad - radius
+                    d = oldrad_uncomp * math.cos(th - phi)
+                    if inside:
+                        lv = (d - radius) / oldrad
+                        if lv > 1.0 or lv < -1.0:
+                            raise GCodeError("Arc to straight motion makes a corner the "
+                                             "compensated tool can't fit in without gouging")
+                        if prev[7] > 0:
+                            ang = -math.acos(lv) + th + PI
+                        else:
+                            ang = math.acos(lv) + th + PI
+                    else:
+                        lv = (d + radius) / oldrad
+                        if lv > 1.0 or lv < -1.0:
+                            raise GCodeError("Arc to straight motion makes a corner the "
+                                             "compensated tool can't fit in without gouging")
+                        if prev[7] > 0:
+                            ang = math.acos(lv) + th + PI
+                        else:
+                            ang = -math.acos(lv) + th + PI
+                    mid_x = prev[5] + oldrad * math.cos(ang)
+                    mid_y = prev[6] + oldrad * math.sin(ang)
+                    self.move_endpoint_and_flush(mid_x, mid_y)
+            else:
+                self.dequeue()
+                self.set_endpoint(cx, cy)
+            self.enqueue_straight(kind, line, (px - opx, py - opy, pz - opz), end_x, end_y, pz,
+                                  feed)
+        self._set_current(end_x, end_y, pz)
+        self._set_program(px, py, pz)
+
+    # --- arcs -------------------------------------------------------------------------
+    def _comp_arc_center(self, move: int, blk, sx: float, sy: float, ex: float, ey: float,
+                         off1: float, off2: float) -> tuple[float, float]:
+        if "r" in blk.words:
+            return arc_center_r(move == 20, self.units, sx, sy, ex, ey, blk.words["r"])
+        c1, c2, _, _ = arc_center_ijk(self.plane, self.units, sx, sy, ex, ey, self.ijk_abs,
+                                      off1, off2)
+        return c1, c2
+
+    def arc_comp1(self, move: int, blk, end, off1: float, off2: float, turn: int,
+                  feed: float) -> None:
+        side = self.comp_side
+        radius = self.comp_radius
+        cx, cy, cz = self._pc(self.cur)
+        ex, ey, ez = self._pc(end)
+        if math.hypot(ex - cx, ey - cy) <= radius:
+            raise GCodeError("Radius of cutter compensation entry arc is not greater than the "
+                             "tool radius")
+        w = blk.words
+        if "r" in w:
+            if abs(w["r"]) <= radius and _inside(side, 1 if move == 30 else -1):
+                raise GCodeError("Tool radius not less than arc radius with comp")
+            center_x, center_y = arc_center_r(move == 20, self.units, cx, cy, ex, ey, w["r"])
+        else:
+            center_x, center_y, arc_radius, _ = arc_center_ijk(
+                self.plane, self.units, cx, cy, ex, ey, self.ijk_abs, off1, off2)
+            if arc_radius <= radius and _inside(side, 1 if move == 30 else -1):
+                raise GCodeError("Tool radius not less than arc radius with comp")
+        if _inside(side, turn):
+            gamma = math.atan2(center_y - ey, center_x - ex)
+        else:
+            gamma = math.atan2(ey - center_y, ex - center_x)
+        self.comp_first = False
+        self._set_program(ex, ey, ez)
+        ex += radius * math.cos(gamma)
+        ey += radius * math.sin(gamma)
+        b_len = math.hypot(cy - ey, cx - ex) / 2.0
+        ab_ang = math.atan2(center_y - ey, center_x - ex)
+        a_ang = math.atan2(cy - ey, cx - ex) - ab_ang
+        if abs(math.cos(a_ang)) < TOLERANCE_EQUAL:
+            raise GCodeError("Tool radius not less than arc radius with comp")
+        c_len = b_len / math.cos(a_ang)
+        center_x = ex + c_len * math.cos(ab_ang)
+        center_y = ey + c_len * math.sin(ab_ang)
+        if abs(math.hypot(center_x - ex, center_y - ey)
+               - math.hypot(center_x - cx, center_y - cy)) > SPIRAL_TOLERANCE[self.units]:
+            raise GCodeError("Bug in tool radius comp")
+        self.enqueue_arc(blk.line, find_turn(cx, cy, center_x, center_y, turn, ex, ey),
+                         ex, ey, center_x, center_y, turn, ez, feed)
+        self._set_current(ex, ey, ez)
+
+    def arc_comp2(self, move: int, blk, end, off1: float, off2: float, turn: int,
+                  feed: float) -> None:
+        opx, opy, opz = self._pc(self.prog)
+        cx, cy, cz = self._pc(self.cur)
+        end_x, end_y, end_z = self._pc(end)
+        centerx, centery = self._comp_arc_center(move, blk, opx, opy, end_x, end_y, off1, off2)
+        side = self.comp_side
+        tool_radius = self.comp_radius
+        arc_radius = math.hypot(centerx - end_x, centery - end_y)
+        theta = math.atan2(cy - opy, cx - opx)
+        theta = theta - HALF_PI if side == LEFT else theta + HALF_PI
+        delta = math.atan2(centery - opy, centerx - opx)
+        alpha = delta - HALF_PI if move == 30 else delta + HALF_PI
+        beta = theta - alpha if side == LEFT else alpha - theta
+        if beta > 1.5 * PI:
+            beta -= 2 * PI
+        elif beta < -HALF_PI:
+            beta += 2 * PI
+        if (side == LEFT and move == 30) or (side == RIGHT and move == 20):
+            gamma = math.atan2(centery - end_y, centerx - end_x)
+            if arc_radius <= tool_radius:
+                raise GCodeError("Tool radius not less than arc radius with comp")
+        else:
+            gamma = math.atan2(end_y - centery, end_x - centerx)
+            delta = delta + PI
+        new_end_x = end_x + tool_radius * math.cos(gamma)
+        new_end_y = end_y + tool_radius * math.sin(gamma)
+        inside = _inside(side, turn)
+        if beta < -SMALL or beta > PI + SMALL or (abs(beta - PI) < SMALL and not inside):
+            front = self.queue[0] if self.queue else None
+            if front is None or front[0] != "A":
+                cyy = arc_radius * math.sin(beta - HALF_PI)
+                if inside:
+                    dist_from_center = arc_radius - tool_radius
+                    lv = (cyy + tool_radius) / dist_from_center
+                    if lv > 1.0 or lv < -1.0:
+                        raise GCodeError("Arc move in concave corner cannot be reached by the "
+                                         "tool without gouging")
+                    ang = theta + math.asin(lv) if turn > 0 else theta - math.asin(lv)
+                else:
+                    dist_from_center = arc_radius + tool_radius
+                    lv = (cyy - tool_radius) / dist_from_center
+                    if lv > 1.0 or lv < -1.0:
+                        raise GCodeError("Arc move in concave corner cannot be reached by the "
+                                         "tool without gouging")
+                    if turn > 0:
+                        ang = theta + PI - math.asin(lv)
+                    else:
+                        ang = theta + PI + math.asin(lv)
+                midx = centerx + dist_from_center * math.cos(ang)
+                midy = centery + dist_from_center * math.sin(ang)
+                self.move_endpoint_and_flush(midx, midy)
+            else:
+                prev = front
+                oldrad = math.hypot(prev[6] - prev[4], prev[5] - prev[3])
+                newrad = arc_radius - tool_radius if inside else arc_radius + tool_radius
+                arc_cc = math.hypot(prev[6] - centery, prev[5] - centerx)
+                if oldrad == 0 or arc_cc == 0:
+                    raise GCodeError("Arc to arc motion is invalid because the arcs have the "
+                                     "same center")
+                a = (oldrad ** 2 + arc_cc ** 2 - newrad ** 2) / (2 * oldrad * arc_cc)
+                if a > 1.0 or a < -1.0:
+                    raise GCodeError("Arc to arc motion makes a corner the compensated tool "
+                                     "can't fit in without gouging")
+                pullback = math.acos(a)
+                cc_dir = math.atan2(centery - prev[6], centerx - prev[5])
+                if _inside(side, prev[7]):
+                    direction = cc_dir + pullback if turn > 0 else cc_dir - pullback
+                else:
+                    direction = cc_dir - pullback if turn > 0 else cc_dir + pullback
+                midx = prev[5] + oldrad * math.cos(direction)
+                midy = prev[6] + oldrad * math.sin(direction)
+                self.move_endpoint_and_flush(midx, midy)
+            self.enqueue_arc(blk.line, find_turn(opx, opy, centerx, centery, turn, end_x, end_y),
+                             new_end_x, new_end_y, centerx, centery, turn, end_z, feed)
+        elif beta > SMALL:
+            midx = opx + tool_radius * math.cos(delta)
+            midy = opy + tool_radius * math.sin(delta)
+            self.dequeue()
+            self.enqueue_arc(blk.line, 0.0, midx, midy, opx, opy, -1 if side == LEFT else 1,
+                             cz, feed)
+            self.dequeue()
+            self.set_endpoint(midx, midy)
+            self.enqueue_arc(blk.line, find_turn(opx, opy, centerx, centery, turn, end_x, end_y),
+                             new_end_x, new_end_y, centerx, centery, turn, end_z, feed)
+        else:
+            self.dequeue()
+            self.set_endpoint(cx, cy)
+            self.enqueue_arc(blk.line, find_turn(opx, opy, centerx, centery, turn, end_x, end_y),
+                             new_end_x, new_end_y, centerx, centery, turn, end_z, feed)
+        self._set_program(end_x, end_y, end_z)
+        self._set_current(new_end_x, new_end_y, end_z)

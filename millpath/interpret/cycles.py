@@ -1,0 +1,148 @@
+"""Canned cycles G73 G81 G82 G83 G85 G89 expanded into motion as LinuxCNC 2.9 does.
+
+Axes are named as LinuxCNC's cycle code does: ``aa``, ``bb`` the plane's first and
+second axes, ``cc`` the normal (XY: X, Y, Z; XZ: Z, X, Y; YZ: Y, Z, X). The initial
+level (the normal coordinate when the run of cycles began) is kept until a non-cycle
+motion; G98 retracts to it, G99 to R. Peck cycles back off 0.010 in (0.254 mm).
+"""
+
+from __future__ import annotations
+
+from millpath.interpret.errors import GCodeError
+
+CYCLES = frozenset((730, 810, 820, 830, 840, 850, 860, 870, 880, 890))
+_SUPPORTED = frozenset((730, 810, 820, 830, 850, 890))
+_NORMAL_LETTER = {"XY": "z", "XZ": "y", "YZ": "x"}
+_PLANE_LETTERS = {"XY": ("x", "y"), "XZ": ("z", "x"), "YZ": ("y", "z")}
+
+
+class CycleMixin:
+    """Canned cycle state and expansion; mixed into the interpreter's Machine."""
+
+    def cycle_init(self) -> None:
+        self.cycle_il = 0.0
+        self.cycle_il_flag = False
+        self.cycle_cc = 0.0
+        self.cycle_r = 0.0
+        self.cycle_p = 0.0
+        self.cycle_q = 0.0
+
+    def _cyc_move(self, kind: int, line: int, a: float, b: float, c: float) -> None:
+        a1, a2, an = self.axes
+        end = [0.0, 0.0, 0.0]
+        end[a1], end[a2], end[an] = a, b, c
+        self.emit(kind, line, end, self.feed_rate if kind == 1 else 0.0)
+        self.cur = end
+
+    def cycle(self, motion: int, blk) -> None:
+        w = blk.words
+        line = blk.line
+        if motion not in _SUPPORTED:
+            raise GCodeError(f"G{motion // 10} is not supported by this interpreter")
+        if self.feed_rate == 0.0:
+            raise GCodeError("Cannot feed with zero feed rate")
+        if self.feed_mode == 1:
+            raise GCodeError("Cannot use inverse time feed with canned cycles")
+        if self.comp_side:
+            raise GCodeError("Cannot use canned cycles with cutter compensation on")
+        if "r" in w:
+            r_word = w["r"]
+        elif self.motion_mode == motion:
+            r_word = self.cycle_r
+        else:
+            raise GCodeError("R clearance plane unspecified in cycle")
+        repeats = int(w.get("l", 1))
+        if "l" in w and repeats == 0:
+            raise GCodeError("Cannot do zero repeats of cycle")
+        plane = self.plane
+        la, lb = _PLANE_LETTERS[plane]
+        lc = _NORMAL_LETTER[plane]
+        a1, a2, an = self.axes
+        cur = self.cur
+        if self.motion_mode != motion and lc not in w:
+            raise GCodeError({"XY": "Z value unspecified in xy plane canned cycle",
+                              "XZ": "Y value unspecified in xz plane canned cycle",
+                              "YZ": "X value unspecified in yz plane canned cycle"}[plane])
+        c_word = w.get(lc, self.cycle_cc)
+        if self.cycle_il_flag:
+            old_cc = self.cycle_il
+        else:
+            old_cc = self.cycle_il = cur[an]
+            self.cycle_il_flag = True
+        if self.dist_abs:
+            inc_a = inc_b = 0.0
+            r = r_word
+            cc = c_word
+            aa = w.get(la, cur[a1])
+            bb = w.get(lb, cur[a2])
+        else:
+            inc_a = w.get(la, 0.0)
+            inc_b = w.get(lb, 0.0)
+            r = r_word + old_cc
+            cc = r + c_word
+            aa = cur[a1]
+            bb = cur[a2]
+        if r < cc:
+            raise GCodeError({"XY": "R less than z in cycle in xy plane",
+                              "XZ": "R less than y in cycle in xz plane",
+                              "YZ": "R less than x in cycle in yz plane"}[plane])
+        if old_cc < r:
+            self._cyc_move(0, line, cur[a1], cur[a2], r)
+            old_cc = r
+        clear_cc = r if self.retract_r_plane else old_cc
+        p = q = 0.0
+        if motion in (820, 890):
+            if self.motion_mode != motion and "p" not in w:
+                raise GCodeError(f"Dwell time p word missing with g{motion // 10}")
+            p = w.get("p", self.cycle_p)
+        if motion in (730, 830):
+            if self.motion_mode != motion and "q" not in w:
+                raise GCodeError(f"Q word missing with g{motion // 10}")
+            q = w.get("q", self.cycle_q)
+        units = self.units
+        delta = 0.010 * (25.4 if units == "mm" else 1.0)
+        for _ in range(repeats):
+            aa += inc_a
+            bb += inc_b
+            self._cyc_move(0, line, aa, bb, old_cc)
+            if old_cc != r:
+                self._cyc_move(0, line, aa, bb, r)
+            if motion == 810:
+                self._cyc_move(1, line, aa, bb, cc)
+                self._cyc_move(0, line, aa, bb, clear_cc)
+            elif motion == 820:
+                self._cyc_move(1, line, aa, bb, cc)
+                self.emit_dwell(line, p)
+                self._cyc_move(0, line, aa, bb, clear_cc)
+            elif motion in (730, 830):
+                if q <= 0.0:
+                    raise GCodeError("Negative or zero q value used")
+                depth = r - q
+                while depth > cc:
+                    self._cyc_move(1, line, aa, bb, depth)
+                    if motion == 830:
+                        self._cyc_move(0, line, aa, bb, clear_cc)
+                    self._cyc_move(0, line, aa, bb, depth + delta)
+                    depth -= q
+                self._cyc_move(1, line, aa, bb, cc)
+                self._cyc_move(0, line, aa, bb, clear_cc)
+            elif motion == 850:
+                self._cyc_move(1, line, aa, bb, cc)
+                self._cyc_move(1, line, aa, bb, r)
+                if clear_cc > r:
+                    self._cyc_move(0, line, aa, bb, clear_cc)
+            elif motion == 890:
+                self._cyc_move(1, line, aa, bb, cc)
+                self.emit_dwell(line, p)
+                self._cyc_move(1, line, aa, bb, clear_cc)
+            old_cc = clear_cc
+        if motion in (820, 890):
+            self.cycle_p = p
+        if motion in (730, 830):
+            self.cycle_q = q
+        end = [0.0, 0.0, 0.0]
+        end[a1], end[a2], end[an] = aa, bb, clear_cc
+        self.cur = end
+        self.cycle_cc = c_word
+        self.cycle_r = r_word
+        self.motion_mode = motion

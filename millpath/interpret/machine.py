@@ -1,0 +1,704 @@
+"""The interpreter state machine: executes blocks in LinuxCNC's order.
+
+Positions are program coordinates in program units (``units``), like LinuxCNC's
+``current_x``: machine position = program + G92 offset + work offset + tool offset.
+Tool table values are in machine units and converted when read. Motion goes to a
+:class:`MotionList`; with cutter radius compensation on, moves wait in a queue
+(``comp.py``) until the next move fixes their end points, as in LinuxCNC.
+"""
+
+from __future__ import annotations
+
+import math
+
+from millpath.interpret.arcs import arc_center_ijk, arc_center_r
+from millpath.interpret.comp import CompMixin
+from millpath.interpret.cycles import CycleMixin, CYCLES
+from millpath.interpret.errors import GCodeError
+from millpath.interpret.lexer import AXES, Block
+from millpath.interpret.store import KIND_CODE, MotionList, PLANE_CODE
+
+PLANE_AXES = {"XY": (0, 1, 2), "XZ": (2, 0, 1), "YZ": (1, 2, 0)}
+PLANE_OF_G = {170: "XY", 180: "XZ", 190: "YZ"}
+LEFT, RIGHT = 2, 1
+T_TRAVERSE, T_FEED, T_ARC, T_CUBIC, T_DWELL = (KIND_CODE[k] for k in
+                                                ("traverse", "feed", "arc", "cubic", "dwell"))
+MM_PER_INCH = 25.4
+G83_RAPID_DELTA = 0.010          # inch
+
+
+class Machine(CompMixin, CycleMixin):
+    """RS274NGC interpreter state; see the module docstring."""
+
+    def __init__(self, tools: dict, machine_units: str = "inch"):
+        if machine_units not in ("inch", "mm"):
+            raise ValueError("machine_units must be 'inch' or 'mm'")
+        self.tools = tools
+        self.machine_units = machine_units
+        self.units = "mm"                       # rs274 starts in mm
+        self.plane = "XY"
+        self.axes = PLANE_AXES["XY"]
+        self.dist_abs = True
+        self.ijk_abs = False
+        self.feed_mode = 0                      # 0 units/min, 1 inverse time, 2 per rev
+        self.feed_rate = 0.0
+        self.speed = 0.0
+        self.spindle_dir = 0
+        self.motion_mode = 800                  # G80
+        self.cur = [0.0, 0.0, 0.0]
+        self.out = [0.0, 0.0, 0.0]              # end of the last emitted motion
+        self.origin_index = 1
+        self.origin = [0.0, 0.0, 0.0]           # work offset, program units
+        self.axis_offset = [0.0, 0.0, 0.0]      # G92/G52 offset, program units
+        self.tlo = [0.0, 0.0, 0.0]              # tool length offset, program units
+        self.params = [0.0] * 5602
+        self.params[5220] = 1.0
+        self.named: dict[str, float] = {}
+        self.selected_tool = 0
+        self.spindle_tool = 0
+        self.toolchange_flag = False
+        self.retract_r_plane = True             # rs274's default retract mode is G99
+        self.comp_init()
+        self.cycle_init()
+        self.spline_i = 0.0
+        self.spline_j = 0.0
+        self.store = MotionList()
+        self._state_key = None
+        self._state_idx = 0
+        self.touch_state()
+        self.ended = False
+
+    # --- units and output -----------------------------------------------------------
+    def user_to_prog(self, v: float) -> float:
+        """Machine (tool table, parameter) units to program units."""
+        if self.units == self.machine_units:
+            return v
+        return v * MM_PER_INCH if self.units == "mm" else v / MM_PER_INCH
+
+    def prog_to_user(self, v: float) -> float:
+        if self.units == self.machine_units:
+            return v
+        return v / MM_PER_INCH if self.units == "mm" else v * MM_PER_INCH
+
+    def touch_state(self) -> None:
+        key = ((self.tlo[0], self.tlo[1], self.tlo[2]), self.spindle_tool,
+               self.speed * self.spindle_dir,
+               "inverse_time" if self.feed_mode == 1 else "units_per_minute")
+        if key != self._state_key:
+            self._state_key = key
+            self.store.states.append(key)
+            self._state_idx = len(self.store.states) - 1
+
+    def emit(self, kind: int, line: int, end, feed: float = 0.0, center=None, rot: int = 0,
+             state: int | None = None) -> None:
+        o = self.out
+        st = self._state_idx if state is None else state
+        if center is None:
+            self.store.f.extend((o[0], o[1], o[2], end[0], end[1], end[2], feed, 0.0, 0.0, 0.0))
+        else:
+            self.store.f.extend((o[0], o[1], o[2], end[0], end[1], end[2], feed,
+                                 center[0], center[1], center[2]))
+        self.store.i.extend((kind, line, rot, PLANE_CODE[self.plane], st))
+        self.out = [end[0], end[1], end[2]]
+
+    def emit_dwell(self, line: int, seconds: float, state: int | None = None) -> None:
+        o = self.out
+        self.store.f.extend((o[0], o[1], o[2], o[0], o[1], o[2], 0.0, seconds, 0.0, 0.0))
+        self.store.i.extend((T_DWELL, line, 0, PLANE_CODE[self.plane],
+                             self._state_idx if state is None else state))
+
+    def sync_out(self) -> None:
+        """The current point moved without motion (offsets changed)."""
+        self.out = list(self.cur)
+
+    # --- block execution ------------------------------------------------------------
+    def execute(self, blk: Block) -> None:
+        for idx, val in blk.settings:
+            pass                                  # applied by the caller after checks
+        self.check(blk)
+        w = blk.words
+        g = blk.g
+        m = blk.m
+        line = blk.line
+        if 5 in g:
+            self.set_feed_mode(g[5])
+        if "f" in w and self.feed_mode != 1:
+            self.feed_rate = w["f"]
+        if "s" in w:
+            self.speed = w["s"]
+            self.touch_state()
+        if "t" in w:
+            self.select_tool(int(w["t"]))
+        if 6 in m:
+            self.tool_change(m[6], w)
+        if 7 in m:
+            self.spindle(m[7])
+        if 8 in m or 9 in m or 5 in m:
+            self.other_m(m)
+        if g.get(0) == 40:
+            if "p" not in w:
+                raise GCodeError("Dwell time missing with g4")
+            self.enqueue_dwell(line, w["p"])
+        if 2 in g:
+            self.set_plane(PLANE_OF_G.get(g[2]))
+        if 6 in g:
+            self.set_units("inch" if g[6] == 200 else "mm")
+        if 7 in g:
+            self.comp_on_off(g[7], w)
+        if 8 in g:
+            self.tool_length_offset(g[8], w)
+        if 12 in g:
+            self.coordinate_system(g[12])
+        if 13 in g and self.comp_side:
+            raise GCodeError("Cannot change control mode with cutter radius compensation on")
+        if 3 in g:
+            self.dist_abs = g[3] == 900
+        if 4 in g:
+            self.ijk_abs = g[4] == 901
+        if 10 in g:
+            if self.comp_side:
+                raise GCodeError("Cannot change retract mode with cutter radius compensation on")
+            self.retract_r_plane = g[10] == 990
+        g0 = g.get(0, -1)
+        if g0 not in (-1, 40, 530):
+            self.modal_0(g0, blk)
+        if blk.motion != -1:
+            self.motion(blk.motion, blk)
+        if 4 in m:
+            self.stop(m[4], line)
+
+    def check(self, blk: Block) -> None:
+        """LinuxCNC's enhance_block and check_items."""
+        w = blk.words
+        g = blk.g
+        g0 = g.get(0, -1)
+        axis = any(a in w for a in AXES)
+        covets = g0 in (100, 280, 300, 520, 920)
+        motion = -1
+        if 1 in g:
+            if g[1] == 800:
+                if axis and not covets:
+                    raise GCodeError("Cannot use axis values with g80")
+                if not axis and g0 in (520, 920):
+                    raise GCodeError("All axes missing with g52 or g92")
+            else:
+                if covets:
+                    raise GCodeError("Cannot use two g codes that both use axis values")
+            motion = g[1]
+        elif covets:
+            if not axis and g0 in (520, 920):
+                raise GCodeError("All axes missing with g52 or g92")
+        elif axis and g.get(8) != 431:
+            if self.motion_mode in (-1, 800):
+                raise GCodeError("Cannot use axis values without a g code that uses them")
+            motion = self.motion_mode
+        blk.motion = motion
+        if g0 == 40:
+            if "p" not in w:
+                raise GCodeError("Dwell time missing with g4")
+            if motion in (20, 30):
+                raise GCodeError("G4 not allowed with G2 or G3 because they both use P")
+        elif g0 == 100:
+            lv = int(w.get("l", -1))
+            p = w.get("p", -1.0)
+            pi = int(p + 0.5) if p >= 0 else int(p - 0.5)
+            if lv not in (0, 1, 2, 10, 11, 20):
+                raise GCodeError("Line with G10 does not have L0, L1, L10, L11, L2, or L20")
+            if (p + 0.0001) - pi > 0.0002:
+                raise GCodeError("P value not an integer with G10")
+            if lv in (2, 20) and not 0 <= pi <= 9:
+                raise GCodeError(f"P value out of range (0-9) with G10 L{lv}")
+            if lv in (1, 10, 11) and pi < 1:
+                raise GCodeError(f"P value out of range with G10 L{lv}")
+        elif g0 == 530:
+            if motion not in (0, 10):
+                raise GCodeError("Must use g0 or g1 with g53")
+            if g.get(3) == 910 or (g.get(3) != 900 and not self.dist_abs):
+                raise GCodeError("Cannot use g53 incremental")
+        m = blk.m
+        g7 = g.get(7, -1)
+        cyc = motion in CYCLES
+        for a in "abc":
+            if a in w and cyc:
+                raise GCodeError({"a": "Cannot put an a in canned cycle",
+                                  "b": "Cannot put a b in canned cycle",
+                                  "c": "Cannot put a c in canned cycle"}[a])
+        if "d" in w and g7 not in (410, 420, 411, 421) and g.get(14) != 960:
+            raise GCodeError("D word with no G41, G41.1, G42, G42.1, G71, G71.1, G71.2 or "
+                             "G96 to use it")
+        if "e" in w and motion != 760 and m.get(5) not in (66, 67, 68):
+            raise GCodeError("E word with no G70, G76, M66, M67 or M68 to use it")
+        if "h" in w and g.get(8) not in (430, 432) and motion != 760:
+            raise GCodeError("H word with no G43 or G76 to use it")
+        if "i" in w and motion not in (20, 30, 50, 51, 760, 870) and g0 != 100:
+            raise GCodeError("I word with no G2, G3, G5, G5.1, G10, G33.1, G76, or G87 to "
+                             "use it")
+        if "j" in w and motion not in (20, 30, 50, 51, 760, 870) and g0 != 100:
+            raise GCodeError("J word with no G2, G3, G5, G5.1, G10, G76 or G87 to use it")
+        if "k" in w and motion not in (20, 30, 330, 331, 760, 870):
+            raise GCodeError("K word with no G2, G3, G33, G33.1, G76, or G87 to use it")
+        if "l" in w and not (810 <= motion <= 890 or motion in (760, 520, 730) or g0 == 100
+                             or g7 in (410, 411, 420, 421) or m.get(5) == 66):
+            raise GCodeError("L word with no G10, cutter compensation, canned cycle, "
+                             "digital/analog input, M98 or NURBS code")
+        if "p" in w:
+            if not (g0 in (100, 40) or g.get(13) == 640
+                    or motion in (760, 820, 860, 880, 890, 50, 520, 20, 30)
+                    or m.get(9) in (50, 51, 52, 53) or m.get(5) in (62, 63, 64, 65, 66)
+                    or m.get(7) == 19):
+                raise GCodeError("P word with no G2 G3 G4 G10 G64 G5 G5.2 G76 G82 G86 G88 "
+                                 "G89 or M50 M51 M52 M53 M62 M63 M64 M65 M66 M98 or user M "
+                                 "code to use it")
+            p = w["p"]
+            pv = math.floor(p + 0.5)
+            if (motion in (20, 30) or m.get(7) == 19) and abs(pv - p) > 0.001:
+                raise GCodeError("P value not an integer with M19 G2 or G3")
+            if motion in (20, 30) and pv < 1:
+                raise GCodeError("P value should be 1 or greater with G2 or G3")
+        if "q" in w and not (motion in (830, 730, 50, 760) or m.get(5) in (66, 67, 68)
+                             or g0 == 100 or m.get(6) == 61 or g.get(13) == 640
+                             or m.get(7) == 19):
+            raise GCodeError("Q word with no G5, G10, G64, G73, G76, G83, M19, M66, M67, "
+                             "M68 or user M code that uses it")
+        if "r" in w and not (motion in (20, 30, 760, 730) or 810 <= motion <= 890
+                             or g7 in (411, 421) or g0 == 100 or m.get(7) == 19):
+            raise GCodeError("R word with no g code that uses it")
+        if g.get(14) == 960 and "s" not in w:
+            raise GCodeError("S word missing with G96")
+
+    # --- simple modal settings ------------------------------------------------------
+    def set_feed_mode(self, code: int) -> None:
+        if code == 930:
+            self.feed_mode = 1
+        elif code == 940:
+            self.feed_mode = 0
+            self.feed_rate = 0.0
+        else:
+            self.feed_mode = 2
+            self.feed_rate = 0.0
+        self.touch_state()
+
+    def select_tool(self, t: int) -> None:
+        if t != 0 and t not in self.tools:
+            raise GCodeError(f"Requested tool {t} not found in the tool table")
+        self.selected_tool = t
+
+    def tool_data(self, t: int) -> tuple[float, float, float, float]:
+        if t == 0:
+            t = self.spindle_tool
+        return self.tools.get(t, (0.0, 0.0, 0.0, 0.0))
+
+    def tool_change(self, code: int, w: dict) -> None:
+        if code == 6:
+            if self.comp_side:
+                raise GCodeError("Cannot change tools with cutter radius compensation on")
+            self.spindle_dir = 0
+            self.spindle_tool = self.selected_tool
+            self.toolchange_flag = True
+        else:                                      # M61
+            q = w.get("q", -1.0)
+            t = math.floor(q + 0.5)
+            if t < 0:
+                raise GCodeError("Need non-negative Q-word to specify tool number with M61")
+            if t != 0 and t not in self.tools:
+                raise GCodeError(f"Requested tool {t} not found in the tool table")
+            self.spindle_tool = t
+            self.toolchange_flag = True
+        self.touch_state()
+
+    def spindle(self, code: int) -> None:
+        if code == 3:
+            self.spindle_dir = 1
+        elif code == 4:
+            self.spindle_dir = -1
+        elif code in (5, 19):
+            self.spindle_dir = 0
+        self.touch_state()
+
+    def other_m(self, m: dict) -> None:
+        if m.get(9) is not None and self.comp_side:
+            if m[9] == 49:
+                raise GCodeError("Cannot disable overrides with cutter radius compensation on")
+            raise GCodeError("Cannot enable overrides with cutter radius compensation on")
+        if m.get(5) is not None and self.comp_side:
+            raise GCodeError("Cannot set motion output with cutter radius compensation on")
+
+    def set_plane(self, plane: str | None) -> None:
+        if plane is None:
+            raise GCodeError("Cannot do an arc in planes G17.1, G18.1, or G19.1")
+        if self.comp_side and plane != self.plane:
+            raise GCodeError("Cannot change planes with cutter radius compensation on")
+        if self.comp_side and plane == "YZ":
+            raise GCodeError("Cutter radius compensation allowed only in XY, XZ planes")
+        self.plane = plane
+        self.axes = PLANE_AXES[plane]
+
+    def set_units(self, units: str) -> None:
+        if units == self.units:
+            return
+        f = MM_PER_INCH if units == "mm" else 1.0 / MM_PER_INCH
+        self.units = units
+        for v in (self.cur, self.prog, self.origin, self.axis_offset, self.out):
+            v[0] *= f
+            v[1] *= f
+            v[2] *= f
+        self.comp_scale(f)
+        self.feed_rate *= f
+        self.tlo = [x * f for x in self.tlo]
+        self.touch_state()
+
+    def tool_length_offset(self, code: int, w: dict) -> None:
+        if self.comp_side:
+            raise GCodeError("Cannot change tool offset with cutter radius compensation on")
+        if code == 490:
+            new = [0.0, 0.0, 0.0]
+        elif code == 430:
+            if "h" in w:
+                h = int(w["h"])
+                if h != 0 and h not in self.tools:
+                    raise GCodeError(f"Requested tool {h} not found in the tool table")
+                d = self.tool_data(h)
+            else:
+                d = self.tool_data(self.spindle_tool)
+            new = [self.user_to_prog(d[1]), self.user_to_prog(d[2]), self.user_to_prog(d[3])]
+        elif code == 431:
+            new = list(self.tlo)
+            for k, a in enumerate("xyz"):
+                if a in w:
+                    new[k] = w[a]
+        else:                                      # G43.2
+            if "h" not in w:
+                raise GCodeError("G43.2: No axes specified and H word missing")
+            h = int(w["h"])
+            if h != 0 and h not in self.tools:
+                raise GCodeError(f"Requested tool {h} not found in the tool table")
+            d = self.tool_data(h)
+            new = [self.tlo[0] + self.user_to_prog(d[1]), self.tlo[1] + self.user_to_prog(d[2]),
+                   self.tlo[2] + self.user_to_prog(d[3])]
+        for k in range(3):
+            self.cur[k] += self.tlo[k] - new[k]
+        self.tlo = new
+        self.sync_out()
+        self.touch_state()
+
+    def work_offset_params(self, index: int) -> list[float]:
+        base = 5201 + 20 * index
+        return [self.user_to_prog(self.params[base + k]) for k in range(3)]
+
+    def coordinate_system(self, code: int) -> None:
+        if self.comp_side:
+            raise GCodeError("Cannot change coordinate systems with cutter radius "
+                             "compensation on")
+        index = {540: 1, 550: 2, 560: 3, 570: 4, 580: 5, 590: 6, 591: 7, 592: 8, 593: 9}[code]
+        if index == self.origin_index:
+            return
+        new = self.work_offset_params(index)
+        for k in range(3):
+            self.cur[k] = self.cur[k] + self.origin[k] - new[k]
+        self.origin = new
+        self.origin_index = index
+        self.params[5220] = float(index)
+        self.sync_out()
+
+    # --- modal group 0 ----------------------------------------------------------------
+    def modal_0(self, code: int, blk: Block) -> None:
+        w = blk.words
+        if code == 100:
+            lv = int(w.get("l", -1))
+            if lv in (2, 20):
+                self.g10_l2(w, lv)
+            elif lv == 1:
+                self.g10_l1(w)
+            else:
+                raise GCodeError(f"G10 L{lv} is not supported by this interpreter")
+        elif code in (280, 300):
+            self.home(code, blk)
+        elif code in (281, 301):
+            if self.comp_side:
+                raise GCodeError("Cannot set reference point with cutter compensation in "
+                                 "effect")
+            base = 5161 if code == 281 else 5181
+            for k in range(3):
+                self.params[base + k] = self.prog_to_user(
+                    self.cur[k] + self.tlo[k] + self.origin[k] + self.axis_offset[k])
+        else:
+            self.axis_offsets(code, w)
+
+    def g10_l2(self, w: dict, lv: int) -> None:
+        if "i" in w or "j" in w:
+            raise GCodeError("I J words not allowed with G10 L2")
+        p = int(w.get("p", 0) + 0.0001)
+        if p == 0:
+            p = self.origin_index
+        if self.comp_side and p == self.origin_index:
+            raise GCodeError("Cannot change the active coordinate system with cutter radius "
+                             "compensation on")
+        if "r" in w:
+            if lv == 20:
+                raise GCodeError("R not allowed in G10 L20")
+            if w["r"] != 0.0:
+                raise GCodeError("XY rotation (G10 L2 R) is not supported by this interpreter")
+        base = 5201 + 20 * p
+        old = self.work_offset_params(p)
+        if p == self.origin_index:
+            cur_in = list(self.cur)
+        else:
+            # current point expressed in system p
+            cur_in = [self.cur[k] + self.origin[k] - old[k] for k in range(3)]
+        new = list(old)
+        for k, a in enumerate("xyz"):
+            if a in w:
+                if lv == 20:
+                    new[k] = cur_in[k] + old[k] - w[a]
+                else:
+                    new[k] = w[a]
+                self.params[base + k] = self.prog_to_user(new[k])
+        if p == self.origin_index:
+            for k in range(3):
+                self.cur[k] = self.cur[k] + self.origin[k] - new[k]
+            self.origin = new
+            self.sync_out()
+
+    def g10_l1(self, w: dict) -> None:
+        p = w.get("p", 0.0)
+        t = int(p + 0.5)
+        if t not in self.tools:
+            raise GCodeError(f"Requested tool {t} not found in the tool table")
+        if not any(a in w for a in "xyzabcuvwrqij"):
+            raise GCodeError("G10 L1 without offsets has no effect")
+        d, x, y, z = self.tools[t]
+        if "x" in w:
+            x = self.prog_to_user(w["x"])
+        if "y" in w:
+            y = self.prog_to_user(w["y"])
+        if "z" in w:
+            z = self.prog_to_user(w["z"])
+        if "r" in w:
+            d = self.prog_to_user(w["r"]) * 2.0
+        self.tools = dict(self.tools)
+        self.tools[t] = (d, x, y, z)
+
+    def axis_offsets(self, code: int, w: dict) -> None:
+        if self.comp_side:
+            raise GCodeError("Cannot change axis offsets with cutter radius comp")
+        p = self.params
+        if code in (520, 920):
+            p[5210] = 1.0
+            for k, a in enumerate("xyz"):
+                if a not in w:
+                    continue
+                if code == 520:
+                    self.cur[k] += self.axis_offset[k] - w[a]
+                    self.axis_offset[k] = w[a]
+                else:
+                    self.axis_offset[k] = self.cur[k] + self.axis_offset[k] - w[a]
+                    self.cur[k] = w[a]
+            for k in range(3):
+                p[5211 + k] = self.prog_to_user(self.axis_offset[k])
+        elif code in (921, 922):
+            for k in range(3):
+                self.cur[k] += self.axis_offset[k]
+                self.axis_offset[k] = 0.0
+            if code == 921:
+                for k in range(3):
+                    p[5211 + k] = 0.0
+                p[5210] = 0.0
+        elif code == 923:
+            for k in range(3):
+                new = self.user_to_prog(p[5211 + k])
+                self.cur[k] = self.cur[k] + self.axis_offset[k] - new
+                self.axis_offset[k] = new
+            p[5210] = 1.0
+        self.sync_out()
+
+    def find_ends(self, blk: Block) -> list[float]:
+        """End point of a move from the block's axis words (LinuxCNC's find_ends)."""
+        w = blk.words
+        comp_mid = self.comp_side and not self.comp_first
+        base = self.prog if comp_mid else self.cur
+        if blk.g.get(0) == 530:
+            off = [self.origin[k] + self.axis_offset[k] + self.tlo[k] for k in range(3)]
+            return [w[a] - off[k] if a in w else self.cur[k] for k, a in enumerate("xyz")]
+        if self.dist_abs:
+            return [w.get("x", base[0]), w.get("y", base[1]), w.get("z", base[2])]
+        return [base[0] + w.get("x", 0.0), base[1] + w.get("y", 0.0), base[2] + w.get("z", 0.0)]
+
+    def home(self, code: int, blk: Block) -> None:
+        end = self.find_ends(blk)
+        if self.comp_side:
+            raise GCodeError("Cannot use g28 or g30 with cutter radius comp")
+        self.emit(T_TRAVERSE, blk.line, end)
+        self.cur = list(end)
+        base = 5161 if code == 280 else 5181
+        home = [self.user_to_prog(self.params[base + k]) - self.origin[k] - self.axis_offset[k]
+                - self.tlo[k] for k in range(3)]
+        w = blk.words
+        if any(a in w for a in AXES):
+            end = [home[k] if a in w else end[k] for k, a in enumerate("xyz")]
+        else:
+            end = home
+        self.emit(T_TRAVERSE, blk.line, end)
+        self.cur = list(end)
+
+    # --- motion ---------------------------------------------------------------------
+    def motion(self, code: int, blk: Block) -> None:
+        if code not in CYCLES:
+            self.cycle_il_flag = False
+        if code in (0, 10):
+            self.straight(code, blk)
+        elif code in (20, 30):
+            self.arc(code, blk)
+        elif code == 800:
+            self.motion_mode = 800
+        elif code in CYCLES:
+            self.cycle(code, blk)
+        elif code in (50, 51):
+            self.spline(code, blk)
+        else:
+            raise GCodeError(f"G{code // 10}{'.' + str(code % 10) if code % 10 else ''} "
+                             "is not supported by this interpreter")
+
+    def inverse_feed_check(self, blk: Block, arc: bool) -> None:
+        if self.feed_mode == 1:
+            if "f" not in blk.words:
+                raise GCodeError("F word missing with inverse time arc move" if arc
+                                 else "F word missing with inverse time g1 move")
+        elif self.feed_rate == 0.0:
+            raise GCodeError("Cannot make arc with zero feed rate" if arc
+                             else "Cannot do g1 with zero feed rate")
+        elif self.feed_mode == 2 and self.speed == 0.0:
+            raise GCodeError("Cannot feed with zero spindle speed in feed per rev mode")
+
+    def move_feed(self, blk: Block) -> float:
+        return blk.words.get("f", 0.0) if self.feed_mode == 1 else self.feed_rate
+
+    def straight(self, code: int, blk: Block) -> None:
+        self.arc_not_allowed = False
+        if code == 10:
+            self.inverse_feed_check(blk, False)
+        self.motion_mode = code
+        end = self.find_ends(blk)
+        feed = self.move_feed(blk) if code == 10 else 0.0
+        if self.comp_side and self.comp_radius > 0.0:
+            if blk.g.get(0) == 530:
+                raise GCodeError("Cannot use g53 with cutter radius comp")
+            if self.comp_first:
+                self.straight_comp1(code, blk.line, end, feed)
+            else:
+                self.straight_comp2(code, blk.line, end, feed)
+            return
+        self.emit(T_FEED if code == 10 else T_TRAVERSE, blk.line, end, feed)
+        self.cur = end
+
+    def arc(self, code: int, blk: Block) -> None:
+        if self.arc_not_allowed:
+            raise GCodeError("The move just after exiting cutter compensation mode must be "
+                             "straight, not an arc")
+        w = blk.words
+        ijk = "i" in w or "j" in w or "k" in w
+        if "r" not in w and not ijk:
+            raise GCodeError("R i j k words all missing for arc")
+        if "r" in w and ijk:
+            raise GCodeError("Mixed radius ijk format for arc")
+        self.inverse_feed_check(blk, True)
+        plane = self.plane
+        first, second = {"XY": ("i", "j"), "XZ": ("k", "i"), "YZ": ("j", "k")}[plane]
+        if ijk:
+            bad = {"XY": ("k", "K word given for arc in xy plane"),
+                   "YZ": ("i", "I word given for arc in yz plane"),
+                   "XZ": ("j", "J word given for arc in xz plane")}[plane]
+            if bad[0] in w:
+                raise GCodeError(bad[1])
+            for letter in (first, second):
+                if letter not in w and self.ijk_abs:
+                    raise GCodeError(f"{letter.upper()} word missing in absolute center arc")
+        else:
+            a1, a2 = {"XY": ("x", "y"), "XZ": ("x", "z"), "YZ": ("y", "z")}[plane]
+            if a1 not in w and a2 not in w:
+                raise GCodeError({"XY": "X and y words missing for arc in xy plane",
+                                  "YZ": "Y and z words missing for arc in yz plane",
+                                  "XZ": "X and z words missing for arc in xz plane"}[plane])
+        end = self.find_ends(blk)
+        self.motion_mode = code
+        turns = int(math.floor(w["p"] + 0.5)) if "p" in w else 1
+        turn = -turns if code == 20 else turns
+        off1, off2 = w.get(first, 0.0), w.get(second, 0.0)
+        feed = self.move_feed(blk)
+        if plane != "YZ" and self.comp_side and self.comp_radius > 0.0:
+            if self.comp_first:
+                self.arc_comp1(code, blk, end, off1, off2, turn, feed)
+            else:
+                self.arc_comp2(code, blk, end, off1, off2, turn, feed)
+            return
+        a1, a2, an = self.axes
+        c = self.cur
+        if "r" in w:
+            c1, c2 = arc_center_r(code == 20, self.units, c[a1], c[a2], end[a1], end[a2],
+                                  w["r"])
+        else:
+            c1, c2, _, _ = arc_center_ijk(plane, self.units, c[a1], c[a2], end[a1], end[a2],
+                                          self.ijk_abs, off1, off2)
+        center = [0.0, 0.0, 0.0]
+        center[a1], center[a2], center[an] = c1, c2, c[an]
+        self.emit(T_ARC, blk.line, end, feed, center, turn)
+        self.cur = end
+
+    def spline(self, code: int, blk: Block) -> None:
+        w = blk.words
+        if self.comp_side:
+            raise GCodeError("Cannot convert spline with cutter radius compensation")
+        self.inverse_feed_check(blk, True)
+        if self.plane != "XY":
+            raise GCodeError("Splines must be in the XY plane")
+        if any(a in w for a in "zabc"):
+            raise GCodeError("Splines may not have motion in Z, A, B, or C")
+        c = self.cur
+        feed = self.move_feed(blk)
+        if code == 51:
+            if "i" not in w or "j" not in w:
+                raise GCodeError("Must specify both I and J with G5.1")
+            q = (c[0] + w["i"], c[1] + w["j"])
+            end = self.find_ends(blk)
+            c1 = (c[0] + 2.0 / 3.0 * (q[0] - c[0]), c[1] + 2.0 / 3.0 * (q[1] - c[1]))
+            c2 = (end[0] + 2.0 / 3.0 * (q[0] - end[0]), end[1] + 2.0 / 3.0 * (q[1] - end[1]))
+        else:
+            if "i" not in w or "j" not in w:
+                if "i" in w or "j" in w:
+                    raise GCodeError("Must specify both I and J, or neither")
+                c1 = (c[0] + self.spline_i, c[1] + self.spline_j)
+            else:
+                c1 = (c[0] + w["i"], c[1] + w["j"])
+            end = self.find_ends(blk)
+            if "p" not in w or "q" not in w:
+                raise GCodeError("Must specify both P and Q with G5")
+            c2 = (end[0] + w["p"], end[1] + w["q"])
+            self.spline_i = -w["p"]
+            self.spline_j = -w["q"]
+        end[2] = c[2]
+        n = len(self.store)
+        self.emit(T_CUBIC, blk.line, end, feed)
+        self.store.controls[n] = (c1, c2)
+        self.cur = [end[0], end[1], c[2]]
+
+    def stop(self, code: int, line: int) -> None:
+        self.flush_comp(line)
+        if code in (2, 30):
+            for k in range(3):
+                self.cur[k] += self.origin[k]
+            self.origin_index = 1
+            self.params[5220] = 1.0
+            self.origin = self.work_offset_params(1)
+            for k in range(3):
+                self.cur[k] -= self.origin[k]
+            self.plane = "XY"
+            self.axes = PLANE_AXES["XY"]
+            self.dist_abs = True
+            self.feed_mode = 0
+            self.feed_rate = 0.0
+            self.comp_side = 0
+            self.comp_first = True
+            self.spindle_dir = 0
+            self.motion_mode = 10
+            self.sync_out()
+            self.touch_state()
+            self.ended = True

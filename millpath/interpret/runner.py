@@ -1,0 +1,63 @@
+"""The read-execute loop over a program's lines.
+
+A program ends at M2/M30, or at a second ``%`` line when the first line is ``%``; a
+file that just stops is an error on its last line, as in rs274 ("File ended with no
+percent sign or program end"). On an error the motion list holds the motion before the
+failing block.
+"""
+
+from __future__ import annotations
+
+from millpath.interpret.errors import GCodeError
+from millpath.interpret.fastpath import FastPath
+from millpath.interpret.lexer import read_block
+from millpath.interpret.machine import Machine
+from millpath.interpret.store import MotionList
+from millpath.interpret.tools import load_tools
+
+
+def run_program(text: str, tools, machine_units: str
+                ) -> tuple[str, MotionList, tuple[int, str] | None]:
+    """Interpret ``text``; returns (units at the end, motions, (line, message) or None)."""
+    machine = Machine(load_tools(tools), machine_units)
+    lines = text.splitlines()
+    percent = None
+    fast = FastPath(machine)
+    n = 0
+    try:
+        for n, raw in enumerate(lines, 1):
+            if percent is None:
+                s = raw.strip()
+                if s:
+                    percent = s.startswith("%")
+                    if percent:
+                        continue
+            elif percent and raw.strip().startswith("%"):
+                machine.flush_comp(n)
+                return machine.units, machine.store, None
+            if fast.try_line(raw, n):
+                continue
+            mark = len(machine.store)
+            try:
+                blk = read_block(raw, n, machine.params, machine.named)
+                if blk.empty:
+                    continue
+                machine.execute(blk)
+            except GCodeError:
+                machine.store.truncate(mark)
+                raise
+            for idx, val in blk.settings:
+                if isinstance(idx, str):
+                    machine.named[idx] = val
+                else:
+                    machine.params[idx] = val
+            if machine.ended:
+                return machine.units, machine.store, None
+    except GCodeError as e:
+        return machine.units, machine.store, (n, e.message)
+    except (OverflowError, ValueError, ZeroDivisionError) as e:
+        return machine.units, machine.store, (n, f"Calculation error: {e}")
+    last = max(len(lines), 1)
+    msg = ("File ended with no percent sign" if percent
+           else "File ended with no percent sign or program end")
+    return machine.units, machine.store, (last, msg)

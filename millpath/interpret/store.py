@@ -1,0 +1,90 @@
+"""Compact storage of interpreted motion: flat arrays, Motion objects on demand.
+
+A program of a million moves would need a million Python objects as a plain list;
+``MotionList`` keeps numbers in ``array`` buffers (about 110 bytes a move) and builds
+:class:`Motion` objects only when indexed or iterated. It is a read-only sequence:
+``len``, indexing, slicing, iteration, ``==`` with a list of Motions.
+"""
+
+from __future__ import annotations
+
+from array import array
+from collections.abc import Sequence
+
+import numpy as np
+
+from millpath.interpret.motion import Motion
+
+KINDS = ("traverse", "feed", "arc", "cubic", "dwell")
+KIND_CODE = {k: i for i, k in enumerate(KINDS)}
+PLANES = ("XY", "XZ", "YZ")
+PLANE_CODE = {p: i for i, p in enumerate(PLANES)}
+FSTRIDE = 10     # start xyz, end xyz, feed, center xyz (dwell: seconds in center[0])
+ISTRIDE = 5      # kind, line, rotation, plane, state index
+
+
+class MotionList(Sequence):
+    """Motion records in flat arrays; see the module docstring."""
+
+    def __init__(self) -> None:
+        self.f = array("d")
+        self.i = array("i")
+        self.states: list[tuple] = []      # (tool_offset, tool, spindle, feed_mode)
+        self.controls: dict[int, tuple] = {}
+
+    def __len__(self) -> int:
+        return len(self.i) // ISTRIDE
+
+    def _make(self, n: int) -> Motion:
+        f = self.f[n * FSTRIDE:(n + 1) * FSTRIDE]
+        k, line, rot, plane, st = self.i[n * ISTRIDE:(n + 1) * ISTRIDE]
+        tlo, tool, spindle, fmode = self.states[st]
+        kind = KINDS[k]
+        m = Motion(kind, line, (f[0], f[1], f[2]), (f[3], f[4], f[5]), f[6], tlo, tool,
+                   PLANES[plane], None, rot, None, 0.0, fmode, spindle)
+        if kind == "arc":
+            m.center = (f[7], f[8], f[9])
+        elif kind == "dwell":
+            m.dwell = f[7]
+        elif kind == "cubic":
+            m.controls = self.controls.get(n)
+        return m
+
+    def __getitem__(self, idx):
+        if isinstance(idx, slice):
+            return [self._make(n) for n in range(*idx.indices(len(self)))]
+        n = len(self)
+        if idx < 0:
+            idx += n
+        if not 0 <= idx < n:
+            raise IndexError("motion index out of range")
+        return self._make(idx)
+
+    def __iter__(self):
+        for n in range(len(self)):
+            yield self._make(n)
+
+    def __eq__(self, other) -> bool:
+        if not isinstance(other, Sequence) or len(other) != len(self):
+            return False
+        return all(a == b for a, b in zip(self, other))
+
+    def __repr__(self) -> str:
+        return f"<MotionList of {len(self)} motions>"
+
+    def truncate(self, n: int) -> None:
+        """Keep the first ``n`` motions."""
+        del self.f[n * FSTRIDE:]
+        del self.i[n * ISTRIDE:]
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        """Numpy views: ``start``, ``end``, ``center`` (n, 3); ``feed`` (n,); ``kind``,
+        ``line``, ``rotation``, ``plane``, ``state`` (n,) integer codes (see KINDS,
+        PLANES and ``states``)."""
+        f = np.frombuffer(self.f, dtype=np.float64).reshape(-1, FSTRIDE) if len(self.f) \
+            else np.zeros((0, FSTRIDE))
+        i = np.frombuffer(self.i, dtype=np.int32).reshape(-1, ISTRIDE) if len(self.i) \
+            else np.zeros((0, ISTRIDE), dtype=np.int32)
+        return {"start": f[:, 0:3], "end": f[:, 3:6], "feed": f[:, 6], "center": f[:, 7:10],
+                "kind": i[:, 0], "line": i[:, 1], "rotation": i[:, 2], "plane": i[:, 3],
+                "state": i[:, 4]}
