@@ -317,7 +317,7 @@ class _Reader:
         if p is None or not isinstance(p[1], list):
             raise self.sf.error(inst, "expected a CARTESIAN_POINT", Ap224Error)
         c = [float(v) for v in p[1]] + [0.0] * (3 - len(p[1]))
-        return (c[0], c[1], c[2])
+        return tuple(0.0 if abs(v) < 1e-12 else v for v in c[:3])  # type: ignore[return-value]
 
     def direction(self, ref: Any, default: tuple) -> tuple[float, float, float]:
         if not isinstance(ref, Ref):

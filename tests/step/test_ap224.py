@@ -1,0 +1,167 @@
+"""AP224 layer: units, stock, material and features found through the instance graph."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+
+from millpath.errors import MillpathError
+from millpath.part.step.ap224 import read_part
+from millpath.part.step.build import Ap224Builder
+from millpath.part.step.p21 import parse
+from millpath.part.step.shapes import HoleShape, PocketShape, SlotShape, feature_shapes
+
+FIXTURES = Path(__file__).parent / "fixtures"
+
+
+@pytest.fixture(scope="module")
+def sample(shared_dir):
+    return read_part(shared_dir / "step" / "ap224_995277945.stp")
+
+
+def test_sample_units_stock_material(sample):
+    assert sample.units.length == "inch" and sample.units.length_mm == 25.4
+    assert sample.units.angle == "degree"
+    assert sample.stock.shape == "cylinder"
+    assert sample.stock.dims == {"diameter": pytest.approx(2.38157), "length": 1.5}
+    assert sample.material == "phosphor bronze to BS 2874 PB 102"
+    assert "THREAD PIECE, UNION" in sample.product
+
+
+def test_sample_all_features(sample):
+    types = sorted(f.type for f in sample.features)
+    assert types == sorted(["ROUND_HOLE"] * 4 + ["REVOLVED_PROFILE"] * 2 + ["OUTER_ROUND"] * 3
+                           + ["OUTSIDE_PROFILE", "THREAD", "CHAMFER", "CHAMFER",
+                              "COMPOSITE_HOLE"])
+    by_id = {f.id: f for f in sample.features}
+    hole = by_id[1918]
+    assert hole.component("CIRCULAR_CLOSED_PROFILE").params["diameter"] == 1.116
+    assert hole.component("PATH_FEATURE_COMPONENT").params["distance"] == pytest.approx(0.65)
+    assert hole.component("HOLE_BOTTOM").description == "flat"
+    assert hole.placement.axis == (0.0, 0.0, 1.0)
+    through = by_id[2241]
+    assert through.component("HOLE_BOTTOM").description == "through"
+    assert through.component("PATH_FEATURE_COMPONENT").direction == (0.0, -1.0, 0.0)
+    groove = by_id[1978].component("SQUARE_U_PROFILE")
+    assert groove.params["width"] == 0.1 and groove.params["first angle"] == 135.0
+    hexagon = by_id[2040].component("NGON_CLOSED_PROFILE")
+    assert hexagon.params["number of sides"] == 6.0
+    assert by_id[1848].children == [1918, 1864]
+    assert by_id[2440].texts["form"] == "UNS" and by_id[2440].params["major diameter"] == 1.875
+    chamfer = by_id[2369]
+    assert sorted(k for c in chamfer.components for k in c.params) == ["chamfer angle",
+                                                                      "offset amount"]
+
+
+def test_sample_turned_features_are_listed_as_unmachinable(sample):
+    s = feature_shapes(sample)
+    assert s.shapes == []
+    reasons = {u.id: u.reason for u in s.skipped}
+    assert "not planned" in reasons[2440]
+    assert "not -Z" in reasons[1918]       # axis +Z: not reachable from the top
+    assert 1848 not in reasons             # composite: covered by its holes
+
+
+def test_iso14649_files_load_without_ap224_features(shared_dir):
+    for f in sorted((shared_dir / "step").glob("iso14649_*.p21")):
+        part = read_part(f)
+        assert part.step.schemas == ["COMBINED_SCHEMA"]
+        assert part.features == []       # ARM entities, not AP224 features
+
+
+def test_published_example_plate_with_three_holes():
+    part = read_part(FIXTURES / "plate_three_holes.stp")
+    assert part.units.length == "mm"
+    assert part.stock.shape == "block"
+    assert part.stock.box() == (0.0, 0.0, 0.0, 225.0, 100.0, 12.5)
+    holes = feature_shapes(part).shapes
+    assert [(h.x, h.diameter, h.bottom) for h in holes] == [
+        (112.5, 75.0, "through"), (187.5, 31.2, "through"), (37.5, 31.2, "through")]
+    assert all(h.z_top == 12.5 and h.depth == 12.5 for h in holes)
+
+
+def test_published_example_block_with_holes_and_slot():
+    shapes = feature_shapes(read_part(FIXTURES / "block_holes_slot.stp")).shapes
+    holes = [s for s in shapes if isinstance(s, HoleShape)]
+    slots = [s for s in shapes if isinstance(s, SlotShape)]
+    assert [h.diameter for h in holes] == [16.6, 16.6]
+    assert len(slots) == 1 and slots[0].width == 25.0 and slots[0].ends == ("open", "open")
+
+
+def test_every_hole_bottom_kind():
+    part = read_part(FIXTURES / "hole_bottoms.stp")
+    bottoms = [f.component("HOLE_BOTTOM").description for f in part.features]
+    assert sorted(set(bottoms)) == sorted(["through", "flat", "conical", "spherical",
+                                           "flat with radius", "flat with taper"])
+    s = feature_shapes(part)
+    kinds = {h.bottom: h for h in s.shapes}
+    assert kinds["spherical"].bottom_radius == 5.0
+    assert kinds["flat with radius"].bottom_radius == 1.0
+    assert kinds["conical"].tip_angle == 118.0
+    assert [u.reason for u in s.skipped] == ["a 'flat with taper' bottom is not planned"]
+
+
+def test_slots_and_pockets():
+    s = feature_shapes(read_part(FIXTURES / "slots_pockets.stp")).shapes
+    slots = [x for x in s if isinstance(x, SlotShape)]
+    pockets = [x for x in s if isinstance(x, PocketShape)]
+    assert [x.ends for x in slots] == [("open", "open"), ("radiused", "radiused"),
+                                       ("flat", "open")]
+    assert [p.profile for p in pockets] == ["rectangular", "circular", "ngon"]
+    rect = pockets[0]
+    assert (rect.length, rect.width, rect.corner_radius, rect.depth) == (40.0, 30.0, 5.0, 6.0)
+    assert rect.outline().area == pytest.approx(40 * 30 - (4 - math.pi) * 25, rel=1e-3)
+    assert pockets[2].sides == 6
+
+
+def test_inch_units_and_measures_with_other_units():
+    part = read_part(FIXTURES / "inch_plate.stp")
+    assert part.units.length == "inch"
+    assert part.stock.dims["length"] == 4.0
+    # a measure in mm inside an inch file is converted to inches
+    b = Ap224Builder("MIXED", units="inch")
+    b.block(2.0, 1.0, 0.5)
+    f = b.hole((1.0, 0.5, 0.5), 0.25, 0.5, bottom="through")
+    sf = b.sf
+    mm_unit = next(i.id for i in sf.instances.values() if i.get("SI_UNIT") is not None
+                   and i.has("LENGTH_UNIT"))
+    for inst in sf.instances.values():
+        if inst.get("REPRESENTATION_ITEM") == ["diameter"]:
+            inst.get("MEASURE_WITH_UNIT")[0] = type(inst.get("MEASURE_WITH_UNIT")[0])(
+                "LENGTH_MEASURE", 6.35)
+            inst.get("MEASURE_WITH_UNIT")[1] = type(inst.get("MEASURE_WITH_UNIT")[1])(mm_unit)
+    hole = read_part(parse(b.text())).features[0]
+    assert hole.id == f
+    assert hole.component("CIRCULAR_CLOSED_PROFILE").params["diameter"] == pytest.approx(0.25)
+
+
+def test_measures_are_found_by_name_not_position():
+    b = Ap224Builder("ORDER", units="mm")
+    b.block(100.0, 50.0, 20.0)
+    b.pocket((50.0, 25.0, 20.0), 4.0, "rectangular", width=20.0, corner_radius=3.0,
+             length=60.0)
+    p = feature_shapes(read_part(parse(b.text()))).shapes[0]
+    assert (p.length, p.width, p.corner_radius) == (60.0, 20.0, 3.0)
+
+
+def test_stock_without_height_is_an_error_naming_the_instance():
+    b = Ap224Builder("BAD", units="mm")
+    b.block(10.0, 10.0, 5.0)
+    for inst in b.sf.instances.values():
+        if inst.get("REPRESENTATION_ITEM") == ["height"]:
+            inst.get("REPRESENTATION_ITEM")[0] = "thickness"
+    with pytest.raises(MillpathError) as e:
+        read_part(parse(b.text(), "bad.stp"))
+    assert "'height'" in e.value.message and e.value.entity.startswith("#")
+    assert e.value.file == "bad.stp" and e.value.line is not None
+
+
+def test_fixture_files_match_their_generator():
+    import importlib.util
+    spec = importlib.util.spec_from_file_location("make_fixtures", FIXTURES / "make_fixtures.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    for name, make in mod.FIXTURES.items():
+        assert (FIXTURES / name).read_text() == make().text(), name

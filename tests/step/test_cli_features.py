@@ -1,0 +1,45 @@
+"""``millpath features PART.stp [--json]``."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from click.testing import CliRunner
+
+from millpath.cli.main import cli
+
+FIXTURES = Path(__file__).parent / "fixtures"
+
+
+def test_table_lists_stock_units_material_and_features():
+    r = CliRunner().invoke(cli, ["features", str(FIXTURES / "slots_pockets.stp")])
+    assert r.exit_code == 0, r.output
+    assert "units: length mm" in r.output
+    assert "material: aluminium 6082" in r.output
+    assert "stock: block" in r.output and "length 160" in r.output
+    for word in ("SLOT", "POCKET", "SQUARE_U_PROFILE", "RECTANGULAR_CLOSED_PROFILE",
+                 "NGON_CLOSED_PROFILE", "SLOT_END 'radiused'"):
+        assert word in r.output, word
+
+
+def test_json_output(shared_dir):
+    r = CliRunner().invoke(cli, ["features", str(shared_dir / "step" / "ap224_995277945.stp"),
+                                 "--json"])
+    assert r.exit_code == 0, r.output
+    doc = json.loads(r.output)
+    assert doc["units"]["length"] == "inch"
+    assert doc["stock"]["shape"] == "cylinder"
+    assert doc["material"].startswith("phosphor bronze")
+    assert len(doc["features"]) == 14
+    assert {u["type"] for u in doc["unmachinable"]} >= {"THREAD", "OUTER_ROUND", "ROUND_HOLE"}
+
+
+def test_malformed_file_prints_one_line_and_exits_1(tmp_path):
+    bad = tmp_path / "bad.stp"
+    bad.write_text("ISO-10303-21;\nHEADER;\nENDSEC;\nDATA;\n#1=A('x);\nENDSEC;\n"
+                   "END-ISO-10303-21;\n")
+    r = CliRunner().invoke(cli, ["features", str(bad)])
+    assert r.exit_code == 1
+    assert r.output.strip().splitlines() == [
+        f"millpath: error: {bad}:5: #1: unterminated string"]
