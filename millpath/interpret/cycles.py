@@ -86,9 +86,11 @@ class CycleMixin:
             raise GCodeError({"XY": "R less than z in cycle in xy plane",
                               "XZ": "R less than y in cycle in xz plane",
                               "YZ": "R less than x in cycle in yz plane"}[plane])
+        current_cc = cur[an]
         if old_cc < r:
             self._cyc_move(0, line, cur[a1], cur[a2], r)
             old_cc = r
+            current_cc = r
         clear_cc = r if self.retract_r_plane else old_cc
         p = q = 0.0
         if motion in (820, 890):
@@ -101,12 +103,16 @@ class CycleMixin:
             q = w.get("q", self.cycle_q)
         units = self.units
         delta = 0.010 * (25.4 if units == "mm" else 1.0)
-        for _ in range(repeats):
+        for rep in range(repeats):
             aa += inc_a
             bb += inc_b
-            self._cyc_move(0, line, aa, bb, old_cc)
-            if old_cc != r:
+            if rep == 0 and current_cc > r:
+                self._cyc_move(0, line, aa, bb, current_cc)
                 self._cyc_move(0, line, aa, bb, r)
+            else:
+                self._cyc_move(0, line, aa, bb, clear_cc)
+                if clear_cc > r:
+                    self._cyc_move(0, line, aa, bb, r)
             if motion == 810:
                 self._cyc_move(1, line, aa, bb, cc)
                 self._cyc_move(0, line, aa, bb, clear_cc)
@@ -129,13 +135,11 @@ class CycleMixin:
             elif motion == 850:
                 self._cyc_move(1, line, aa, bb, cc)
                 self._cyc_move(1, line, aa, bb, r)
-                if clear_cc > r:
-                    self._cyc_move(0, line, aa, bb, clear_cc)
+                self._cyc_move(0, line, aa, bb, clear_cc)
             elif motion == 890:
                 self._cyc_move(1, line, aa, bb, cc)
                 self.emit_dwell(line, p)
                 self._cyc_move(1, line, aa, bb, clear_cc)
-            old_cc = clear_cc
         if motion in (820, 890):
             self.cycle_p = p
         if motion in (730, 830):

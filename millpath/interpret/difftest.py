@@ -62,7 +62,12 @@ def differential(program: str, tools=None, *, machine_units: str = "inch",
     theirs = run_rs274(program, tools, table_units=machine_units)
     oe = (ours.error.line, ours.error.message) if ours.error else None
     te = (theirs.error_line, theirs.error) if theirs.error else None
-    diffs = compare_motions(ours.motions, theirs.motions, tol)
+    a, b = ours.motions, theirs.motions
+    if oe and te and te[0] == oe[0]:
+        # rs274 may print part of the failing block before it fails: compare before it
+        a = [m for m in a if m.line < oe[0]]
+        b = [m for m in b if m.line < oe[0]]
+    diffs = compare_motions(a, b, tol)
     if (oe is None) != (te is None):
         diffs.insert(0, f"error mismatch: ours {oe} vs rs274 {te}")
     elif oe and te and te[0] is not None and oe[0] != te[0]:

@@ -392,7 +392,11 @@ def read_block(raw: str, line: int, params: list[float], named: dict[str, float]
             if grp is None:
                 raise GCodeError("Unknown g code used")
             if grp in blk.g:
-                raise GCodeError("Two g codes used from same modal group")
+                old = blk.g[grp]
+                if grp == 1 and (old == 800 or code == 800):
+                    code = old if code == 800 else code    # G80 gives way, as in rs274
+                else:
+                    raise GCodeError("Two g codes used from same modal group")
             blk.g[grp] = code
         elif c == "m":
             code = rd.integer()
@@ -400,9 +404,7 @@ def read_block(raw: str, line: int, params: list[float], named: dict[str, float]
                 raise GCodeError("Negative m code used")
             grp = M_GROUP.get(code)
             if grp is None:
-                if 100 <= code <= 199:
-                    raise GCodeError(f"Unknown m code used: M{code}")
-                raise GCodeError("Unknown m code used")
+                raise GCodeError(f"Unknown m code used: M{code}")
             if grp in blk.m:
                 raise GCodeError("Two m codes used from same modal group")
             blk.m[grp] = code

@@ -343,8 +343,9 @@ class Machine(CompMixin, CycleMixin):
             v[1] *= f
             v[2] *= f
         self.comp_scale(f)
-        self.feed_rate *= f
-        self.tlo = [x * f for x in self.tlo]
+        # rs274 re-reads the tool offset and feed from its canon layer, which keeps the
+        # numbers it was given: they are not converted (a G43 before G20/G21 keeps its
+        # old-unit numbers). Programs set units first, so this only matters for oddities.
         self.touch_state()
 
     def tool_length_offset(self, code: int, w: dict) -> None:
