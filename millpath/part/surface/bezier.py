@@ -21,10 +21,26 @@ from millpath.errors import GeometryError
 
 def bernstein(degree: int, t: np.ndarray) -> np.ndarray:
     """Bernstein basis values, shape ``t.shape + (degree + 1,)``."""
-    t = np.asarray(t, float)[..., None]
-    k = np.arange(degree + 1)
-    coef = np.array([comb(degree, int(i)) for i in k], float)
-    return coef * t ** k * (1.0 - t) ** (degree - k)
+    t = np.asarray(t, float)
+    out = np.empty(t.shape + (degree + 1,))
+    s = 1.0 - t
+    # powers by repeated multiplication (much faster than ** on arrays)
+    tp = [np.ones_like(t)]
+    sp = [np.ones_like(t)]
+    for _ in range(degree):
+        tp.append(tp[-1] * t)
+        sp.append(sp[-1] * s)
+    for i in range(degree + 1):
+        out[..., i] = comb(degree, i) * tp[i] * sp[degree - i]
+    return out
+
+
+def _contract(bu: np.ndarray, net: np.ndarray, bv: np.ndarray) -> np.ndarray:
+    """sum_ij bu[..., i] net[i, j, :] bv[..., j] -> (..., d), by two matrix products."""
+    a, b, d = net.shape
+    tmp = (bu.reshape(-1, a) @ net.reshape(a, b * d)).reshape(-1, b, d)
+    out = np.einsum("kjd,kj->kd", tmp, bv.reshape(-1, b))
+    return out.reshape(bu.shape[:-1] + (d,))
 
 
 def _diff_net(net: np.ndarray, axis: int, order: int) -> np.ndarray:
@@ -109,7 +125,7 @@ class BezierPatch:
         net = _diff_net(_diff_net(self.control, 0, du), 1, dv)
         bu = bernstein(net.shape[0] - 1, u)
         bv = bernstein(net.shape[1] - 1, v)
-        return np.einsum("...i,ijd,...j->...d", bu, net, bv)
+        return _contract(bu, net, bv)
 
     def derivatives(self, u, v) -> tuple[np.ndarray, np.ndarray]:
         """First partial derivatives (dS/du, dS/dv) at (u, v), each ``broadcast + (3,)``."""
@@ -176,7 +192,8 @@ class BezierPatch:
         (``outside="clamp"``) or NaN (``outside="nan"``).
         """
         u, v, found = self.uv_of(x, y)
-        z = self.evaluate(u, v)[..., 2]
+        m, n = self.degree
+        z = _contract(bernstein(m, u), self.control[:, :, 2:], bernstein(n, v))[..., 0]
         if outside == "nan":
             z = np.where(found, z, np.nan)
         return z

@@ -1,0 +1,6 @@
+"""Free-form pockets by grid navigation (issue 5): operation type ``grid-pocket``.
+
+``cells`` (walls, offset outline, grid), ``navigate`` (window-frame order, zigzag
+runs), ``zfield`` (tool-tip Z on the bottom), ``fitmotion`` (lines, arcs, cubics),
+``planner`` (layers, wall pass, clean-up), ``operation`` (job keys, design).
+"""

@@ -1,0 +1,312 @@
+"""Turn a chain of tool-tip points into lines, circular arcs or cubic curves.
+
+Modes (job units, tolerance an absolute length):
+
+- ``line``: a line to every point (points exactly on one straight line are merged).
+- ``arc``: points in a principal plane (XZ: constant Y, YZ: constant X, XY: constant
+  Z) are fitted by circular arcs with the three-point method: the circle through the
+  first, middle and last point of a span is accepted when every point's distance
+  error ``|r - d|`` is within the tolerance; otherwise the span shrinks by one point
+  and the test repeats. Spans whose points lie within the tolerance of their chord
+  become lines (this covers very large radii).
+- ``bezier``: spans of four or more points in a principal plane are fitted by a cubic
+  Bezier curve with fixed end points whose inner control points are solved so that
+  the curve passes through the second and the second-to-last points (chord-length
+  parameters); every point must lie within the tolerance of the curve. XY cubics are
+  written as cubic moves (G5); cubics in XZ or YZ are approximated by arcs (half the
+  tolerance each).
+
+Arcs are ``clockwise`` as seen from the plane's positive normal, as RS274NGC.
+
+Gouge protection: a chain may carry check points (tip positions the path must not go
+below, with their distance along the chain). A candidate line, arc or cubic in a
+vertical plane is rejected when it passes more than the tolerance below a check point
+inside its span; XY candidates must stay within the tolerance of the point polyline
+(so they never swing into a wall).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from millpath.model.toolpath import PLANE_AXES
+
+
+@dataclass
+class Seg:
+    """One fitted piece from the previous end to ``end``."""
+
+    kind: str                       # "line" | "arc" | "cubic"
+    end: np.ndarray                 # (3,)
+    center: np.ndarray | None = None
+    plane: str = "XY"
+    clockwise: bool = False
+    c1: tuple[float, float] | None = None
+    c2: tuple[float, float] | None = None
+
+
+@dataclass
+class Chain:
+    """Points the tool feeds through, in order (the first is where it already is)."""
+
+    pts: np.ndarray                 # (n, 3)
+    pos: np.ndarray                 # (n,) XY distance along the chain
+    checks: np.ndarray | None = None    # (k, 3) required tip positions
+    check_pos: np.ndarray | None = None
+
+
+# --- small geometry ------------------------------------------------------------------
+def _circle(p1, p2, p3):
+    """Centre and radius of the circle through three 2D points, or None if collinear."""
+    ax, ay = p2[0] - p1[0], p2[1] - p1[1]
+    bx, by = p3[0] - p1[0], p3[1] - p1[1]
+    d = 2.0 * (ax * by - ay * bx)
+    scale = max(ax * ax + ay * ay, bx * bx + by * by)
+    if abs(d) <= 1e-12 * scale or scale == 0:
+        return None
+    a2, b2 = ax * ax + ay * ay, bx * bx + by * by
+    ux = (by * a2 - ay * b2) / d
+    uy = (ax * b2 - bx * a2) / d
+    c = np.array([p1[0] + ux, p1[1] + uy])
+    return c, math.hypot(ux, uy)
+
+
+def _dist_to_polyline(P: np.ndarray, poly: np.ndarray) -> np.ndarray:
+    """Distance from each point ``P`` (m, d) to the polyline ``poly`` (k, d)."""
+    a = poly[:-1][None]
+    b = poly[1:][None]
+    ab = b - a
+    L2 = (ab ** 2).sum(-1)
+    L2 = np.where(L2 == 0, 1.0, L2)
+    t = np.clip(((P[:, None] - a) * ab).sum(-1) / L2, 0.0, 1.0)
+    proj = a + t[..., None] * ab
+    return np.sqrt(((P[:, None] - proj) ** 2).sum(-1)).min(axis=1)
+
+
+def _cubic_points(p0, c1, c2, p3, n: int) -> np.ndarray:
+    t = np.linspace(0.0, 1.0, n)[:, None]
+    return ((1 - t) ** 3 * p0 + 3 * (1 - t) ** 2 * t * c1 + 3 * (1 - t) * t ** 2 * c2
+            + t ** 3 * p3)
+
+
+def fit_cubic(Q: np.ndarray):
+    """Control points (c1, c2) of the cubic through Q[0], Q[1], Q[-2], Q[-1] with
+    chord-length parameters (Q is (k, d), k >= 4); None if the system is singular."""
+    seg = np.linalg.norm(np.diff(Q, axis=0), axis=1)
+    total = seg.sum()
+    if total <= 0:
+        return None
+    t = np.concatenate([[0.0], np.cumsum(seg)]) / total
+    t1, t2 = t[1], t[-2]
+
+    def basis(s):
+        return np.array([(1 - s) ** 3, 3 * (1 - s) ** 2 * s, 3 * (1 - s) * s ** 2, s ** 3])
+
+    b1, b2 = basis(t1), basis(t2)
+    A = np.array([[b1[1], b1[2]], [b2[1], b2[2]]])
+    if abs(np.linalg.det(A)) < 1e-12:
+        return None
+    rhs = np.stack([Q[1] - b1[0] * Q[0] - b1[3] * Q[-1], Q[-2] - b2[0] * Q[0] - b2[3] * Q[-1]])
+    C = np.linalg.solve(A, rhs)
+    return C[0], C[1]
+
+
+# --- the fitter ----------------------------------------------------------------------
+class Fitter:
+    """Fit chains in one ``mode`` with ``tol`` (job units); ``max_radius`` turns arcs of
+    larger radius into lines."""
+
+    def __init__(self, mode: str, tol: float, max_radius: float):
+        if mode not in ("line", "arc", "bezier"):
+            raise ValueError(f"motion must be line, arc or bezier, not {mode!r}")
+        self.mode = mode
+        self.tol = tol
+        self.max_radius = max_radius
+
+    def fit(self, chain: Chain) -> list[Seg]:
+        P = chain.pts
+        if len(P) < 2:
+            return []
+        out: list[Seg] = []
+        for a, b, plane in self._planar_groups(P):
+            out.extend(self._fit_group(chain, a, b, plane))
+        return out
+
+    # planar sub-chains: consecutive segments sharing a principal plane
+    def _planar_groups(self, P: np.ndarray):
+        d = np.diff(P, axis=0)
+        scale = max(1.0, float(np.abs(P).max()))
+        eps = 1e-9 * scale
+        flags = [set() for _ in range(len(d))]
+        for k, (ddx, ddy, ddz) in enumerate(d):
+            if abs(ddy) <= eps:
+                flags[k].add("XZ")
+            if abs(ddx) <= eps:
+                flags[k].add("YZ")
+            if abs(ddz) <= eps:
+                flags[k].add("XY")
+        k = 0
+        while k < len(d):
+            common = set(flags[k])
+            e = k + 1
+            while e < len(d) and common & flags[e]:
+                common &= flags[e]
+                e += 1
+            plane = None
+            for cand in ("XZ", "YZ", "XY"):
+                if cand in common:
+                    plane = cand
+                    break
+            yield k, e, plane          # points k..e
+            k = e
+
+    def _fit_group(self, chain: Chain, a: int, b: int, plane: str | None) -> list[Seg]:
+        P = chain.pts
+        out: list[Seg] = []
+        line_tol = self.tol if self.mode != "line" else 1e-9 * max(1.0, float(np.abs(P).max()))
+        i = a
+        while i < b:
+            done = False
+            for e in range(b, i, -1):
+                if e - i >= 2 and self._line_ok(chain, i, e, line_tol, plane):
+                    out.append(Seg("line", P[e].copy()))
+                    done = True
+                elif e - i == 1:
+                    out.append(Seg("line", P[e].copy()))
+                    done = True
+                elif plane is not None and self.mode == "arc":
+                    seg = self._arc(chain, i, e, plane, self.tol, self.tol)
+                    if seg is not None:
+                        out.append(seg)
+                        done = True
+                elif plane is not None and self.mode == "bezier" and e - i >= 3:
+                    segs = self._cubic(chain, i, e, plane)
+                    if segs is not None:
+                        out.extend(segs)
+                        done = True
+                if done:
+                    i = e
+                    break
+        return out
+
+    # --- tests ------------------------------------------------------------------------
+    def _checks_in(self, chain: Chain, i: int, e: int):
+        if chain.checks is None:
+            return None
+        lo, hi = chain.pos[i], chain.pos[e]
+        k0 = np.searchsorted(chain.check_pos, lo - 1e-12, side="left")
+        k1 = np.searchsorted(chain.check_pos, hi + 1e-12, side="right")
+        return chain.checks[k0:k1]
+
+    def _z_ok(self, chain: Chain, i: int, e: int, curve: np.ndarray, budget: float) -> bool:
+        """Curve samples (m, 3) along a straight XY span not below the check points."""
+        K = self._checks_in(chain, i, e)
+        if K is None or len(K) == 0:
+            return True
+        p0 = chain.pts[i, :2]
+        u = chain.pts[e, :2] - p0
+        L = np.hypot(u[0], u[1])
+        if L == 0:
+            return True
+        u = u / L
+        sc = (curve[:, :2] - p0) @ u
+        order = np.argsort(sc)
+        sk = (K[:, :2] - p0) @ u
+        zc = np.interp(sk, sc[order], curve[order, 2])
+        return bool(np.all(zc >= K[:, 2] - budget))
+
+    def _line_ok(self, chain: Chain, i: int, e: int, tol: float, plane) -> bool:
+        Q = chain.pts[i:e + 1]
+        if _dist_to_polyline(Q[1:-1], Q[[0, -1]]).max() > tol:
+            return False
+        return self._z_ok(chain, i, e, Q[[0, -1]], tol) if plane != "XY" else True
+
+    def _arc(self, chain: Chain, i: int, e: int, plane: str, tol: float,
+             budget: float, pts: np.ndarray | None = None) -> Seg | None:
+        """The three-point arc of points i..e in ``plane``, or None if it fails."""
+        P = chain.pts if pts is None else pts
+        a1, a2, an = PLANE_AXES[plane]
+        Q = P[i:e + 1][:, [a1, a2]]
+        m = (i + e) // 2 - i
+        circ = _circle(Q[0], Q[m], Q[-1])
+        if circ is None:
+            return None
+        c, r = circ
+        if r > self.max_radius:
+            return None
+        d = np.hypot(Q[:, 0] - c[0], Q[:, 1] - c[1])
+        if np.abs(d - r).max() > tol:
+            return None
+        ang = np.unwrap(np.arctan2(Q[:, 1] - c[1], Q[:, 0] - c[0]))
+        steps = np.diff(ang)
+        if not (np.all(steps > 0) or np.all(steps < 0)):
+            return None
+        sweep = ang[-1] - ang[0]
+        if abs(sweep) >= 0.95 * math.pi:
+            return None
+        if pts is None:
+            # the real arc between the points: not below check points, not out of the walls
+            th = np.linspace(ang[0], ang[-1], max(8, 4 * (e - i)))
+            S = np.empty((len(th), 3))
+            S[:, a1] = c[0] + r * np.cos(th)
+            S[:, a2] = c[1] + r * np.sin(th)
+            S[:, an] = P[i, an]
+            if plane == "XY":
+                if _dist_to_polyline(S[:, :2], P[i:e + 1, :2]).max() > tol:
+                    return None
+            elif not self._z_ok(chain, i, e, S, budget):
+                return None
+        center = P[i].copy()
+        center[a1], center[a2] = c
+        return Seg("arc", P[e].copy(), center=center, plane=plane, clockwise=bool(sweep < 0))
+
+    def _cubic(self, chain: Chain, i: int, e: int, plane: str) -> list[Seg] | None:
+        P = chain.pts
+        a1, a2, an = PLANE_AXES[plane]
+        Q = P[i:e + 1][:, [a1, a2]]
+        cc = fit_cubic(Q)
+        if cc is None:
+            return None
+        c1, c2 = cc
+        tol = self.tol if plane == "XY" else self.tol / 2.0
+        S2 = _cubic_points(Q[0], c1, c2, Q[-1], max(24, 8 * (e - i)))
+        if _dist_to_polyline(Q, S2).max() > tol:
+            return None
+        S = np.empty((len(S2), 3))
+        S[:, a1], S[:, a2] = S2[:, 0], S2[:, 1]
+        S[:, an] = P[i, an]
+        if plane == "XY":
+            if _dist_to_polyline(S2, Q).max() > tol:
+                return None
+            return [Seg("cubic", P[e].copy(), c1=(float(c1[0]), float(c1[1])),
+                        c2=(float(c2[0]), float(c2[1])))]
+        if not self._z_ok(chain, i, e, S, tol):
+            return None
+        # approximate the vertical cubic by arcs within the other half of the tolerance
+        S2 = _cubic_points(Q[0], c1, c2, Q[-1], 3 * (e - i) + 4)
+        S = np.empty((len(S2), 3))
+        S[:, a1], S[:, a2] = S2[:, 0], S2[:, 1]
+        S[:, an] = P[i, an]
+        S[0], S[-1] = P[i], P[e]
+        sub = Chain(S, np.zeros(len(S)))
+        out: list[Seg] = []
+        k = 0
+        n = len(S) - 1
+        while k < n:
+            for f in range(n, k, -1):
+                if f - k == 1:
+                    out.append(Seg("line", S[f].copy()))
+                    break
+                Qs = S[k:f + 1]
+                if _dist_to_polyline(Qs[1:-1], Qs[[0, -1]]).max() <= tol:
+                    out.append(Seg("line", S[f].copy()))
+                    break
+                seg = self._arc(sub, k, f, plane, tol, tol, pts=S)
+                if seg is not None:
+                    out.append(seg)
+                    break
+            k = f
+        return out

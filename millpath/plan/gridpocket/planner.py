@@ -1,0 +1,327 @@
+"""Plan a free-form pocket: layers of window-frame paths, wall pass, zigzag clean-up.
+
+Job units throughout (mm or inch); feeds in units per minute; Z is the tool tip.
+
+Order of cutting: the roughing layers, the finish layer (the last layer, at the bottom
+everywhere, with ``finish_feed``), the wall pass (one lap of the offset outline per
+layer floor, ending at the bottom, starting at the outline corner nearest to where the
+finish layer ended), then the X zigzag and the Y zigzag runs at the bottom.
+
+A layer with floor ``f`` puts each point at ``max(tip Z on the bottom, f)`` and visits
+only the cells whose bottom lies below the floor of the layer before it (elsewhere the
+bottom was already reached). Moves between non-adjacent cells stay at cutting depth
+when the straight move keeps the tool inside the offset outline; otherwise the tool
+retracts to ``safe_z``. Clean-up runs are joined at the bottom when they start next
+to where the previous one ended, else over a short retract above the cleared bottom.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from shapely.geometry import Polygon
+
+from millpath.errors import JobError
+from millpath.model import Operation, Tool, Toolpath
+from millpath.model.toolpath import sample_move
+from millpath.plan.gridpocket.cells import PocketGrid, build_grid, check_grid
+from millpath.plan.gridpocket.fitmotion import Chain, Fitter
+from millpath.plan.gridpocket.navigate import adjacent, joined_edges, main_path, zigzag_runs
+from millpath.plan.gridpocket.zfield import ZField, sample_chain
+
+
+@dataclass
+class PocketSpec:
+    """Everything the planner needs (job units)."""
+
+    polygon: Polygon
+    surface: object                 # height(x, y) and to_mesh(nu, nv)
+    tool: Tool
+    units: str
+    dx: float
+    dy: float
+    top: float                      # stock top: Z where the material starts
+    feed: float
+    finish_feed: float
+    plunge_feed: float
+    safe_z: float
+    tolerance: float
+    depths: list[float] | None = None
+    step: float | None = None
+    motion: str = "line"
+    zigzag: bool = True
+    spindle: float = 0.0
+    z_mode: str = "tool"
+    name: str = "grid-pocket"
+    force_grid: bool = False
+    file: object = None
+
+
+def layer_floors(top: float, zmin: float, depths: list[float] | None, step: float | None,
+                 file=None) -> list[float]:
+    """Floors of the layers, top down; the last is ``-inf`` (the finish at the bottom).
+
+    ``depths`` are absolute floor Z values (strictly descending, below ``top``); ``step``
+    is a uniform depth of cut from ``top``. Floors at or below the lowest bottom point
+    ``zmin`` are replaced by the finish layer.
+    """
+    if depths is not None and step is not None:
+        raise JobError("depths, step: give either a list of depths or a step, not both", file)
+    floors: list[float] = []
+    eps = 1e-9 * max(1.0, abs(top), abs(zmin))
+    if depths is not None:
+        prev = top
+        for k, d in enumerate(depths):
+            if not d < prev:
+                raise JobError(f"depths[{k}]: {d:g} must be below {prev:g} (the stock top or "
+                               "the previous depth)", file)
+            prev = d
+            if d > zmin + eps:
+                floors.append(float(d))
+    elif step is not None:
+        n = int(math.ceil((top - zmin) / step - 1e-9))
+        if n > 10_000:
+            raise JobError(f"step: {step:g} makes {n} layers", file)
+        floors = [top - k * step for k in range(1, n) if top - k * step > zmin + eps]
+    return floors + [-math.inf]
+
+
+@dataclass
+class _Stats:
+    phases: dict[str, float] = field(default_factory=dict)    # feed length per phase
+    retracts: int = 0
+    plunges: int = 0
+
+
+class _Builder:
+    """Appends fitted motion to a toolpath, tracking where the tool is."""
+
+    def __init__(self, spec: PocketSpec, grid: PocketGrid, zf: ZField, fitter: Fitter):
+        self.spec = spec
+        self.grid = grid
+        self.zf = zf
+        self.fitter = fitter
+        self.tp = Toolpath(spec.units)
+        self.pos: np.ndarray | None = None
+        self.clear = 0.1 * spec.tool.diameter
+        self.stats = _Stats()
+        self.phase = ""
+
+    def begin(self, phase: str, label: str) -> None:
+        self.phase = phase
+        self.tp.begin(Operation("grid-pocket", f"{self.spec.name}: {label}", self.spec.tool.number,
+                                spindle=self.spec.spindle, info={"phase": phase}))
+
+    def _rapid(self, p) -> None:
+        self.tp.rapid(*p)
+        self.pos = np.asarray(p, float)
+
+    def _line(self, p, feed: float) -> None:
+        self.tp.line(*p, feed)
+        self.pos = np.asarray(p, float)
+
+    def material_top(self, x, y, done_floor: float) -> np.ndarray:
+        """Highest material that can remain at (x, y) inside the cleared region."""
+        return np.maximum(self.zf.z(x, y), done_floor)
+
+    def travel(self, target: np.ndarray, done_floor: float) -> None:
+        """Go from the current position to ``target`` (a cutting point) without cutting
+        on the way; plunge the last stretch at the plunge feed."""
+        s = self.spec
+        tx, ty, tz = map(float, target)
+        above = float(self.material_top(np.array([tx]), np.array([ty]), done_floor)[0])
+        above = min(max(above, tz) + self.clear, s.safe_z)
+        if self.pos is None:
+            self._rapid((tx, ty, s.safe_z))
+        else:
+            px, py, pz = self.pos
+            if math.hypot(tx - px, ty - py) <= 1e-9:
+                if tz < pz:
+                    self._line((tx, ty, tz), s.plunge_feed)
+                    self.stats.plunges += 1
+                elif tz > pz:
+                    self._rapid((tx, ty, tz))
+                return
+            if self.grid.segment_inside((px, py), (tx, ty)):
+                n = max(2, int(math.ceil(math.hypot(tx - px, ty - py) / min(s.dx, s.dy))) + 1)
+                xs, ys = np.linspace(px, tx, n), np.linspace(py, ty, n)
+                h = float(self.material_top(xs, ys, done_floor).max())
+                h = min(max(h, pz, tz) + self.clear, s.safe_z)
+            else:
+                h = s.safe_z
+            self.stats.retracts += 1
+            if pz < h:
+                self._rapid((px, py, h))
+            self._rapid((tx, ty, max(h, self.pos[2])))
+        if self.pos[2] > above:
+            self._rapid((tx, ty, above))
+        if self.pos[2] > tz:
+            self._line((tx, ty, tz), s.plunge_feed)
+            self.stats.plunges += 1
+
+    def cut(self, xy: np.ndarray, floor: float, feed: float, done_floor: float) -> None:
+        """Feed through the XY points at ``max(tip Z, floor)``, arriving by :meth:`travel`."""
+        s = self.spec
+
+        def zfun(x, y):
+            return np.maximum(self.zf.z(x, y), floor)
+
+        spacing = min(s.dx, s.dy) / 6.0 if s.z_mode == "tool" else None
+        pts, pos, checks, cpos = sample_chain(np.asarray(xy, float), zfun, spacing,
+                                              s.tolerance / 2.0)
+        self.travel(pts[0], done_floor)
+        if s.z_mode != "tool":
+            checks = cpos = None
+        chain = Chain(pts, pos, checks, cpos)
+        for seg in self.fitter.fit(chain):
+            if seg.kind == "line":
+                self.tp.line(*seg.end, feed)
+            elif seg.kind == "arc":
+                self.tp.arc(tuple(seg.end), tuple(seg.center), seg.clockwise, feed, seg.plane)
+            else:
+                self.tp.cubic(seg.c1, seg.c2, tuple(seg.end), feed)
+        self.pos = pts[-1].copy()
+        length = float(np.linalg.norm(np.diff(pts, axis=0), axis=1).sum())
+        self.stats.phases[self.phase] = self.stats.phases.get(self.phase, 0.0) + length
+
+    def retract(self) -> None:
+        if self.pos is not None and self.pos[2] < self.spec.safe_z:
+            self._rapid((self.pos[0], self.pos[1], self.spec.safe_z))
+
+
+def _cells_xy(grid: PocketGrid, cells) -> np.ndarray:
+    c = np.asarray(cells, int).reshape(-1, 2)
+    x, y = grid.centre(c[:, 0], c[:, 1])
+    return np.column_stack([x, y])
+
+
+def _path_chunks(grid: PocketGrid, path) -> list[list]:
+    """Split a cell path where a jump would leave the offset outline."""
+    chunks: list[list] = []
+    cur: list = []
+    for c in path:
+        if cur and not adjacent(cur[-1], c):
+            a = _cells_xy(grid, [cur[-1]])[0]
+            b = _cells_xy(grid, [c])[0]
+            if not grid.segment_inside(a, b):
+                chunks.append(cur)
+                cur = []
+        cur.append(c)
+    if cur:
+        chunks.append(cur)
+    return chunks
+
+
+def _ring_from(ring: np.ndarray, pos, spacing: float) -> np.ndarray:
+    """The closed ring starting at its vertex nearest to ``pos``, edges subdivided to at
+    most ``spacing``."""
+    k = 0 if pos is None else int(np.argmin(np.hypot(ring[:, 0] - pos[0], ring[:, 1] - pos[1])))
+    r = np.concatenate([ring[k:], ring[:k], ring[k:k + 1]])
+    out = [r[0]]
+    for a, b in zip(r[:-1], r[1:]):
+        n = max(1, int(math.ceil(np.hypot(*(b - a)) / spacing)))
+        for t in np.arange(1, n + 1) / n:
+            out.append(a + (b - a) * t)
+    return np.array(out)
+
+
+def plan_pocket(spec: PocketSpec) -> tuple[Toolpath, dict]:
+    """Plan the pocket; return the toolpath and the ``pocket`` report section."""
+    tool = spec.tool
+    check_grid(spec.dx, spec.dy, tool.diameter, spec.force_grid, spec.file)
+    grid = build_grid(spec.polygon, tool.radius, spec.dx, spec.dy, spec.file)
+    zf = ZField(spec.surface, tool, spec.z_mode, spec.polygon.bounds, spec.tolerance, spec.file)
+    max_radius = 100.0 if spec.units == "inch" else 2540.0
+    fitter = Fitter(spec.motion, spec.tolerance, max_radius)
+    b = _Builder(spec, grid, zf, fitter)
+
+    ii, jj = np.nonzero(grid.inside)
+    xy = _cells_xy(grid, np.column_stack([ii, jj]))
+    zc = np.full(grid.shape, np.nan)
+    if len(xy):
+        zc[ii, jj] = zf.z(xy[:, 0], xy[:, 1])
+    rings = grid.rings()
+    ring_z = np.concatenate([zf.z(r[:, 0], r[:, 1]) for r in rings])
+    zmin = float(min(np.nanmin(zc) if len(xy) else np.inf, ring_z.min()))
+    floors = layer_floors(spec.top, zmin, spec.depths, spec.step, spec.file)
+    eps = 1e-9 * max(1.0, abs(spec.top))
+
+    layers = []
+    done = spec.top
+    final_path: list = []
+    for k, floor in enumerate(floors):
+        finish = k == len(floors) - 1
+        mask = grid.inside & (zc < done - eps)
+        path = main_path(mask, spec.dx, spec.dy)
+        phase = "finish" if finish else "rough"
+        b.begin(phase, "finish layer" if finish else f"rough layer {k + 1} (floor {floor:g})")
+        before = b.stats.phases.get(phase, 0.0)
+        feed = spec.finish_feed if finish else spec.feed
+        for chunk in _path_chunks(grid, path):
+            b.cut(_cells_xy(grid, chunk), floor, feed, done)
+        layers.append({"floor": None if math.isinf(floor) else floor, "finish": finish,
+                       "cells": len(path),
+                       "length": b.stats.phases.get(phase, 0.0) - before})
+        if finish:
+            final_path = path
+        done = floor
+
+    # wall pass: one lap per floor, down to the bottom
+    b.begin("wall", "wall pass")
+    spacing = min(spec.dx, spec.dy)
+    wall_done = spec.top
+    for floor in floors:
+        for ring in rings:
+            pts = _ring_from(ring, b.pos, spacing)
+            b.cut(pts, floor, spec.finish_feed, wall_done)
+        wall_done = floor
+
+    zig = {"x": 0, "y": 0}
+    if spec.zigzag:
+        joined = joined_edges(final_path)
+        for axis, label in ((0, "x"), (1, "y")):
+            runs = zigzag_runs(grid.inside, joined, axis)
+            if not runs:
+                continue
+            zig[label] = len(runs)
+            b.begin(f"zigzag_{label}", f"{label.upper()} zigzag")
+            last = None
+            for run in runs:
+                if last is not None and (adjacent(last, run[0]) or last == run[0]):
+                    run = [last] + run if last != run[0] else run
+                b.cut(_cells_xy(grid, run), -math.inf, spec.finish_feed, -math.inf)
+                last = run[-1]
+    b.retract()
+
+    report = {
+        "grid": {"dx": spec.dx, "dy": spec.dy, "nx": grid.shape[0], "ny": grid.shape[1],
+                 "cells_inside": int(grid.inside.sum())},
+        "motion": spec.motion, "z_mode": spec.z_mode, "tolerance": spec.tolerance,
+        "layers": layers,
+        "zigzag_runs": zig,
+        "feed_length": {k: round(v, 6) for k, v in b.stats.phases.items()},
+        "retracts": b.stats.retracts,
+        "plunges": b.stats.plunges,
+        "bottom_min_tip_z": zmin,
+        "mesh_error": zf.mesh_error,
+        "moves": b.tp.counts(),
+    }
+    if spec.z_mode == "tool" and len(xy):
+        h = np.asarray(spec.surface.height(xy[:, 0], xy[:, 1]), float)
+        report["surface_mode_gouge_at_centres"] = float(np.max(zc[ii, jj] - h))
+    report["path_length"] = round(_length(b.tp), 6)
+    return b.tp, report
+
+
+def _length(tp: Toolpath) -> float:
+    """Total length of feed moves (lines, arcs, cubics)."""
+    total = 0.0
+    pos = None
+    for m in tp.moves:
+        if pos is not None and m.kind in ("line", "arc", "cubic"):
+            p = sample_move(pos, m, 0.01 if tp.units == "inch" else 0.25)
+            total += float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum())
+        pos = m.end
+    return total
