@@ -105,4 +105,4 @@ def speeds(tool: Tool, material: str, units: str, *, max_rpm: float = 24000.0,
 
 def _round_feed(f: float, units: str) -> float:
     q = 0.1 if units == "inch" else 1.0
-    return max(q, round(f / q) * q)
+    return max(q, round(round(f / q) * q, 4))

@@ -1,0 +1,173 @@
+"""The ``features`` operation on the prismatic AP224 fixtures: cycles, order, report,
+design, LinuxCNC acceptance and simulated material removal."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from millpath.errors import MillpathError
+from millpath.job.schema import validate
+from millpath.model import Machine, Tool
+from millpath.plan.base import PlanContext
+from millpath.plan.features.operation import PARAMS, plan
+
+FIXTURES = Path(__file__).resolve().parents[1] / "step" / "fixtures"
+
+TOOLS_MM = {
+    1: Tool(1, "flat", 20.0, flutes=3, flute_length=40, stickout=60),
+    2: Tool(2, "flat", 10.0, flutes=3, flute_length=30, stickout=45),
+    3: Tool(3, "flat", 6.0, flutes=3, flute_length=20, stickout=35),
+    4: Tool(4, "drill", 16.6, flute_length=60, stickout=80),
+    5: Tool(5, "drill", 8.0, flute_length=40, stickout=60),
+    6: Tool(6, "ball", 10.0, flute_length=20, stickout=40),
+    7: Tool(7, "bull", 12.0, corner_radius=1.0, flutes=3, flute_length=25, stickout=40),
+    8: Tool(8, "drill", 10.0, flute_length=50, stickout=70),
+    9: Tool(9, "drill", 6.0, flute_length=40, stickout=60),
+}
+TOOLS_IN = {
+    1: Tool(1, "flat", 0.25, flutes=2, flute_length=0.75, stickout=1.25),
+    2: Tool(2, "drill", 0.25, flute_length=1.2, stickout=1.75),
+    3: Tool(3, "flat", 0.375, flutes=3, flute_length=1.0, stickout=1.5),
+}
+
+#: fixture -> (units, tools, simulation resolution)
+PRISMATIC = {
+    "plate_three_holes.stp": ("mm", TOOLS_MM, 0.5),
+    "block_holes_slot.stp": ("mm", TOOLS_MM, 0.5),
+    "hole_bottoms.stp": ("mm", TOOLS_MM, 0.2),
+    "slots_pockets.stp": ("mm", TOOLS_MM, 0.25),
+    "inch_plate.stp": ("inch", TOOLS_IN, 0.01),
+}
+
+
+def run_plan(name: str, **over):
+    units, tools, _ = PRISMATIC[name]
+    ctx = PlanContext(units=units, stock=None, machine=Machine.default_for(units),
+                      tools=tools, base_dir=FIXTURES)
+    params = validate({"step": name, **over}, PARAMS, "operations[0]", None, FIXTURES)
+    return plan(ctx, params)
+
+
+@pytest.fixture(scope="module")
+def planned():
+    return {name: run_plan(name) for name in PRISMATIC}
+
+
+def test_plate_three_holes_uses_helical_interpolation_without_drills(planned):
+    r = planned["plate_three_holes.stp"]
+    rep = r.report["features"]
+    assert [p["strategy"] for p in rep["planned"]] == ["helical"] * 3
+    assert rep["unmachinable"] == []
+    assert r.stock.box == (0.0, 0.0, 0.0, 225.0, 100.0, 12.5)
+    assert rep["material_class"] == "aluminium"
+
+
+def test_block_holes_slot_drills_matching_holes_and_mills_the_slot(planned):
+    r = planned["block_holes_slot.stp"]
+    tp = r.toolpath
+    drills = [m for m in tp.moves if m.kind == "drill"]
+    assert [(m.end[0], m.end[1]) for m in drills] == [(25.0, 20.0), (95.0, 20.0)]
+    assert all(tp.tool_of(m) == 4 for m in drills)
+    # through: the full diameter leaves the bottom face
+    assert all(m.end[2] + TOOLS_MM[4].point_depth() < 0.0 for m in drills)
+    slot_tool = tp.ops[0].tool
+    assert TOOLS_MM[slot_tool].diameter <= 25.0
+    assert r.report["features"]["tool_changes"] == len(tp.ops) == 2
+
+
+def test_deep_holes_are_peck_drilled():
+    r = run_plan("hole_bottoms.stp")
+    cycles = {(round(m.end[0]), round(m.end[1])): (m.cycle, m.peck) for m in r.toolpath.moves
+              if m.kind == "drill"}
+    # 6 mm conical hole 24 mm deep (4 D) in aluminium: chip-breaking pecks of one diameter
+    assert cycles[(45, 42)] == ("G73", 6.0)
+    # 10 mm through hole 25 mm deep (< 3 D to the shoulder): plain G81
+    assert cycles[(15, 15)][0] == "G81"
+    brass = run_plan("hole_bottoms.stp", material="brass-bronze")
+    deep = {(round(m.end[0]), round(m.end[1])): m.cycle for m in brass.toolpath.moves
+            if m.kind == "drill"}
+    assert deep[(45, 42)] == "G83"          # short chips: full retract pecks
+    assert deep[(15, 15)] == "G81"
+
+
+def test_holes_deeper_than_six_diameters_get_full_retract_pecks(tmp_path):
+    from millpath.part.step.build import Ap224Builder
+    b = Ap224Builder("DEEP", units="mm", material="aluminium")
+    b.block(50.0, 50.0, 45.0)
+    b.hole((25.0, 25.0, 45.0), 6.0, 40.0, bottom="conical", tip_angle=118.0)
+    (tmp_path / "deep.stp").write_text(b.text())
+    ctx = PlanContext(units="mm", stock=None, machine=Machine(), tools=TOOLS_MM,
+                      base_dir=tmp_path)
+    r = plan(ctx, validate({"step": "deep.stp"}, PARAMS, "op", None, tmp_path))
+    (m,) = [m for m in r.toolpath.moves if m.kind == "drill"]
+    assert (m.cycle, m.peck, m.end[2]) == ("G83", 6.0, 5.0)
+    assert m.r_plane > 45.0
+
+
+def test_operations_are_grouped_by_tool(planned):
+    for r in planned.values():
+        tools = [op.tool for op in r.toolpath.ops]
+        assert len(tools) == len(set(tools))
+
+
+def test_unmachinable_features_are_reported():
+    rep = run_plan("hole_bottoms.stp").report["features"]
+    assert [(u["type"], u["reason"]) for u in rep["unmachinable"]] == [
+        ("ROUND_HOLE", "a 'flat with taper' bottom is not planned")]
+    assert {p["strategy"] for p in rep["planned"]} == {"drill", "helical", "plunge"}
+
+
+def test_restricting_tools_changes_the_strategy():
+    r = run_plan("block_holes_slot.stp", tools=[1, 2, 3])
+    assert {p["strategy"] for p in r.report["features"]["planned"]} == {"helical", "slot"}
+    with pytest.raises(MillpathError, match="tool 42"):
+        run_plan("block_holes_slot.stp", tools=[42])
+
+
+def test_design_is_stock_top_minus_features(planned):
+    d = planned["hole_bottoms.stp"].design
+    z = d.height(np.array([15.0, 35.0, 75.0, 55.0, 90.0, 75.0]),
+                 np.array([15.0, 15.0, 15.0, 15.0, 55.0, 19.9]))
+    assert z[0] == -np.inf                       # through hole
+    assert z[1] == pytest.approx(17.0)           # flat, 8 deep
+    assert z[2] == pytest.approx(16.0)           # spherical, lowest point 9 deep
+    assert z[3] == pytest.approx(15.0)           # conical tip 10 deep
+    assert z[4] == 25.0                          # untouched top
+    assert 16.0 < z[5] < 25.0                    # on the sphere near the wall
+
+
+def test_missing_step_file_is_a_user_error(tmp_path):
+    ctx = PlanContext(units="mm", stock=None, machine=Machine(), tools=TOOLS_MM,
+                      base_dir=tmp_path)
+    with pytest.raises(MillpathError, match="no such STEP file"):
+        plan(ctx, validate({"step": "none.stp"}, PARAMS, "operations[0]", None, tmp_path))
+
+
+@pytest.mark.parametrize("name", sorted(PRISMATIC))
+def test_rs274_accepts_the_program(name, planned, rs274):
+    from millpath.post.linuxcnc import post
+    from millpath.verify.rs274 import run_rs274
+    units, tools, _ = PRISMATIC[name]
+    r = planned[name]
+    res = run_rs274(post(r.toolpath, tools, title=name), tools,
+                    table_units=units)
+    assert res.ok, (res.error, res.error_line)
+    assert len(res.motions) > 0
+
+
+@pytest.mark.parametrize("name", sorted(PRISMATIC))
+def test_simulation_removes_the_feature_volumes_and_nothing_else(name, planned):
+    from millpath.simulate import simulate_toolpath
+    units, tools, res = PRISMATIC[name]
+    r = planned[name]
+    stock = r.stock
+    sim = simulate_toolpath(r.toolpath, tools, stock, resolution=res, design=r.design)
+    expected = r.design.volume(res / 2.0, (stock.xmin, stock.ymin, stock.xmax, stock.ymax),
+                               stock.zmin)
+    assert sim.removed_volume == pytest.approx(expected, rel=0.01)
+    assert sim.max_gouge <= 1e-6                  # nothing below the finished part
+    assert sim.rapids_through_material == 0
+    assert sim.holder_contacts == 0
