@@ -1,0 +1,1 @@
+"""Operation die-cavity (issue 6)."""

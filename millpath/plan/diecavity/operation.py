@@ -1,0 +1,319 @@
+"""Operation ``die-cavity``: a free-form cavity from scattered points (issue 6).
+
+Points -> four-point segments with C1 blends (closed) -> fewest chords within
+``tolerance`` -> the programmed contour (chords the tool cannot follow removed, their
+neighbours extended to meet) -> per depth step: contour-parallel roughing from the
+inside out leaving ``allowance``, then the wall finished on the offset contour.
+
+``compensation = "cam"`` writes the tool-centre path (arcs round convex corners,
+concave corners trimmed, LinuxCNC's rules, see :mod:`millpath.part.curve.offset`);
+``"control"`` writes the contour itself between ``G41 D<tool>`` and ``G40`` and lets
+the control offset it; both interpret to the same motion. The contour is cut counter-
+clockwise with the tool on its left (G41, climb milling with M3). Lengths in job
+units; ``depth`` below the stock top; a cavity at least as deep as the block is a
+through cavity cut ``breakthrough`` below the block bottom.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import shapely
+from shapely.geometry import LineString, Polygon
+from shapely.geometry.polygon import orient
+from shapely.validation import make_valid
+
+from millpath.errors import GeometryError, JobError, PlanningError
+from millpath.job.schema import Param
+from millpath.model import Operation, Toolpath
+from millpath.part.curve.blend import build_curve
+from millpath.part.curve.fourpoint import Curve
+from millpath.part.curve.linearize import linearize_curve
+from millpath.part.curve.offset import (CompensationError, chords_on_offset, compensate,
+                                        reachable_contour, sample_elements)
+from millpath.part.curve.points import points_from_params
+from millpath.plan.base import PlanContext, PlanResult
+from millpath.plan.diecavity.design import CavityDesign
+from millpath.plan.diecavity.roughing import rings, roughing_area
+
+PARAMS = {
+    "tool": Param("int", positive=True, doc="flat end mill (tool number)"),
+    "points": Param("points", None, doc="outline points [x, y], four per segment"),
+    "points_file": Param("path", None, doc="CSV of outline points x, y"),
+    "close": Param("bool", True, doc="blend the last segment back to the first"),
+    "tolerance": Param("float", positive=True, doc="chordal tolerance (job units)"),
+    "depth": Param("float", positive=True, doc="cavity depth below the stock top"),
+    "step_down": Param("float", positive=True, doc="depth per layer"),
+    "allowance": Param("float", 0.0, nonneg=True, doc="wall stock left by roughing"),
+    "stepover": Param("float", None, positive=True, doc="roughing stepover (default 0.5 D)"),
+    "compensation": Param("str", "cam", choices=("cam", "control")),
+    "feed": Param("float", positive=True),
+    "plunge_feed": Param("float", None, positive=True, doc="default: feed / 2"),
+    "spindle": Param("float", 0.0),
+    "safe_z": Param("float", None, doc="default: stock top + 5 mm (0.2 in)"),
+    "breakthrough": Param("float", 0.0, nonneg=True, doc="below the block bottom"),
+}
+
+#: the post-processor writes 4 decimals in mm and 5 in inch; the programmed contour is
+#: rounded to that grid first so that CAM and control offsets start from the same points
+GRID = {"mm": 1e-4, "inch": 1e-5}
+
+
+def _region(pts: np.ndarray) -> tuple[Polygon, bool]:
+    """The cavity as a valid polygon of the linearized curve; True if the curve
+    crossed itself (the small loops are dropped: the largest part is kept)."""
+    poly = Polygon(pts)
+    if poly.is_valid:
+        return poly, False
+    fixed = make_valid(poly)
+    parts = [g for g in getattr(fixed, "geoms", [fixed]) if isinstance(g, Polygon)]
+    if not parts:
+        raise GeometryError("the outline does not enclose an area")
+    return max(parts, key=lambda g: g.area), True
+
+
+def _curvature_report(curve: Curve, radius: float, samples: int = 400) -> list[dict]:
+    """Stretches of the curve bending round the tool (toward the cavity) tighter than
+    the tool radius: the tool cannot reach into them."""
+    out = []
+    for i, seg in enumerate(curve.segments):
+        u = np.linspace(0.0, 1.0, samples + 1)
+        k = seg.curvature(u)
+        tight = k > 1.0 / radius
+        if not tight.any():
+            continue
+        idx = np.flatnonzero(tight)
+        splits = np.flatnonzero(np.diff(idx) > 1)
+        for run in np.split(idx, splits + 1):
+            j = run[np.argmax(k[run])]
+            p = seg.at(u[j])
+            out.append({"segment": i, "u": [float(u[run[0]]), float(u[run[-1]])],
+                        "min_radius": float(1.0 / k[j]), "at": [float(p[0]), float(p[1])]})
+    # corners where two segments meet without C1 and turn toward the cavity
+    for j in curve.junctions():
+        if j["derivative_gap"] > 1e-6 and (j["tangent_turn_deg"] > 0
+                                           or abs(j["tangent_turn_deg"]) > 170):
+            out.append({"segment": j["after"], "u": [1.0, 1.0], "min_radius": 0.0,
+                        "at": j["point"], "corner_deg": j["tangent_turn_deg"]})
+    return out
+
+
+def _entry(q: np.ndarray, region_in: Polygon, r: float):
+    """Pick the contour start and the lead-in: returns (k, S, A, exit_point, overlap).
+
+    The lead-in ends with a line A -> q[k] turning 0.06 rad onto the first chord (a
+    concave corner for LinuxCNC, trimmed exactly; 0.05 rad or less would be joined
+    straight and nick the wall), entered from S perpendicular to it, 2 r away
+    (LinuxCNC needs the first compensated move to be longer than r). Candidates are
+    tried from the straightest stretches; the tool centre on the lead-in and lead-out
+    must stay inside ``region_in`` (the cavity eroded by r)."""
+    m = len(q)
+    t = np.roll(q, -1, axis=0) - q
+    L = np.hypot(t[:, 0], t[:, 1])
+    t = t / L[:, None]
+    ang = np.arctan2(t[:, 1], t[:, 0])
+    turn = np.angle(np.exp(1j * (ang - np.roll(ang, 1))))        # at vertex k
+    # turning within 3 r behind each vertex: prefer stretches bending away
+    score = np.empty(m)
+    cs = np.concatenate([[0.0], np.cumsum(np.concatenate([turn, turn, turn]))])
+    pos = np.concatenate([[0.0], np.cumsum(np.concatenate([L, L, L]))])
+    for k in range(m):
+        kk = k + m
+        lo = np.searchsorted(pos, pos[kk] - 3 * r)
+        score[k] = cs[kk + 1] - cs[lo]
+    phi = 0.06
+    c, sn = math.cos(-phi), math.sin(-phi)
+    d_in = np.stack([c * t[:, 0] - sn * t[:, 1], sn * t[:, 0] + c * t[:, 1]], axis=1)
+    n_in = np.stack([-d_in[:, 1], d_in[:, 0]], axis=1)
+    a_pts = q - 2.0 * r * d_in
+    s_pts = a_pts + 2.0 * r * n_in
+    inside = shapely.contains_xy(region_in, s_pts[:, 0], s_pts[:, 1])
+    for k in np.argsort(score, kind="stable"):
+        if not inside[k]:
+            continue
+        A, S = a_pts[k], s_pts[k]
+        lead = compensate(S, [A, q[k], q[(k + 1) % m]], r, "left")
+        path = sample_elements(S, lead[:-1], r / 4)
+        if not region_in.contains(LineString(path)):
+            continue
+        # lead-out: after overlapping at least 2 r past q[k], straight in by r
+        acc, j = 0.0, k
+        while acc < 2 * r:
+            acc += L[j % m]
+            j += 1
+        ov = [q[i % m] for i in range(k + 1, j + 1)]
+        jm = (j - 1) % m
+        nj = np.array([-t[jm, 1], t[jm, 0]])
+        exit_point = q[j % m] + 2.0 * r * nj
+        if not region_in.contains(LineString([q[j % m] + 1.01 * r * nj, exit_point])):
+            continue
+        return int(k), S, A, exit_point, ov
+    raise PlanningError("no place on the contour leaves room for a lead-in of the tool")
+
+
+def _grid_round(pts: np.ndarray, grid: float) -> np.ndarray:
+    q = np.round(pts / grid) * grid
+    keep = np.ones(len(q), bool)
+    keep[1:] = np.any(q[1:] != q[:-1], axis=1)
+    q = q[keep]
+    if np.all(q[-1] == q[0]):
+        q = q[:-1]
+    return q
+
+
+def plan(ctx: PlanContext, params: dict) -> PlanResult:
+    """Plan the cavity; see the module docstring for the keys."""
+    where = "die-cavity"
+    tool = ctx.tool(params["tool"], f"{where}.tool")
+    if tool.type != "flat":
+        raise JobError(f"{where}.tool: tool {tool.number} is a {tool.type} cutter; the "
+                       "die cavity needs a flat end mill", ctx.job_file)
+    if ctx.stock is None:
+        raise JobError(f"{where}: the job needs a [stock] box", ctx.job_file)
+    pts = points_from_params(params["points"], params["points_file"], ctx.job_file, where)
+    src = params["points_file"] or ctx.job_file
+    curve = build_curve(pts, close=params["close"], file=src)
+    if not curve.closed:
+        raise GeometryError("the outline is not closed (set close = true)", src)
+    if curve.signed_area() < 0:
+        curve = curve.reversed()
+    tol = params["tolerance"]
+    r = tool.radius
+    lin = linearize_curve(curve, tol)
+    region, crossed = _region(lin.polyline())
+    grid = GRID[ctx.units]
+    # the contour of the valid cavity (small self-crossing loops cut off), CCW
+    ring = np.asarray(orient(region, 1.0).exterior.coords)[:-1]
+    verts = _grid_round(ring, grid)
+
+    # the programmed contour: what the tool can follow
+    region_in = region.buffer(-r + 10 * grid, quad_segs=32)
+    if region_in.is_empty:
+        raise PlanningError(f"the cavity is too small for tool {tool.number} "
+                            f"(diameter {tool.diameter})", ctx.job_file)
+    t = np.roll(verts, -1, axis=0) - verts
+    t /= np.hypot(t[:, 0], t[:, 1])[:, None]
+    mids = 0.5 * (verts + np.roll(verts, -1, axis=0)) + r * np.stack([-t[:, 1], t[:, 0]], 1)
+    dist = shapely.distance(region_in.boundary, shapely.points(mids))
+    keep = chords_on_offset(verts, r, "left", region.buffer(-r, quad_segs=64), 20 * grid)
+    try:
+        reach = reachable_contour(verts, r, "left", start=int(np.argmin(dist)), keep=keep)
+    except CompensationError as e:
+        p = verts[e.index % len(verts)]
+        raise PlanningError(f"{e} near ({p[0]:.3f}, {p[1]:.3f})", ctx.job_file) from None
+    q = reach.points
+    k, S, A, exit_point, overlap = _entry(q, region_in, r)
+    q = np.roll(q, -k, axis=0)
+    prog = [A] + list(q) + [q[0]] + [np.asarray(p) for p in overlap]
+    try:
+        elements = compensate(S, prog, r, "left")
+    except CompensationError as e:
+        raise PlanningError(f"cutter compensation fails at contour point {e.index}: {e}",
+                            ctx.job_file) from None
+    # how far the finishing path comes to the true wall (negative: inside it)
+    path = sample_elements(S, elements, max(tol, r / 50))
+    clearance = shapely.distance(region.boundary, shapely.points(path)) - r
+    undercut = float(max(0.0, -clearance.min()))
+
+    # layers
+    st = ctx.stock
+    top = st.zmax
+    thick = st.zmax - st.zmin
+    depth = params["depth"]
+    through = depth >= thick - 1e-9
+    bottom = (st.zmin - params["breakthrough"]) if through else top - depth
+    total = top - bottom
+    n_layers = max(1, int(math.ceil(total / params["step_down"] - 1e-9)))
+    zs = [top - min(total, (i + 1) * params["step_down"]) for i in range(n_layers)]
+    safe = params["safe_z"] if params["safe_z"] is not None else top + (5.0 if ctx.units == "mm" else 0.2)
+    clear = 1.0 if ctx.units == "mm" else 0.04
+    feed = params["feed"]
+    plunge = params["plunge_feed"] or feed / 2.0
+    stepover = params["stepover"] or 0.5 * tool.diameter
+    if stepover > tool.diameter:
+        raise JobError(f"{where}.stepover: larger than the tool diameter", ctx.job_file)
+
+    simp = max(params["allowance"], tol) / 10
+    area = roughing_area(region, r, params["allowance"] + simp,
+                         simplify=max(params["allowance"] / 4, tol))
+    rough = [np.asarray(LineString(np.vstack([g, g[:1]])).simplify(simp).coords)[:-1]
+             for g in rings(area, stepover)]
+    area_ok = [a.buffer(1e-6) for a in area]
+
+    tp = Toolpath(units=ctx.units)
+    tp.begin(Operation("die-cavity", f"die cavity ({params['compensation']})", tool.number,
+                       spindle=params["spindle"],
+                       info={"layers": n_layers, "compensation": params["compensation"]}))
+    tp.rapid(S[0], S[1], safe)
+    z_prev = top
+    for z in zs:
+        # roughing, inside out
+        cur = None
+        for ring in rough:
+            start = ring[0]
+            if cur is not None and any(a.contains(LineString([cur, start])) for a in area_ok):
+                tp.line(start[0], start[1], z, feed)
+            else:
+                if cur is not None:
+                    tp.rapid(cur[0], cur[1], safe)
+                tp.rapid(start[0], start[1], safe)
+                tp.rapid(start[0], start[1], z_prev + clear)
+                tp.line(start[0], start[1], z, plunge)
+            for p in ring[1:]:
+                tp.line(p[0], p[1], z, feed)
+            tp.line(start[0], start[1], z, feed)
+            cur = start
+        # finishing the wall
+        if cur is not None and region_in.contains(LineString([cur, S])):
+            tp.line(S[0], S[1], z, feed)
+        else:
+            if cur is not None:
+                tp.rapid(cur[0], cur[1], safe)
+            tp.rapid(S[0], S[1], safe)
+            tp.rapid(S[0], S[1], z_prev + clear)
+            tp.line(S[0], S[1], z, plunge)
+        if params["compensation"] == "control":
+            tp.compensation("left", d=tool.number)
+            for p in prog:
+                tp.line(p[0], p[1], z, feed)
+            tp.compensation("off")
+        else:
+            for e in elements:
+                if e.kind == "line":
+                    tp.line(e.end[0], e.end[1], z, feed)
+                else:
+                    tp.arc((e.end[0], e.end[1], z), (e.center[0], e.center[1], z),
+                           e.clockwise, feed)
+        tp.line(exit_point[0], exit_point[1], z, feed)
+        tp.rapid(exit_point[0], exit_point[1], safe)
+        z_prev = z
+
+    unreachable = []
+    for run in reach.removed:
+        idx = np.array(run)
+        pv = verts[idx]
+        unreachable.append({"chords": len(run), "from": [float(v) for v in pv[0]],
+                            "to": [float(v) for v in verts[(idx[-1] + 1) % len(verts)]],
+                            "at": [float(v) for v in pv.mean(axis=0)]})
+    report = lin.report()
+    report.update({
+        "closed": curve.closed, "segments_count": len(curve.segments),
+        "junctions": curve.junctions(),
+        "self_intersecting": crossed,
+        "area": float(region.area),
+        "tool_radius": r,
+        "programmed_points": int(len(q)),
+        "removed_chords": int(sum(len(x) for x in reach.removed)),
+        "unreachable_corners": unreachable,
+        "tight_curvature": _curvature_report(curve, r),
+        "finish_max_undercut": undercut,
+        "compensation": params["compensation"],
+        "layers": [float(z) for z in zs],
+        "through": through,
+        "roughing_rings": len(rough),
+        "entry": {"start": [float(S[0]), float(S[1])], "contour_point": [float(q[0][0]), float(q[0][1])]},
+    })
+    floor = -math.inf if through else bottom
+    design = CavityDesign(region, top, floor)
+    return PlanResult(tp, design=design, report={"curve": report})
