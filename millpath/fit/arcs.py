@@ -65,17 +65,20 @@ def line_ok(P, i, j, tol):
 def _grid_centre(ax, ay, bx, by, cx, cy, q, lim):
     """Grid point near (cx, cy) whose start and end radii agree as written.
 
-    Among the 5 x 5 grid points around (cx, cy), those with ``|r1 - r2| <= lim`` whose
-    re-projection on the chord bisector (as the post-processor does) moves less than a
-    quarter grid step qualify; the one nearest (cx, cy) wins. Returns
-    (cx, cy, r1, r2, ok).
+    Candidates are the 5 x 5 grid points around (cx, cy) with ``|r1 - r2| <= lim``.
+    A post-processor that re-projects the centre on the chord bisector and rounds it
+    again (as millpath.post.linuxcnc does) moves it by ``shift + 0.71 q`` at most, which
+    moves the arc by twice that; when ``shift`` is below a quarter step the rounding
+    returns the same point and nothing moves. The candidate with the smallest distance
+    to (cx, cy) plus that possible movement wins. Returns (cx, cy, r1, r2, slack, ok)
+    where ``slack`` is the possible movement of the written arc.
     """
     gx = round(cx / q) * q
     gy = round(cy / q) * q
     chord = math.hypot(bx - ax, by - ay)
     best = 1e300
     ok = False
-    rx, ry, rr1, rr2 = gx, gy, 0.0, 0.0
+    rx, ry, rr1, rr2, rslack = gx, gy, 0.0, 0.0, 0.0
     for di in range(-2, 3):
         for dj in range(-2, 3):
             x = gx + di * q
@@ -83,14 +86,16 @@ def _grid_centre(ax, ay, bx, by, cx, cy, q, lim):
             r1 = math.hypot(ax - x, ay - y)
             r2 = math.hypot(bx - x, by - y)
             dr = abs(r1 - r2)
-            if dr > lim or dr * (r1 + r2) / (2.0 * chord) > 0.25 * q:
+            if dr > lim:
                 continue
-            score = math.hypot(x - cx, y - cy) + dr
+            shift = dr * (r1 + r2) / (2.0 * chord)
+            slack = 0.0 if shift <= 0.25 * q else 2.0 * (shift + 0.71 * q)
+            score = math.hypot(x - cx, y - cy) + slack + dr
             if score < best:
                 best = score
                 ok = True
-                rx, ry, rr1, rr2 = x, y, r1, r2
-    return rx, ry, rr1, rr2, ok
+                rx, ry, rr1, rr2, rslack = x, y, r1, r2, slack
+    return rx, ry, rr1, rr2, rslack, ok
 
 
 @njit(cache=True)
@@ -116,12 +121,21 @@ def arc_fit(P, i, j, a1, a2, an, tol, q, abs_lim, rmin, rmax, corner, out):
     h2 = 0.25 * L * L
     num = 0.0
     den = 0.0
-    for k in range(i + 1, j):
-        qx = P[k, a1] - mx
-        qy = P[k, a2] - my
-        w = nx * qx + ny * qy
-        num += w * (qx * qx + qy * qy - h2)
-        den += w * w
+    # least squares over the inner vertices and the segment midpoints, so that the
+    # arc runs between a coarse polyline's vertices and its chords
+    for k in range(i + 1, j + 1):
+        for half in range(2):
+            if half == 0:
+                qx = 0.5 * (P[k, a1] + P[k - 1, a1]) - mx
+                qy = 0.5 * (P[k, a2] + P[k - 1, a2]) - my
+            elif k < j:
+                qx = P[k, a1] - mx
+                qy = P[k, a2] - my
+            else:
+                break
+            w = nx * qx + ny * qy
+            num += w * (qx * qx + qy * qy - h2)
+            den += w * w
     if den <= 1e-30:
         return False
     t = num / (2.0 * den)
@@ -130,13 +144,13 @@ def arc_fit(P, i, j, a1, a2, an, tol, q, abs_lim, rmin, rmax, corner, out):
     if r0 < rmin or r0 > rmax:
         return False
     lim = ARC_RADIUS_MARGIN * min(abs_lim, LINUXCNC_ARC_REL * r0)
-    cx, cy, r1, r2, ok = _grid_centre(ax, ay, bx, by, cx, cy, q, lim)
+    cx, cy, r1, r2, slack, ok = _grid_centre(ax, ay, bx, by, cx, cy, q, lim)
     if not ok:
         return False
     r = 0.5 * (r1 + r2)
-    if r <= rmin or r > rmax:
+    if r - slack <= rmin or r > rmax:
         return False
-    tl = tol - 0.5 * abs(r1 - r2)      # the written arc spirals from r1 to r2
+    tl = tol - 0.5 * abs(r1 - r2) - slack      # the written arc spirals from r1 to r2
     if tl <= 0.0:
         return False
     tl2 = tl * tl

@@ -1,0 +1,69 @@
+"""Helpers for the fitting tests: dense sampling and two-sided distances."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.spatial import cKDTree
+
+from millpath.model.toolpath import Move, Toolpath, Operation, sample_move
+
+
+def sample_path(start, moves, step: float) -> np.ndarray:
+    """Points about ``step`` apart along ``moves`` (Move objects) from ``start``."""
+    out = [np.asarray([start], float)]
+    cur = tuple(start)
+    for m in moves:
+        if m.kind in ("line", "arc", "cubic", "rapid"):
+            out.append(sample_move(cur, m, step)[1:])
+            cur = m.end
+    return np.vstack(out)
+
+
+def directed(A: np.ndarray, B: np.ndarray) -> float:
+    """Largest distance from a point of ``A`` to the polyline through ``B``'s points."""
+    if len(B) == 1:
+        return float(np.max(np.linalg.norm(A - B[0], axis=1)))
+    tree = cKDTree(B)
+    _, idx = tree.query(A, k=1)
+    best = np.full(len(A), np.inf)
+    for off in (-1, 0):
+        s = np.clip(idx + off, 0, len(B) - 2)
+        a, b = B[s], B[s + 1]
+        d = b - a
+        l2 = np.maximum((d * d).sum(axis=1), 1e-300)
+        u = np.clip(((A - a) * d).sum(axis=1) / l2, 0.0, 1.0)
+        dist = np.linalg.norm(A - (a + u[:, None] * d), axis=1)
+        best = np.minimum(best, dist)
+    return float(best.max())
+
+
+def hausdorff_moves(start, moves_a, moves_b, step: float) -> float:
+    """Two-sided distance between two paths from ``start``, sampled every ``step``."""
+    A = sample_path(start, moves_a, step)
+    B = sample_path(start, moves_b, step)
+    return max(directed(A, B), directed(B, A))
+
+
+def toolpath_of(points, feed: float = 500.0, units: str = "mm") -> Toolpath:
+    """A toolpath: rapid to the first point, then lines through the others."""
+    tp = Toolpath(units=units)
+    tp.begin(Operation("test", "test", 1))
+    p0 = points[0]
+    tp.rapid(*p0)
+    for p in points[1:]:
+        tp.line(*p, feed)
+    return tp
+
+
+@pytest.fixture
+def fitkit():
+    """The helpers above, as one object."""
+    class Kit:
+        sample = staticmethod(sample_path)
+        directed = staticmethod(directed)
+        hausdorff = staticmethod(hausdorff_moves)
+        toolpath = staticmethod(toolpath_of)
+    return Kit
