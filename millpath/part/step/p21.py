@@ -24,6 +24,7 @@ the token list with an explicit stack for nested lists (no recursion per value).
 from __future__ import annotations
 
 import bisect
+import gc
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -78,7 +79,7 @@ class _Derived:
 DERIVED = _Derived()
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True)
 class Typed:
     """A typed parameter such as ``LENGTH_MEASURE(12.5)``: ``name`` and its ``value``."""
 
@@ -139,6 +140,8 @@ class StepFile:
     _by_type: dict[str, list[int]] | None = field(default=None, repr=False)
     _inverse: dict[int, list[int]] | None = field(default=None, repr=False)
     _lines: list[int] | None = field(default=None, repr=False)
+    _pairs: tuple[list[int], list[int]] | None = field(default=None, repr=False)
+    _offsets: dict[int, int] | None = field(default=None, repr=False)
 
     # --- header -------------------------------------------------------------------------
     def header_record(self, name: str) -> list | None:
@@ -176,6 +179,12 @@ class StepFile:
 
     def inverse(self, ref: int) -> list[Instance]:
         """Instances whose parameters reference ``#ref`` (each once, in id order)."""
+        if self._inverse is None and self._pairs is not None:
+            inv2: dict[int, list[int]] = {}
+            for tgt, src in zip(*self._pairs):
+                if src >= 0:
+                    inv2.setdefault(tgt, []).append(src)
+            self._inverse = {k: sorted(set(v)) for k, v in inv2.items()}
         if self._inverse is None:
             inv: dict[int, list[int]] = {}
             for inst in self.instances.values():
@@ -202,10 +211,24 @@ class StepFile:
 
     def line_of(self, inst_or_offset: Instance | int) -> int:
         """1-based line number of an instance (or text offset)."""
-        off = inst_or_offset.offset if isinstance(inst_or_offset, Instance) else inst_or_offset
+        if isinstance(inst_or_offset, Instance):
+            off = inst_or_offset.offset
+            if off < 0:
+                off = self.offset_of(inst_or_offset.id)
+        else:
+            off = inst_or_offset
         if self._lines is None:
             self._lines = [m.start() for m in re.finditer("\n", self.text)]
         return bisect.bisect_left(self._lines, off) + 1
+
+    def offset_of(self, iid: int) -> int:
+        """Text offset of the definition ``#iid=`` (found by one scan, then cached)."""
+        if self._offsets is None:
+            offs: dict[int, int] = {}
+            for m in _DEF.finditer(self.text):
+                offs.setdefault(int(m.group(1)), m.start())
+            self._offsets = offs
+        return self._offsets.get(int(iid), 0)
 
     def error(self, inst: Instance | int | None, message: str,
               cls: type[MillpathError] = MillpathError) -> MillpathError:
@@ -292,7 +315,24 @@ def decode_string(body: str) -> str:
     return body
 
 
+_FAST = re.compile(r"""[ \t\r\n]*('(?:[^']|'')*'|\#[0-9]+|\.[A-Za-z_][A-Za-z0-9_]*\.
+    |[+-]?\.?[0-9][0-9A-Za-z.+-]*|!?[A-Za-z_][A-Za-z0-9_]*(?:-[0-9A-Za-z]+)*
+    |"[0-9A-Fa-f]*"|/\*.*?\*/|[^ \t\r\n])""", re.VERBOSE | re.DOTALL)
+_DEF = re.compile(r"#([0-9]+)[ \t\r\n]*=")
+
+
+class _Fail(Exception):
+    """Internal: an error at token index ``i`` (converted to a StepError with a line)."""
+
+    def __init__(self, i: int, msg: str, inst: int | None):
+        self.i, self.msg, self.inst = i, msg, inst
+
+
 class _Parser:
+    """Fast path: ``re.findall`` gives the token strings at C speed and one loop builds
+    the values, dispatching on the first character. Positions are recovered only for
+    errors, by the slower positional tokenizer."""
+
     def __init__(self, text: str, file: str | None):
         self.text = text
         self.file = file
@@ -303,204 +343,220 @@ class _Parser:
             self._lines = [m.start() for m in re.finditer("\n", self.text)]
         return bisect.bisect_left(self._lines, pos) + 1
 
-    def fail(self, pos: int, msg: str, inst: int | None = None) -> StepError:
+    def fail_at(self, pos: int, msg: str, inst: int | None = None) -> StepError:
         return StepError(msg, self.file, self.line(pos), f"#{inst}" if inst is not None else None)
 
-    def tokens(self) -> list[tuple[str, str, int]]:
-        out = []
-        app = out.append
+    def position(self, index: int) -> int:
+        """Text offset of token ``index`` (of the comment-free token list)."""
+        k = 0
         for m in _TOKEN.finditer(self.text):
-            k = m.lastgroup
-            if k == "ws":
+            g = m.lastgroup
+            if g == "ws":
                 continue
-            if k == "bad":
-                return self._bad(out, m)
-            app((k, m.group(), m.start()))
-        return out
-
-    def _bad(self, toks: list, m: re.Match) -> list:
-        inst = _last_instance(toks)
-        c = m.group()
-        if c == "'":
-            raise self.fail(m.start(), "unterminated string", inst)
-        if c == "/*":
-            raise self.fail(m.start(), "unterminated comment", inst)
-        if c == '"':
-            raise self.fail(m.start(), "bad binary value", inst)
-        raise self.fail(m.start(), f"unexpected character {c!r}", inst)
+            if k == index:
+                return m.start()
+            k += 1
+        return len(self.text)
 
     def parse(self) -> StepFile:
-        toks = self.tokens()
+        text = self.text
+        toks = _FAST.findall(text)
+        if "/*" in text:
+            toks = [t for t in toks if not t.startswith("/*")]
+        gc_was = gc.isenabled()
+        gc.disable()              # the graph is acyclic lists: skip collector passes
+        try:
+            return self._parse(toks)
+        except _Fail as e:
+            if e.i >= len(toks):
+                raise self.fail_at(len(text), e.msg, e.inst) from None
+            t = toks[e.i]
+            if t == "'":
+                e.msg = "unterminated string"
+            elif t == "/" and e.i + 1 < len(toks) and toks[e.i + 1] == "*":
+                e.msg = "unterminated comment"
+            raise self.fail_at(self.position(e.i), e.msg, e.inst) from None
+        finally:
+            if gc_was:
+                gc.enable()
+
+    def _parse(self, toks: list[str]) -> StepFile:
         sf = StepFile(file=self.file, text=self.text)
         n = len(toks)
-        i = 0
 
-        def expect(i: int, text: str, inst: int | None = None) -> int:
+        def expect(i: int, word: str, inst: int | None = None) -> int:
             if i >= n:
-                raise self.fail(len(self.text), f"truncated file: expected {text!r}", inst)
-            if toks[i][1] != text:
-                raise self.fail(toks[i][2], f"expected {text!r}, found {toks[i][1]!r}", inst)
+                raise _Fail(i, f"truncated file: expected {word!r}", inst)
+            if toks[i] != word:
+                raise _Fail(i, f"expected {word!r}, found {toks[i]!r}", inst)
             return i + 1
 
-        if n == 0 or toks[0][1] != "ISO-10303-21":
-            pos = toks[0][2] if toks else 0
-            raise self.fail(pos, "not an ISO 10303-21 file (no 'ISO-10303-21;' at the start)")
+        if n == 0 or toks[0] != "ISO-10303-21":
+            raise _Fail(0, "not an ISO 10303-21 file (no 'ISO-10303-21;' at the start)", None)
         i = expect(1, ";")
         i = expect(i, "HEADER")
         i = expect(i, ";")
-        while i < n and toks[i][1] != "ENDSEC":
-            if toks[i][0] != "kw":
-                raise self.fail(toks[i][2], f"expected a header entity, found {toks[i][1]!r}")
-            name = toks[i][1].upper()
+        targets: list[int] = []
+        sources: list[int] = []
+        while i < n and toks[i] != "ENDSEC":
+            t = toks[i]
+            if not (t[0].isalpha() or t[0] == "!"):
+                raise _Fail(i, f"expected a header entity, found {t!r}", None)
             i = expect(i + 1, "(")
-            params, i, _ = self.params(toks, i, None)
+            params, i = self.params(toks, i, None, targets, sources)
             i = expect(i, ";")
-            sf.header.append((name, params))
+            sf.header.append((t.upper(), params))
         i = expect(i, "ENDSEC")
         i = expect(i, ";")
         insts = sf.instances
-        while i < n and toks[i][1] == "DATA":
+        last = None
+        while i < n and toks[i] == "DATA":
             i += 1
-            if i < n and toks[i][1] == "(":
-                _, i, _ = self.params(toks, i + 1, None)
+            if i < n and toks[i] == "(":
+                _, i = self.params(toks, i + 1, None, targets, sources)
             i = expect(i, ";")
-            while i < n and toks[i][0] == "ref":
-                k, t, pos = toks[i]
-                iid = int(t[1:])
-                i = expect(i + 1, "=", iid)
-                if i >= n:
-                    raise self.fail(len(self.text), "truncated file: instance has no value", iid)
+            while i < n and toks[i][0] == "#":
+                if len(toks[i]) == 1:
+                    raise _Fail(i, "'#' without an instance number", last)
+                iid = int(toks[i][1:])
+                last = iid
+                if i + 2 >= n:
+                    raise _Fail(n, "truncated file: instance has no value", iid)
+                if toks[i + 1] != "=":
+                    raise _Fail(i + 1, f"expected '=', found {toks[i + 1]!r}", iid)
+                i += 2
+                t = toks[i]
                 records: list[Record] = []
-                if toks[i][1] == "(":
+                if t == "(":
                     i += 1
-                    while i < n and toks[i][0] == "kw":
-                        name = toks[i][1].upper()
+                    while i < n and (toks[i][0].isalpha() or toks[i][0] == "!"):
+                        name = toks[i].upper()
                         i = expect(i + 1, "(", iid)
-                        params, i, _ = self.params(toks, i, iid)
+                        params, i = self.params(toks, i, iid, targets, sources)
                         records.append((name, params))
                     if not records:
-                        raise self.fail(toks[i][2] if i < n else len(self.text),
-                                        "complex instance without records", iid)
+                        raise _Fail(i, "complex instance without records", iid)
                     i = expect(i, ")", iid)
-                elif toks[i][0] == "kw":
-                    name = toks[i][1].upper()
+                elif t[0].isalpha() or t[0] == "!":
                     i = expect(i + 1, "(", iid)
-                    params, i, _ = self.params(toks, i, iid)
-                    records.append((name, params))
+                    params, i = self.params(toks, i, iid, targets, sources)
+                    records.append((t.upper(), params))
                 else:
-                    raise self.fail(toks[i][2], f"expected an entity name, found {toks[i][1]!r}",
-                                    iid)
-                i = expect(i, ";", iid)
+                    raise _Fail(i, f"expected an entity name, found {t!r}", iid)
+                if i >= n:
+                    raise _Fail(n, "truncated file: expected ';'", iid)
+                if toks[i] != ";":
+                    raise _Fail(i, f"expected ';', found {toks[i]!r}", iid)
+                i += 1
                 if iid in insts:
-                    raise self.fail(pos, f"instance #{iid} is defined twice", iid)
-                insts[iid] = Instance(iid, records, pos)
+                    raise _Fail(i - 1, f"instance #{iid} is defined twice", iid)
+                insts[iid] = Instance(iid, records, -1)
             if i >= n:
-                raise self.fail(len(self.text), "truncated file: DATA section has no ENDSEC",
-                                _last_instance(toks))
-            if toks[i][1] != "ENDSEC":
-                raise self.fail(toks[i][2], f"expected an instance '#n=' or ENDSEC, "
-                                f"found {toks[i][1]!r}", _last_instance(toks[:i]))
+                raise _Fail(n, "truncated file: DATA section has no ENDSEC", last)
+            if toks[i] != "ENDSEC":
+                raise _Fail(i, f"expected an instance '#n=' or ENDSEC, found {toks[i]!r}", last)
             i = expect(i + 1, ";")
         if i >= n:
-            raise self.fail(len(self.text), "truncated file: no 'END-ISO-10303-21;'")
+            raise _Fail(n, "truncated file: no 'END-ISO-10303-21;'", last)
         i = expect(i, "END-ISO-10303-21")
         i = expect(i, ";")
         if i < n:
-            raise self.fail(toks[i][2], f"text after 'END-ISO-10303-21;': {toks[i][1]!r}")
-        self.check_refs(sf)
+            raise _Fail(i, f"text after 'END-ISO-10303-21;': {toks[i]!r}", None)
+        missing = set(targets).difference(insts)
+        missing.discard(-1)
+        if missing:
+            for tgt, src in zip(targets, sources):
+                if tgt in missing:
+                    raise sf.error(src, f"dangling reference #{tgt}", StepError)
+        sf._pairs = (targets, sources)
         return sf
 
-    def params(self, toks: list, i: int, iid: int | None) -> tuple[list, int, int]:
-        """Parse a parameter list after its opening ``(``; return (list, next index, refs)."""
-        n = len(toks)
-        stack: list[list] = [[]]
-        typed: list[str | None] = [None]
-        cur = stack[0]
-        expect_value = True      # at start of a list or after a comma
-        while True:
-            if i >= n:
-                raise self.fail(len(self.text), "truncated file: unclosed parameter list", iid)
-            k, t, pos = toks[i]
-            i += 1
-            if k == "p":
-                if t == ")":
+    def params(self, toks: list[str], i: int, iid: int | None, targets: list[int],
+               sources: list[int]) -> tuple[list, int]:
+        """Parse a parameter list after its opening ``(``; return (list, next index)."""
+        stack: list[list] = []
+        typed: list[str | None] = []
+        name: str | None = None
+        cur: list = []
+        expect_value = True      # at the start of a list or after a comma
+        src = iid if iid is not None else -1
+        try:
+            while True:
+                t = toks[i]
+                i += 1
+                c = t[0]
+                if c == ",":
+                    if expect_value:
+                        raise _Fail(i - 1, "missing value before ','", iid)
+                    expect_value = True
+                    continue
+                if c == ")":
                     if expect_value and cur:
-                        raise self.fail(pos, "missing value before ')'", iid)
-                    done = stack.pop()
-                    name = typed.pop()
+                        raise _Fail(i - 1, "missing value before ')'", iid)
                     if not stack:
-                        return done, i, 0
-                    cur = stack[-1]
+                        return cur, i
+                    done = cur
+                    cur = stack.pop()
                     if name is not None:
                         if len(done) != 1:
-                            raise self.fail(pos, f"typed value {name} needs one value", iid)
+                            raise _Fail(i - 1, f"typed value {name} needs one value", iid)
                         cur.append(Typed(name, done[0]))
                     else:
                         cur.append(done)
+                    name = typed.pop()
                     expect_value = False
                     continue
-                if t == ",":
-                    if expect_value:
-                        raise self.fail(pos, "missing value before ','", iid)
-                    expect_value = True
-                    continue
                 if not expect_value:
-                    raise self.fail(pos, f"expected ',' or ')', found {t!r}", iid)
-                if t == "(":
-                    stack.append([])
-                    typed.append(None)
-                    cur = stack[-1]
-                    continue
-                if t == "$":
-                    cur.append(None)
-                elif t == "*":
-                    cur.append(DERIVED)
-                else:
-                    raise self.fail(pos, f"unexpected {t!r} in a parameter list", iid)
+                    raise _Fail(i - 1, f"expected ',' or ')', found {t!r}", iid)
                 expect_value = False
-                continue
-            if not expect_value:
-                raise self.fail(pos, f"expected ',' or ')', found {t!r}", iid)
-            expect_value = False
-            if k == "num":
-                if _INT.match(t):
-                    cur.append(int(t))
-                elif _REAL.match(t):
-                    cur.append(float(t))
+                if c == "#":
+                    if len(t) == 1:
+                        raise _Fail(i - 1, "'#' without an instance number", iid)
+                    r = int(t[1:])
+                    cur.append(Ref(r))
+                    targets.append(r)
+                    sources.append(src)
+                elif c in "0123456789+-" or (c == "." and len(t) > 1 and t[1].isdigit()):
+                    try:
+                        cur.append(float(t) if "." in t else int(t))
+                    except ValueError:
+                        raise _Fail(i - 1, f"bad number {t!r}", iid) from None
+                elif c == "'":
+                    if len(t) < 2:
+                        raise _Fail(i - 1, "unterminated string", iid)
+                    body = t[1:-1]
+                    cur.append(decode_string(body) if ("'" in body or "\\" in body) else body)
+                elif c == "(":
+                    stack.append(cur)
+                    typed.append(name)
+                    name = None
+                    cur = []
+                    expect_value = True
+                elif c == "$":
+                    cur.append(None)
+                elif c == "*":
+                    cur.append(DERIVED)
+                elif c == ".":
+                    if len(t) < 3 or t[-1] != ".":
+                        raise _Fail(i - 1, f"unexpected {t!r}", iid)
+                    cur.append(Enum(t[1:-1].upper()))
+                elif c.isalpha() or c == "!":
+                    if toks[i] != "(":
+                        raise _Fail(i, f"expected '(' after {t}", iid)
+                    i += 1
+                    stack.append(cur)
+                    typed.append(name)
+                    name = t.upper()
+                    cur = []
+                    expect_value = True
+                elif c == '"':
+                    if len(t) < 2 or t[-1] != '"':
+                        raise _Fail(i - 1, "bad binary value", iid)
+                    cur.append(Binary(t[1:-1]))
                 else:
-                    raise self.fail(pos, f"bad number {t!r}", iid)
-            elif k == "str":
-                cur.append(decode_string(t[1:-1]))
-            elif k == "ref":
-                cur.append(Ref(t[1:]))
-            elif k == "enum":
-                cur.append(Enum(t[1:-1].upper()))
-            elif k == "kw":
-                if i >= n or toks[i][1] != "(":
-                    raise self.fail(pos, f"expected '(' after {t}", iid)
-                i += 1
-                stack.append([])
-                typed.append(t.upper())
-                cur = stack[-1]
-                expect_value = True
-            elif k == "bin":
-                cur.append(Binary(t[1:-1]))
-            else:
-                raise self.fail(pos, f"unexpected {t!r}", iid)
-
-    def check_refs(self, sf: StepFile) -> None:
-        insts = sf.instances
-        for inst in insts.values():
-            for r in _refs(inst):
-                if r not in insts:
-                    raise self.fail(inst.offset, f"dangling reference #{r}", inst.id)
-
-
-def _last_instance(toks: list) -> int | None:
-    for k, t, _ in reversed(toks[-200:]):
-        if k == "ref":
-            return int(t[1:])
-    return None
+                    raise _Fail(i - 1, f"unexpected {t!r} in a parameter list", iid)
+        except IndexError:
+            raise _Fail(len(toks), "truncated file: unclosed parameter list", iid) from None
 
 
 def parse(text: str, file: str | Path | None = None) -> StepFile:
