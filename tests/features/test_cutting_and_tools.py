@@ -128,3 +128,25 @@ def test_bore_covers_the_centre_and_ends_on_the_wall_radius():
     assert max(b - a for a, b in zip(radii, radii[1:])) <= 4.0 + 1e-9
     assert min(m.end[2] for m in tp.moves) == pytest.approx(0.0)
     assert tp.moves[-1].kind == "rapid" and tp.moves[-1].end[2] == 15.0
+
+
+@pytest.mark.parametrize("region", ["line", "box"])
+def test_entries_into_material_ramp_no_steeper_than_the_ramp_angle(region):
+    from shapely.geometry import LineString, box
+    geom = LineString([(0.0, 0.0), (40.0, 0.0)]) if region == "line" else box(0, 0, 20, 10)
+    tp = Toolpath()
+    tp.begin(Operation("features", "t", 1))
+    paths.clear_region(tp, geom, None, 10.0, 4.0, paths.Heights(15.0, 11.0), step_down=3.0,
+                       stepover=4.0, feed=500.0, plunge_feed=150.0)
+    tan = math.tan(math.radians(paths.RAMP_ANGLE))
+    prev = None
+    descents = 0
+    for m in tp.moves:
+        if prev is not None and m.kind == "line" and prev[2] <= 10.0 + 1e-9 \
+                and m.end[2] < prev[2] - 1e-9:
+            horiz = math.hypot(m.end[0] - prev[0], m.end[1] - prev[1])
+            assert prev[2] - m.end[2] <= horiz * tan + 1e-9
+            descents += 1
+        prev = m.end
+    assert descents > 0
+    assert min(m.end[2] for m in tp.moves) == pytest.approx(4.0)

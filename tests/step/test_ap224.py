@@ -165,3 +165,45 @@ def test_fixture_files_match_their_generator():
     spec.loader.exec_module(mod)
     for name, make in mod.FIXTURES.items():
         assert (FIXTURES / name).read_text() == make().text(), name
+
+
+def test_features_are_expressed_in_the_stock_frame():
+    b = Ap224Builder("OFFSET", units="mm")
+    b.block(100.0, 50.0, 20.0, origin=(10.0, 20.0, -20.0))
+    b.hole((60.0, 45.0, 0.0), 8.0, 5.0, bottom="flat")
+    b.pocket((40.0, 40.0, 0.0), 4.0, "rectangular", angle_ref=(0.5, 3 ** 0.5 / 2, 0.0),
+             length=30.0, width=10.0, corner_radius=2.0)
+    part = read_part(parse(b.text()))
+    assert part.stock.box() == (0.0, 0.0, 0.0, 100.0, 50.0, 20.0)
+    hole, pocket = feature_shapes(part).shapes
+    assert (hole.x, hole.y, hole.z_top) == (50.0, 25.0, 20.0)
+    assert pocket.center == (30.0, 20.0) and pocket.angle == pytest.approx(60.0)
+    minx, miny, maxx, maxy = pocket.outline().bounds
+    assert maxy - miny > maxx - minx               # long side turned towards +Y
+
+
+def test_features_not_reachable_from_the_top_are_reported():
+    b = Ap224Builder("SIDE", units="mm")
+    b.block(50.0, 50.0, 20.0)
+    f = b.hole((0.0, 25.0, 10.0), 6.0, 10.0, bottom="flat")
+    sf = b.sf
+    # turn the hole's depth path to +X (drilled from the side)
+    for inst in sf.instances.values():
+        if inst.get("DIRECTION") == ["", [0.0, 0.0, -1.0]]:
+            inst.get("DIRECTION")[1] = [1.0, 0.0, 0.0]
+    (u,) = feature_shapes(read_part(parse(b.text()))).skipped
+    assert u.id == f and "not -Z" in u.reason
+
+
+def test_generated_file_with_20000_instances_parses_and_extracts():
+    import importlib.util
+    bench = Path(__file__).resolve().parents[2] / "bench" / "step_parse.py"
+    spec = importlib.util.spec_from_file_location("step_parse", bench)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    text, nfeat = mod.generate(20000)
+    sf = parse(text, "big.stp")
+    assert len(sf) >= 20000
+    part = read_part(sf)
+    assert len(part.features) == nfeat
+    assert len(feature_shapes(part).shapes) == nfeat

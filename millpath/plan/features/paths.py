@@ -121,6 +121,35 @@ def _rings(region, stepover: float) -> list[np.ndarray]:
     return rings[::-1]
 
 
+#: steepest ramp into material along a ring or a slot centreline (degrees)
+RAMP_ANGLE = 5.0
+#: most laps of a ring a ramp may take before a straight plunge is used instead
+RAMP_LAPS = 10
+
+
+def _ramp_ring(tp: Toolpath, ring: np.ndarray, z0: float, z1: float, feed: float) -> None:
+    """Descend from ``z0`` to ``z1`` following the closed ``ring`` (starting and ending at
+    its first point), no steeper than :data:`RAMP_ANGLE`; a straight plunge when that
+    would take more than :data:`RAMP_LAPS` laps."""
+    closed = np.vstack([ring, ring[:1]])
+    seg = np.hypot(*np.diff(closed, axis=0).T)
+    perim = float(seg.sum())
+    dz = z0 - z1
+    if dz <= 1e-12:
+        return
+    per_lap = perim * math.tan(math.radians(RAMP_ANGLE))
+    if per_lap <= 0 or dz / per_lap > RAMP_LAPS:
+        tp.line(ring[0][0], ring[0][1], z1, feed)
+        return
+    laps = max(1, int(math.ceil(dz / per_lap - 1e-9)))
+    total = laps * perim
+    run = 0.0
+    for _ in range(laps):
+        for p, L in zip(closed[1:], seg):
+            run += L
+            tp.line(p[0], p[1], z0 - dz * run / total, feed)
+
+
 def _start_at(ring: np.ndarray, p: np.ndarray) -> np.ndarray:
     i = int(np.argmin(((ring - p) ** 2).sum(axis=1)))
     return np.roll(ring, -i, axis=0)
@@ -135,20 +164,35 @@ def clear_region(tp: Toolpath, centre_region, finish_region, z_top: float, z_flo
     inward by tool radius + allowance), a shapely Polygon or, for a tool as wide as a
     slot, a LineString (the centreline). ``finish_region``: the outline offset by the
     tool radius (Polygon or LineString), traced once per level after roughing when it
-    differs from the roughing boundary. Plunges at the first point of the innermost ring.
+    differs from the roughing boundary. Entries ramp along the innermost ring (or the
+    centreline) no steeper than :data:`RAMP_ANGLE`.
     """
     zs = levels(z_top, z_floor, step_down)
     if centre_region.geom_type == "LineString":
         pts = np.asarray(centre_region.coords)[:, :2]
         tp.rapid(pts[0][0], pts[0][1], h.z_safe)
         tp.rapid(pts[0][0], pts[0][1], h.r_plane)
-        fwd = True
+        length = float(np.hypot(*np.diff(pts, axis=0).T).sum())
+        tan = math.tan(math.radians(RAMP_ANGLE))
+        tp.line(pts[0][0], pts[0][1], z_top, plunge_feed)
+        z_prev, seq = z_top, pts            # the tool is at seq[0]
         for z in zs:
-            seq = pts if fwd else pts[::-1]
-            tp.line(seq[0][0], seq[0][1], z, plunge_feed)
+            # ramp in passes along the centreline, then cut the whole level at z
+            dz = z_prev - z
+            passes = int(math.ceil(dz / (length * tan) - 1e-9)) if length > 1e-9 else 0
+            if 0 < passes <= 2 * RAMP_LAPS:
+                for k in range(passes):
+                    za, zb = z_prev - dz * k / passes, z_prev - dz * (k + 1) / passes
+                    run = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(seq, axis=0).T))])
+                    for p, d in zip(seq[1:], run[1:]):
+                        tp.line(p[0], p[1], za + (zb - za) * d / length, plunge_feed)
+                    seq = seq[::-1]
+            else:
+                tp.line(seq[0][0], seq[0][1], z, plunge_feed)
             for p in seq[1:]:
                 tp.line(p[0], p[1], z, feed)
-            fwd = not fwd
+            seq = seq[::-1]
+            z_prev = z
         end = tp.moves[-1].end
         tp.rapid(end[0], end[1], h.z_safe)
         return
@@ -158,8 +202,11 @@ def clear_region(tp: Toolpath, centre_region, finish_region, z_top: float, z_flo
     start = rings[0][0]
     tp.rapid(start[0], start[1], h.z_safe)
     tp.rapid(start[0], start[1], h.r_plane)
+    tp.line(start[0], start[1], z_top, plunge_feed)
+    z_prev = z_top
     for z in zs:
-        tp.line(start[0], start[1], z, plunge_feed)
+        _ramp_ring(tp, rings[0], z_prev, z, plunge_feed)
+        z_prev = z
         cur = start
         for ring in rings:
             ring = _start_at(ring, cur)

@@ -1,0 +1,52 @@
+"""The bundled ``features-*`` examples: valid jobs whose programs LinuxCNC accepts and
+whose simulation removes exactly the features."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from millpath.job.jobfile import load_job
+from millpath.plan.base import PlanContext
+from millpath.plan.registry import strategy
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "millpath" / "examples"
+NAMES = sorted(p.name for p in EXAMPLES.glob("features-*") if (p / "job.toml").exists())
+
+
+def plan_example(name: str):
+    job = load_job(EXAMPLES / name / "job.toml")
+    assert job.stock is None                      # the stock comes from the STEP file
+    ctx = PlanContext(units=job.units, stock=None, machine=job.machine, tools=job.tools,
+                      base_dir=job.base_dir, job_file=job.path)
+    (op_type, params), = job.operations
+    assert op_type == "features" and "tool" not in {k for k, v in params.items() if v}
+    return job, strategy(op_type).plan(ctx, params)
+
+
+def test_there_are_three_examples():
+    assert NAMES == ["features-block-slot", "features-plate", "features-pockets"]
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_example_is_accepted_by_rs274_and_cuts_the_features(name, rs274):
+    from millpath.post.linuxcnc import post
+    from millpath.simulate import simulate_toolpath
+    from millpath.verify.rs274 import run_rs274
+
+    job, r = plan_example(name)
+    rep = r.report["features"]
+    assert rep["unmachinable"] == [] and rep["planned"]
+    res = run_rs274(post(r.toolpath, job.tools, title=name), job.tools)
+    assert res.ok, (res.error, res.error_line)
+    stock = r.stock
+    cell = job.simulation["resolution"]
+    sim = simulate_toolpath(r.toolpath, job.tools, stock, resolution=cell, design=r.design)
+    expected = r.design.volume(cell / 2.0, (stock.xmin, stock.ymin, stock.xmax, stock.ymax),
+                               stock.zmin)
+    assert sim.removed_volume == pytest.approx(expected, rel=0.01)
+    assert sim.max_gouge <= 1e-6
+    assert sim.rapids_through_material == 0 and sim.holder_contacts == 0
+    json.dumps(rep)                               # the report section is JSON
