@@ -185,6 +185,7 @@ def reachable_contour(vertices, radius: float, side: str = "left", start: int = 
     n = len(v)
     sgn = 1.0 if side == "left" else -1.0
     r = float(radius)
+    min_len = 1e-6 * r          # a kept move must keep a positive length after trimming
     order = [(start + k) % n for k in range(n)
              if keep is None or keep[(start + k) % n] or k == 0] + [start]
     t = np.roll(v, -1, axis=0) - v
@@ -216,15 +217,15 @@ def reachable_contour(vertices, radius: float, side: str = "left", start: int = 
                         ok = False
                     else:
                         end_a = _meet(corner + r * nrm[a], t[a], corner + r * nrm[b], t[b])
-                        ok = end_a is not None and np.dot(end_a - sa, t[a]) >= 0
+                        ok = end_a is not None and np.dot(end_a - sa, t[a]) >= min_len
                         start_b = end_a
                 elif turn < -small:                  # convex: arc about the corner
                     end_a = corner + r * nrm[a]
-                    ok = np.dot(end_a - sa, t[a]) >= 0
+                    ok = np.dot(end_a - sa, t[a]) >= min_len
                     start_b = corner + r * nrm[b]
                 else:                                # near straight: joined directly
                     end_a = corner + r * nrm[a]
-                    ok = np.dot(end_a - sa, t[a]) >= 0
+                    ok = np.dot(end_a - sa, t[a]) >= min_len
                     start_b = end_a
             if ok:
                 stack.append((b, corner, start_b))
