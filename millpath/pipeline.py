@@ -8,6 +8,7 @@ after an error nothing in the output folder has changed.
 
 from __future__ import annotations
 
+import bisect
 import json
 import time
 from dataclasses import dataclass, field
@@ -136,19 +137,21 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False)
         "stock": list(stock.box),
         "fit": {"mode": job.fit, "tolerance": job.fit_tolerance},
     }
+    from millpath.simulate import motion_times
+    from millpath.verify.approach import approach_from_above
+    motions = approach_from_above(motions, stock.zmax)
+    times = motion_times(motions, job.machine)
+    op_secs = _seconds_per_operation(tp, move_lines, motions, times)
     sim = None
     if job.simulation.get("enabled", True):
-        from millpath.simulate import simulate_motions, cycle_time
+        from millpath.simulate import simulate_motions
         res = default_resolution(job, stock, tp)
         sim = simulate_motions(motions, job.tools, stock, resolution=res, design=design,
                                machine=job.machine, progress=progress)
         report["verification"] = sim.to_json()
-        per_op = cycle_time(tp, job.machine, per_operation=True)
     else:
-        from millpath.simulate import cycle_time
         report["verification"] = {"skipped": "simulation disabled in the job"}
-        per_op = cycle_time(tp, job.machine, per_operation=True)
-    report["cycle_time_s"] = per_op["total"]
+    report["cycle_time_s"] = round(float(np.sum(times)), 3)
     counts_by_op: dict[int, dict[str, int]] = {}
     for m in tp.moves:
         c = counts_by_op.setdefault(m.op, {"rapid": 0, "line": 0, "arc": 0, "cubic": 0,
@@ -157,7 +160,7 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False)
             c[m.kind] += 1
     report["operations"] = [
         {"type": o.type, "name": o.name, "tool": o.tool, "spindle": o.spindle,
-         "moves": counts_by_op.get(i, {}), "cycle_time_s": per_op["operations"][i]}
+         "moves": counts_by_op.get(i, {}), "cycle_time_s": round(op_secs[i], 3)}
         for i, o in enumerate(tp.ops)]
     for r in results:
         for k, v in r.report.items():
@@ -186,6 +189,22 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False)
         (tmp / "report.json").write_text(json.dumps(report, indent=2, default=_json_default))
         files = [out / f.name for f in sorted(tmp.iterdir())]
     return RunResult(job, tp, program, report, files, time.perf_counter() - t0)
+
+
+def _seconds_per_operation(tp: Toolpath, move_lines: list[int | None], motions,
+                           times) -> list[float]:
+    """Cycle time of each operation from the interpreted motion: a motion belongs to the
+    operation of the last planned move written at or before its program line."""
+    starts: list[tuple[int, int]] = []
+    for m, line in zip(tp.moves, move_lines):
+        if line is not None:
+            starts.append((line, m.op))
+    keys = [l for l, _ in starts]
+    secs = [0.0] * len(tp.ops)
+    for mo, t in zip(motions, times):
+        k = bisect.bisect_right(keys, mo.line) - 1
+        secs[starts[max(k, 0)][1]] += float(t)
+    return secs
 
 
 def _json_default(o: Any) -> Any:

@@ -20,11 +20,11 @@ def test_run_writes_program_tools_report_and_pictures(tmp_path, job_file):
     rep = json.loads((out / "report.json").read_text())
     assert rep["units"] == "mm" and rep["program"] == "program.ngc"
     assert rep["lines"] == (out / "program.ngc").read_text().count("\n")
-    assert rep["moves"]["rapid"] == 3 and rep["moves"]["line"] == 5 and rep["moves"]["arc"] == 1
+    assert rep["moves"]["rapid"] == 2 and rep["moves"]["line"] == 5 and rep["moves"]["arc"] == 1
     assert rep["operations"][0]["type"] == "test-square"
     assert rep["operations"][0]["cycle_time_s"] > 0
     assert rep["cycle_time_s"] == pytest.approx(rep["operations"][0]["cycle_time_s"])
-    assert rep["test"] == {"planned": 9}
+    assert rep["test"] == {"planned": 8}
     v = rep["verification"]
     for key in ("removed_volume", "max_gouge", "max_left", "left_volume",
                 "rapids_through_material", "holder_contacts", "cycle_time_s", "resolution"):
