@@ -3,7 +3,7 @@
 All functions work in a plane's (first, second) coordinates: XY=(X, Y), XZ=(Z, X),
 YZ=(Y, Z), as RS274NGC. ``turn`` is the signed turn count: +P counter-clockwise (G3),
 -P clockwise (G2). Tolerances are lengths in program units (LinuxCNC's: 0.00005 in /
-0.00127 mm minimum radius, 0.002*sqrt(2) in / 0.02*sqrt(2) mm spiral, 0.1 % relative).
+0.00127 mm minimum radius, 0.002*sqrt(2) in / 0.02*sqrt(2) mm spiral, 0.1 % relative; an arc is refused when both are exceeded).
 """
 
 from __future__ import annotations
@@ -52,7 +52,7 @@ def arc_center_ijk(plane: str, units: str, cx: float, cy: float, ex: float, ey: 
         raise GCodeError("Zero-radius arc: " + _fmt(plane, cx, cy, ox, oy, ex, ey, r1, r2))
     abs_err = abs(r1 - r2)
     rel_err = abs_err / max(r1, r2)
-    if abs_err > SPIRAL_TOLERANCE[units] or rel_err > SPIRAL_RELATIVE:
+    if abs_err > SPIRAL_TOLERANCE[units] and rel_err > SPIRAL_RELATIVE:
         raise GCodeError("Radius to end of arc differs from radius to start: "
                          + _fmt(plane, cx, cy, ox, oy, ex, ey, r1, r2)
                          + f" abs_err={_g_fmt(abs_err)} rel_err={rel_err * 100:.4f}%")

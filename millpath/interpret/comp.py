@@ -148,7 +148,9 @@ class CompMixin:
                 if abs(r1 - r2) > 0.01:
                     raise GCodeError("BUG: cutter compensation has generated an invalid arc "
                                      f"with mismatched radii r1 {r1:f} r2 {r2:f}\n")
-                if l1 and self.endpoint_valid and abs(l2) > abs(l1) + 0.001:
+                # rs274 2.9 allows 0.001 rad in inch programs, 0.0254 in mm programs
+                slack = 0.0254 if self.units == "mm" else 0.001
+                if l1 and self.endpoint_valid and abs(l2) > abs(l1) + slack:
                     raise GCodeError("Arc move in concave corner cannot be reached by the "
                                      "tool without gouging")
                 q[3], q[4] = x, y
