@@ -34,6 +34,8 @@ def command(outdir: Path, only: str | None) -> None:
     from millpath.errors import MillpathError
     from millpath.pipeline import run_job
     console = Console()
+    if not console.is_terminal:
+        console = Console(width=160)
     jobs = [j for j in example_jobs() if only is None or only in j.parent.name]
     if not jobs:
         raise MillpathError("no example jobs found")
