@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import pytest
 from click.testing import CliRunner
 
 from millpath.cli.main import cli
@@ -35,11 +36,24 @@ def test_json_output(shared_dir):
     assert {u["type"] for u in doc["unmachinable"]} >= {"THREAD", "OUTER_ROUND", "ROUND_HOLE"}
 
 
-def test_malformed_file_prints_one_line_and_exits_1(tmp_path):
+@pytest.mark.parametrize("record, message", [
+    ("#2=B('x);", "unterminated string"),
+    ("#2=B(#9);", "dangling reference #9"),
+    ("#2=B(1.5.2);", "bad number '1.5.2'"),
+])
+def test_malformed_file_prints_one_line_and_exits_1(tmp_path, record, message):
     bad = tmp_path / "bad.stp"
-    bad.write_text("ISO-10303-21;\nHEADER;\nENDSEC;\nDATA;\n#1=A('x);\nENDSEC;\n"
-                   "END-ISO-10303-21;\n")
+    bad.write_text("ISO-10303-21;\nHEADER;\nENDSEC;\nDATA;\n#1=A(1);\n" + record +
+                   "\nENDSEC;\nEND-ISO-10303-21;\n")
     r = CliRunner().invoke(cli, ["features", str(bad)])
     assert r.exit_code == 1
-    assert r.output.strip().splitlines() == [
-        f"millpath: error: {bad}:5: #1: unterminated string"]
+    assert r.output.strip().splitlines() == [f"millpath: error: {bad}:6: #2: {message}"]
+
+
+def test_truncated_file_exits_1(tmp_path):
+    bad = tmp_path / "cut.stp"
+    bad.write_text("ISO-10303-21;\nHEADER;\nENDSEC;\nDATA;\n#1=A(1);\n#2=B((1,2),\n")
+    r = CliRunner().invoke(cli, ["features", str(bad)])
+    assert r.exit_code == 1
+    line = r.output.strip()
+    assert line.startswith(f"millpath: error: {bad}:") and "#2: truncated file" in line

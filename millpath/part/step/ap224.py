@@ -515,8 +515,14 @@ class _Holder:
 
 
 def read_part(source: str | Path | StepFile) -> Part:
-    """Read an AP224 file (path or parsed :class:`StepFile`) into a :class:`Part`."""
+    """Read an AP224 file (path or parsed :class:`StepFile`) into a :class:`Part`.
+
+    ISO 14649 (STEP-NC ARM) files are read by :mod:`millpath.part.step.iso14649` into
+    the same records."""
     sf = source if isinstance(source, StepFile) else read(source)
+    from millpath.part.step.iso14649 import is_iso14649, read_iso14649
+    if is_iso14649(sf):
+        return read_iso14649(sf)
     r = _Reader(sf)
     r.global_units()
     feats = []
