@@ -50,3 +50,14 @@ def test_example_is_accepted_by_rs274_and_cuts_the_features(name, rs274):
     assert sim.max_gouge <= 1e-6
     assert sim.rapids_through_material == 0 and sim.holder_contacts == 0
     json.dumps(rep)                               # the report section is JSON
+
+
+def test_pipeline_runs_an_example_and_merges_the_features_report(tmp_path, rs274):
+    from millpath.pipeline import run_job
+    run_job(EXAMPLES / "features-plate" / "job.toml", tmp_path)
+    rep = json.loads((tmp_path / "report.json").read_text())
+    assert rep["stock"] == [0.0, 0.0, 0.0, 225.0, 100.0, 12.5]     # from the STEP file
+    assert [p["strategy"] for p in rep["features"]["planned"]] == ["helical"] * 3
+    v = rep["verification"]
+    assert v["max_gouge"] <= 1e-6 and v["rapids_through_material"] == 0
+    assert (tmp_path / "program.ngc").read_text().rstrip().endswith("M2")

@@ -75,6 +75,9 @@ def slot_tool(s: SlotShape, tools: list[Tool], tol: float) -> tuple[str, Tool | 
     t = _largest(flats, s.depth)
     if t is None:
         return "", None, f"no flat end mill no wider than the slot ({s.width:g})"
+    if "flat" in s.ends:
+        return "slot", t, (f"flat slot end: its square corners are left at the tool "
+                           f"radius {t.radius:g}")
     return "slot", t, ""
 
 
