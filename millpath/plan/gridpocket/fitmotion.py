@@ -119,12 +119,13 @@ class Fitter:
     """Fit chains in one ``mode`` with ``tol`` (job units); ``max_radius`` turns arcs of
     larger radius into lines."""
 
-    def __init__(self, mode: str, tol: float, max_radius: float):
+    def __init__(self, mode: str, tol: float, max_radius: float, decimals: int = 12):
         if mode not in ("line", "arc", "bezier"):
             raise ValueError(f"motion must be line, arc or bezier, not {mode!r}")
         self.mode = mode
         self.tol = tol
         self.max_radius = max_radius
+        self.decimals = decimals    # points are written with this many decimals
 
     def fit(self, chain: Chain) -> list[Seg]:
         P = chain.pts
@@ -259,6 +260,14 @@ class Fitter:
                     return None
             elif not self._z_ok(chain, i, e, S, budget):
                 return None
+        # the centre on the bisector of the chord, as a control recomputes it from the
+        # written end points
+        chord = Q[-1] - Q[0]
+        clen = math.hypot(chord[0], chord[1])
+        if clen > 0:
+            mid = (Q[0] + Q[-1]) / 2.0
+            nrm = np.array([-chord[1], chord[0]]) / clen
+            c = mid + ((c - mid) @ nrm) * nrm
         center = P[i].copy()
         center[a1], center[a2] = c
         return Seg("arc", P[e].copy(), center=center, plane=plane, clockwise=bool(sweep < 0))
@@ -290,6 +299,7 @@ class Fitter:
         S = np.empty((len(S2), 3))
         S[:, a1], S[:, a2] = S2[:, 0], S2[:, 1]
         S[:, an] = P[i, an]
+        S = np.round(S, self.decimals)
         S[0], S[-1] = P[i], P[e]
         sub = Chain(S, np.zeros(len(S)))
         out: list[Seg] = []

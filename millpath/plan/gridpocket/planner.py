@@ -21,7 +21,8 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from shapely.geometry import Polygon
+import shapely
+from shapely.geometry import LineString, Polygon
 
 from millpath.errors import JobError
 from millpath.model import Operation, Tool, Toolpath
@@ -108,6 +109,7 @@ class _Builder:
         self.clear = 0.1 * spec.tool.diameter
         self.stats = _Stats()
         self.phase = ""
+        self.cleared = None         # XY area (shapely) already cleared to done_floor
 
     def begin(self, phase: str, label: str) -> None:
         self.phase = phase
@@ -128,9 +130,16 @@ class _Builder:
 
     def travel(self, target: np.ndarray, done_floor: float) -> None:
         """Go from the current position to ``target`` (a cutting point) without cutting
-        on the way; plunge the last stretch at the plunge feed."""
+        on the way; plunge the last stretch at the plunge feed.
+
+        Material can stand as high as the stock top anywhere not yet cleared; inside
+        ``self.cleared`` (XY area swept by earlier layers) it is at most
+        ``max(tip Z, done_floor)``. The move goes over at a short clearance above that
+        when the tool's footprint stays in the cleared area, else at ``safe_z``.
+        """
         s = self.spec
         tx, ty, tz = map(float, target)
+        top_eps = 1e-9 * max(1.0, abs(s.top))
         above = float(self.material_top(np.array([tx]), np.array([ty]), done_floor)[0])
         above = min(max(above, tz) + self.clear, s.safe_z)
         if self.pos is None:
@@ -144,7 +153,10 @@ class _Builder:
                 elif tz > pz:
                     self._rapid((tx, ty, tz))
                 return
-            if self.grid.segment_inside((px, py), (tx, ty)):
+            if done_floor >= s.top - top_eps:
+                h = min(max(s.top, pz, tz) + self.clear, s.safe_z)
+            elif self.cleared is not None and self.cleared.covers(
+                    LineString([(px, py), (tx, ty)]).buffer(0.98 * s.tool.radius)):
                 n = max(2, int(math.ceil(math.hypot(tx - px, ty - py) / min(s.dx, s.dy))) + 1)
                 xs, ys = np.linspace(px, tx, n), np.linspace(py, ty, n)
                 h = float(self.material_top(xs, ys, done_floor).max())
@@ -171,6 +183,7 @@ class _Builder:
         spacing = min(s.dx, s.dy) / 6.0 if s.z_mode == "tool" else None
         pts, pos, checks, cpos = sample_chain(np.asarray(xy, float), zfun, spacing,
                                               s.tolerance / 2.0)
+        pts = np.round(pts, _decimals(s.units))     # as the program will say
         self.travel(pts[0], done_floor)
         if s.z_mode != "tool":
             checks = cpos = None
@@ -189,6 +202,11 @@ class _Builder:
     def retract(self) -> None:
         if self.pos is not None and self.pos[2] < self.spec.safe_z:
             self._rapid((self.pos[0], self.pos[1], self.spec.safe_z))
+
+
+def _decimals(units: str) -> int:
+    """Decimals of coordinates in the posted program (the post's: 5 inch, 4 mm)."""
+    return 5 if units == "inch" else 4
 
 
 def _cells_xy(grid: PocketGrid, cells) -> np.ndarray:
@@ -234,7 +252,7 @@ def plan_pocket(spec: PocketSpec) -> tuple[Toolpath, dict]:
     grid = build_grid(spec.polygon, tool.radius, spec.dx, spec.dy, spec.file)
     zf = ZField(spec.surface, tool, spec.z_mode, spec.polygon.bounds, spec.tolerance, spec.file)
     max_radius = 100.0 if spec.units == "inch" else 2540.0
-    fitter = Fitter(spec.motion, spec.tolerance, max_radius)
+    fitter = Fitter(spec.motion, spec.tolerance, max_radius, _decimals(spec.units))
     b = _Builder(spec, grid, zf, fitter)
 
     ii, jj = np.nonzero(grid.inside)
@@ -266,6 +284,11 @@ def plan_pocket(spec: PocketSpec) -> tuple[Toolpath, dict]:
                        "length": b.stats.phases.get(phase, 0.0) - before})
         if finish:
             final_path = path
+        if b.cleared is None and path:
+            # the first layer visits every cell: its discs are cleared from now on
+            c = _cells_xy(grid, path)
+            b.cleared = shapely.union_all(shapely.buffer(shapely.points(c), tool.radius,
+                                                         quad_segs=16))
         done = floor
 
     # wall pass: one lap per floor, down to the bottom
@@ -278,6 +301,7 @@ def plan_pocket(spec: PocketSpec) -> tuple[Toolpath, dict]:
             b.cut(pts, floor, spec.finish_feed, wall_done)
         wall_done = floor
 
+    b.cleared = grid.region.buffer(tool.radius, quad_segs=16)
     zig = {"x": 0, "y": 0}
     if spec.zigzag:
         joined = joined_edges(final_path)
