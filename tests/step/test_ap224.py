@@ -207,3 +207,27 @@ def test_generated_file_with_20000_instances_parses_and_extracts():
     part = read_part(sf)
     assert len(part.features) == nfeat
     assert len(feature_shapes(part).shapes) == nfeat
+
+
+def test_si_units_without_prefix_are_metres_and_plans_scale_to_the_job(tmp_path):
+    from millpath.job.schema import validate
+    from millpath.model import Machine, Tool
+    from millpath.plan.base import PlanContext
+    from millpath.plan.features.operation import PARAMS, plan
+    b = Ap224Builder("METRES", units="mm")
+    b.block(0.1, 0.05, 0.02)
+    b.hole((0.05, 0.025, 0.02), 0.008, 0.02, bottom="through")
+    for inst in b.sf.instances.values():
+        si = inst.get("SI_UNIT")
+        if si is not None and si[1] == "METRE":
+            si[0] = None                       # (LENGTH_UNIT NAMED_UNIT SI_UNIT($,.METRE.))
+    (tmp_path / "m.stp").write_text(b.text())
+    part = read_part(tmp_path / "m.stp")
+    assert (part.units.length, part.units.length_mm) == ("m", 1000.0)
+    assert part.stock.dims["length"] == 0.1
+    ctx = PlanContext(units="mm", stock=None, machine=Machine(), base_dir=tmp_path,
+                      tools={1: Tool(1, "drill", 8.0, flute_length=40, stickout=60)})
+    r = plan(ctx, validate({"step": "m.stp"}, PARAMS, "op", None, tmp_path))
+    assert r.stock.box == pytest.approx((0.0, 0.0, 0.0, 100.0, 50.0, 20.0))
+    (d,) = [m for m in r.toolpath.moves if m.kind == "drill"]
+    assert d.end[:2] == pytest.approx((50.0, 25.0))
