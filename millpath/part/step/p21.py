@@ -17,8 +17,12 @@ Values become Python objects: ``int``, ``float``, ``str`` (decoded: ``''``, ``\\
 are allowed. Errors raise :class:`~millpath.errors.MillpathError` naming the file, the
 line and the instance id (``#12``).
 
-The tokenizer is one regular expression pass over the text; the parser is a loop over
-the token list with an explicit stack for nested lists (no recursion per value).
+Speed: the tokenizer is one ``re.findall`` pass over the text (token strings built in
+C); the parser is one loop over the tokens dispatching on their first character, with
+an explicit stack for nested lists. References are collected while parsing, so the
+dangling-reference check and the inverse index need no second walk. Token positions
+(for error lines) are recovered only when there is an error; instance lines are found
+lazily by one scan for ``#n=``.
 """
 
 from __future__ import annotations

@@ -26,7 +26,6 @@ Coordinates are in the stock frame of the file (block corner at the origin).
 from __future__ import annotations
 
 import dataclasses
-import math
 from typing import Any
 
 import numpy as np
