@@ -363,7 +363,8 @@ def fit_program(text: str, tolerance: float, mode: str = "arcs", *,
         out.append(b.raw)
         _apply(st, b)
         i += 1
-    return "\n".join(out) + ("\n" if text.endswith("\n") or not text else "")
+    nl = "\r\n" if "\r\n" in text else "\n"
+    return nl.join(out) + (nl if text.endswith("\n") else "")
 
 
 def _run_plane(lines: list[str], plane: str) -> str:

@@ -11,12 +11,31 @@ from scipy.spatial import cKDTree
 from millpath.model.toolpath import Move, Toolpath, Operation, sample_move
 
 
+def _sample_lines(A: np.ndarray, B: np.ndarray, step: float) -> np.ndarray:
+    """Points about ``step`` apart on segments A[k] -> B[k], without the A's."""
+    L = np.linalg.norm(B - A, axis=1)
+    n = np.maximum(1, np.ceil(L / step).astype(np.int64))
+    k = np.repeat(np.arange(len(A)), n)
+    first = np.cumsum(n) - n
+    t = (np.arange(n.sum()) - first[k] + 1) / n[k]
+    return A[k] + (B - A)[k] * t[:, None]
+
+
 def sample_path(start, moves, step: float) -> np.ndarray:
     """Points about ``step`` apart along ``moves`` (Move objects) from ``start``."""
     out = [np.asarray([start], float)]
     cur = tuple(start)
-    for m in moves:
-        if m.kind in ("line", "arc", "cubic", "rapid"):
+    run: list[tuple] = []           # ends of consecutive straight moves not yet sampled
+    for m in list(moves) + [None]:
+        if m is not None and m.kind in ("line", "rapid"):
+            run.append(m.end)
+            continue
+        if run:
+            A = np.array([cur] + run[:-1], float)
+            out.append(_sample_lines(A, np.array(run, float), step))
+            cur = run[-1]
+            run = []
+        if m is not None and m.kind in ("arc", "cubic"):
             out.append(sample_move(cur, m, step)[1:])
             cur = m.end
     return np.vstack(out)
@@ -58,7 +77,7 @@ def toolpath_of(points, feed: float = 500.0, units: str = "mm") -> Toolpath:
     return tp
 
 
-@pytest.fixture
+@pytest.fixture(scope="session")
 def fitkit():
     """The helpers above, as one object."""
     class Kit:
