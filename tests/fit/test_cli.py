@@ -1,0 +1,47 @@
+"""The ``millpath fit`` command."""
+
+from __future__ import annotations
+
+import math
+
+from click.testing import CliRunner
+
+from millpath.cli.main import cli
+
+
+def write_program(path, n=360):
+    lines = ["G21 G90 G17", "G0 X10 Y0 Z2", "G1 Z-1 F200"]
+    lines += [f"X{10 * math.cos(2 * math.pi * k / n):.4f} Y{10 * math.sin(2 * math.pi * k / n):.4f}"
+              for k in range(1, n + 1)]
+    lines += ["G0 Z5", "M2"]
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def test_fit_writes_the_output_atomically_and_reports_counts(tmp_path):
+    src = write_program(tmp_path / "part.ngc")
+    out = tmp_path / "out" / "fitted.ngc"
+    r = CliRunner().invoke(cli, ["fit", str(src), "--tolerance", "0.005", "-o", str(out)])
+    assert r.exit_code == 0, r.output
+    assert "365 -> " in r.output and out.is_file()
+    text = out.read_text()
+    assert "G3" in text and len(text.splitlines()) < 20
+    assert not list(out.parent.glob(".*.tmp"))
+
+
+def test_fit_default_output_name_and_cubic_mode(tmp_path):
+    src = write_program(tmp_path / "part.ngc")
+    r = CliRunner().invoke(cli, ["fit", str(src), "-t", "0.005", "--mode", "arcs+cubics"])
+    assert r.exit_code == 0, r.output
+    assert (tmp_path / "part-fit.ngc").is_file()
+
+
+def test_fit_errors_are_one_line_with_the_file(tmp_path):
+    src = write_program(tmp_path / "part.ngc")
+    r = CliRunner().invoke(cli, ["fit", str(src), "-t", "-1"])
+    assert r.exit_code == 1
+    assert r.output.startswith(f"millpath: error: {src}: ") and r.output.count("\n") == 1
+    r = CliRunner().invoke(cli, ["fit", str(tmp_path / "missing.ngc"), "-t", "0.01"])
+    assert r.exit_code == 1 and "missing.ngc" in r.output
+    r = CliRunner().invoke(cli, ["fit", str(src), "-t", "0.01", "-o", str(src)])
+    assert r.exit_code == 1 and "overwrite" in r.output
