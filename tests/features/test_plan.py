@@ -171,3 +171,36 @@ def test_simulation_removes_the_feature_volumes_and_nothing_else(name, planned):
     assert sim.max_gouge <= 1e-6                  # nothing below the finished part
     assert sim.rapids_through_material == 0
     assert sim.holder_contacts == 0
+
+
+def nested_part(tmp_path, corner: float, inner_diameter: float) -> Path:
+    from millpath.part.step.build import Ap224Builder
+    b = Ap224Builder("NESTED", units="mm", material="aluminium")
+    b.block(100.0, 80.0, 20.0)
+    b.pocket((50.0, 40.0, 20.0), 5.0, "rectangular", length=60.0, width=40.0,
+             corner_radius=corner)
+    b.pocket((50.0, 40.0, 15.0), 4.0, "circular", diameter=inner_diameter)
+    b.hole((50.0, 40.0, 11.0), 8.0, 11.0, bottom="through")
+    (tmp_path / "nested.stp").write_text(b.text())
+    return tmp_path / "nested.stp"
+
+
+@pytest.mark.parametrize("corner, inner, inner_start", [
+    (5.0, 20.0, 15.0),      # same tool: outer pocket first, inner starts at its floor
+    (3.0, 30.0, 20.0),      # inner pocket's tool comes first: it starts at the stock top
+])
+def test_nested_features_start_where_material_is(tmp_path, corner, inner, inner_start):
+    from millpath.simulate import simulate_toolpath
+    path = nested_part(tmp_path, corner, inner)
+    ctx = PlanContext(units="mm", stock=None, machine=Machine(), tools=TOOLS_MM,
+                      base_dir=tmp_path)
+    r = plan(ctx, validate({"step": path.name}, PARAMS, "op", None, tmp_path))
+    rec = {p["type"] + str(p.get("z_start")): p for p in r.report["features"]["planned"]}
+    assert f"POCKET{inner_start}" in rec
+    (drill,) = [m for m in r.toolpath.moves if m.kind == "drill"]
+    assert drill.cycle == "G81"                 # 8 mm hole, 11 mm deep once cleared
+    st = r.stock
+    sim = simulate_toolpath(r.toolpath, TOOLS_MM, st, resolution=0.25, design=r.design)
+    expected = r.design.volume(0.125, (st.xmin, st.ymin, st.xmax, st.ymax), st.zmin)
+    assert sim.removed_volume == pytest.approx(expected, rel=0.01)
+    assert sim.max_gouge <= 1e-6 and sim.rapids_through_material == 0

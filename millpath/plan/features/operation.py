@@ -96,14 +96,17 @@ def _position(s) -> tuple[float, float]:
 
 
 def _order(tasks: list[_Task]) -> list[_Task]:
-    """Nearest-neighbour order, region milling before holes."""
+    """Region milling before holes; higher feature tops first (a pocket before the
+    pocket or hole in its floor); nearest neighbour among equals."""
     out: list[_Task] = []
     cur = np.zeros(2)
     for group in ([t for t in tasks if t.strategy in ("slot", "pocket", "circular")],
                   [t for t in tasks if t.strategy not in ("slot", "pocket", "circular")]):
         left = list(group)
         while left:
-            d = [float(np.hypot(*(np.asarray(_position(t.shape)) - cur))) for t in left]
+            top = max(t.shape.z_top for t in left)
+            d = [float(np.hypot(*(np.asarray(_position(t.shape)) - cur)))
+                 if t.shape.z_top >= top - 1e-9 else np.inf for t in left]
             t = left.pop(int(np.argmin(d)))
             out.append(t)
             cur = np.asarray(_position(t.shape))
@@ -183,6 +186,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
 
     tp = Toolpath(units=ctx.units)
     planned = []
+    done: list = []                 # shapes cut so far, in program order
     for n in sorted(groups, key=group_key):
         group = _order(groups[n])
         tool = group[0].tool
@@ -199,8 +203,10 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
                            spindle=sp.rpm, coolant=params["coolant"],
                            info={"material": mat, "vc": round(sp.vc, 1), "chip": sp.chip}))
         for t in group:
-            rec = _cut(tp, t, tool, sp, h, z_top, stock, data.chip_breaking, allowance,
+            start = _material_top(t.shape, done, z_top)
+            rec = _cut(tp, t, tool, sp, h, start, stock, data.chip_breaking, allowance,
                        stepover, step_down, breakthrough)
+            done.append(t.shape)
             rec.update(id=t.shape.id, type=type(t.shape).__name__.replace("Shape", "").upper(),
                        strategy=t.strategy, tool=n, rpm=sp.rpm, feed=sp.feed)
             if t.note:
@@ -225,7 +231,33 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
                       stock=file_stock if ctx.stock is None else None)
 
 
-def _cut(tp: Toolpath, t: _Task, tool: Tool, sp, h: paths.Heights, z_top: float,
+def _material_top(shape, done: list, z_stock: float) -> float:
+    """Z where milling of ``shape`` starts: its own top when the features cut before it
+    have cleared down to that top over its whole area (e.g. a hole in a pocket floor),
+    else the stock top (material above it is still there and is cut on the way)."""
+    if shape.z_top >= z_stock - 1e-9:
+        return z_stock
+    if done:
+        if isinstance(shape, HoleShape):
+            a = np.linspace(0.0, 2 * np.pi, 16, endpoint=False)
+            r = 0.95 * shape.diameter / 2.0
+            x = np.append(shape.x + r * np.cos(a), shape.x)
+            y = np.append(shape.y + r * np.sin(a), shape.y)
+        else:
+            poly = (slot_outline(shape, 0.0) if isinstance(shape, SlotShape)
+                    else shape.outline(4))
+            inner = poly.buffer(-0.05 * min(getattr(shape, "width", 0.0) or poly.length,
+                                            poly.length) / 2.0)
+            pts = np.asarray((inner if not inner.is_empty else poly).exterior.coords)
+            c = poly.centroid
+            x, y = np.append(pts[:, 0], c.x), np.append(pts[:, 1], c.y)
+        cleared = FeatureDesign(z_stock, list(done)).height(x, y)
+        if float(np.max(cleared)) <= shape.z_top + 1e-9:
+            return shape.z_top
+    return z_stock
+
+
+def _cut(tp: Toolpath, t: _Task, tool: Tool, sp, h: paths.Heights, z_start: float,
          stock: Stock, chip_breaking: bool, allowance: float, stepover: float,
          step_down: float, breakthrough: float) -> dict:
     s = t.shape
@@ -233,7 +265,7 @@ def _cut(tp: Toolpath, t: _Task, tool: Tool, sp, h: paths.Heights, z_top: float,
         floor = stock.zmin - breakthrough if s.bottom == "through" else s.z_bottom
         if t.strategy == "drill":
             tip = floor - (tool.point_depth() if s.bottom == "through" else 0.0)
-            depth = s.z_top - tip
+            depth = z_start - tip          # drilled length in material
             if depth > 3 * tool.diameter:
                 cycle = "G73" if chip_breaking and depth <= 6 * tool.diameter else "G83"
                 peck = tool.diameter
@@ -244,17 +276,19 @@ def _cut(tp: Toolpath, t: _Task, tool: Tool, sp, h: paths.Heights, z_top: float,
         if t.strategy == "plunge":
             paths.plunge(tp, s.x, s.y, floor, h, sp.plunge)
             return {"z": floor}
-        paths.bore(tp, s.x, s.y, s.diameter / 2.0, tool.radius, s.z_top, floor, h,
+        paths.bore(tp, s.x, s.y, s.diameter / 2.0, tool.radius, z_start, floor, h,
                    step_down=step_down, stepover=stepover, allowance=allowance,
                    feed=sp.feed, plunge_feed=sp.plunge)
-        return {"z": floor, "levels": len(paths.levels(s.z_top, floor, step_down))}
+        return {"z": floor, "levels": len(paths.levels(z_start, floor, step_down)),
+                "z_start": z_start}
     floor = stock.zmin - breakthrough if getattr(s, "bottom", "") == "through" else \
         s.z_top - s.depth
     if t.strategy == "circular":
-        paths.bore(tp, s.center[0], s.center[1], s.diameter / 2.0, tool.radius, s.z_top,
+        paths.bore(tp, s.center[0], s.center[1], s.diameter / 2.0, tool.radius, z_start,
                    floor, h, step_down=step_down, stepover=stepover, allowance=allowance,
                    feed=sp.feed, plunge_feed=sp.plunge)
-        return {"z": floor, "levels": len(paths.levels(s.z_top, floor, step_down))}
+        return {"z": floor, "levels": len(paths.levels(z_start, floor, step_down)),
+                "z_start": z_start}
     if isinstance(s, SlotShape):
         rough, finish = _slot_regions(s, tool.radius, allowance, stock)
     else:
@@ -265,9 +299,10 @@ def _cut(tp: Toolpath, t: _Task, tool: Tool, sp, h: paths.Heights, z_top: float,
             rough = finish
         if finish.is_empty:
             raise PlanningError(f"#{s.id}: tool T{tool.number} does not fit the pocket")
-    paths.clear_region(tp, rough, finish, s.z_top, floor, h, step_down=step_down,
+    paths.clear_region(tp, rough, finish, z_start, floor, h, step_down=step_down,
                        stepover=stepover, feed=sp.feed, plunge_feed=sp.plunge)
-    return {"z": floor, "levels": len(paths.levels(s.z_top, floor, step_down))}
+    return {"z": floor, "levels": len(paths.levels(z_start, floor, step_down)),
+            "z_start": z_start}
 
 
 def _slot_regions(s: SlotShape, r: float, allowance: float, stock: Stock):
