@@ -1,0 +1,175 @@
+"""The die-cavity operation: the bundled examples, CAM vs control compensation,
+LinuxCNC acceptance and simulated removal."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+import shapely
+from shapely.geometry import Polygon
+
+import millpath
+from millpath.errors import GeometryError, JobError
+from millpath.job.jobfile import load_job
+from millpath.plan.base import PlanContext
+from millpath.plan.diecavity import operation as op
+
+EXAMPLES = Path(millpath.__file__).parent / "examples"
+
+
+def _plan(name: str, **override):
+    job = load_job(EXAMPLES / name / "job.toml")
+    ctx = PlanContext(job.units, job.stock, job.machine, job.tools, job.base_dir, job.path)
+    params = dict(job.operations[0][1])
+    params.update(override)
+    return job, op.plan(ctx, params)
+
+
+@pytest.fixture(scope="module")
+def published():
+    return {c: _plan("die-published", compensation=c) for c in ("cam", "control")}
+
+
+@pytest.fixture(scope="module")
+def blanking():
+    return {c: _plan("die-blanking", compensation=c) for c in ("cam", "control")}
+
+
+def _finish_xy(motions, z):
+    """(kind, end xy, centre xy) of the feed and arc motions at height z."""
+    out = []
+    for m in motions:
+        if m.kind in ("feed", "arc") and abs(m.start[2] - z) < 1e-6 and abs(m.end[2] - z) < 1e-6:
+            out.append((m.kind, np.array(m.end[:2]),
+                        None if m.center is None else np.array(m.center[:2])))
+    return out
+
+
+def test_params_keys_are_the_issue_keys():
+    assert set(op.PARAMS) == {"tool", "points", "points_file", "close", "tolerance", "depth",
+                              "step_down", "allowance", "stepover", "compensation", "feed",
+                              "plunge_feed", "spindle", "safe_z", "breakthrough"}
+
+
+def test_published_example_reports_the_curve_and_eight_layers(published):
+    job, res = published["cam"]
+    rep = res.report["curve"]
+    assert [s["kind"] for s in rep["segments"]] == ["given", "blend", "given"]
+    assert rep["tolerance"] == 0.00004
+    assert all(s["max_deviation"] <= 0.00004 for s in rep["segments"])
+    assert rep["chords"] < rep["uniform_chords"]
+    assert len(rep["layers"]) == 8 and rep["layers"][-1] == pytest.approx(30.0)
+    assert not rep["through"]
+    # the sharp tip at (60, 340) (scaled published (1, 15)) is out of the tool's reach
+    assert rep["unreachable_corners"]
+    tip = min(rep["unreachable_corners"],
+              key=lambda c: np.hypot(c["at"][0] - 60, c["at"][1] - 340))
+    assert np.hypot(tip["at"][0] - 60, tip["at"][1] - 340) < 20
+    res.toolpath.check_finite()
+    # a sensible size: the finishing lap is one line per programmed point
+    assert len(res.toolpath) < 60_000
+
+
+def test_design_is_stock_top_outside_and_floor_inside(published, blanking):
+    _, res = published["cam"]
+    h = res.design.height(np.array([200.0, 5.0]), np.array([250.0, 5.0]))
+    assert h.tolist() == [30.0, 50.0]
+    _, res = blanking["cam"]
+    h = res.design.height(np.array([80.0, 1.0]), np.array([60.0, 1.0]))
+    assert h[0] == -np.inf and h[1] == 12.0
+    assert res.report["curve"]["through"]
+    assert res.report["curve"]["layers"][-1] == pytest.approx(-1.0)     # breakthrough 1
+
+
+def test_blanking_example_reports_corners_tighter_than_the_tool(blanking):
+    _, res = blanking["cam"]
+    rep = res.report["curve"]
+    assert sum(len(s["points"]) for s in rep["segments"] if s["kind"] == "given") >= 20
+    corners = [c["at"] for c in rep["unreachable_corners"]]
+    for sharp in ([110, 20], [100, 112], [20, 20]):
+        assert min(np.hypot(c[0] - sharp[0], c[1] - sharp[1]) for c in corners) < 5
+    assert any(0 < t["min_radius"] < 5.0 for t in rep["tight_curvature"])
+    for j in rep["junctions"]:
+        if "blend" in j["kinds"]:
+            assert j["position_gap"] <= 1e-9 and j["derivative_gap"] <= 1e-9
+
+
+@pytest.mark.parametrize("example", ["published", "blanking"])
+def test_control_compensation_interprets_like_the_cam_offset(example, published, blanking):
+    from millpath.interpret import interpret
+    from millpath.post.linuxcnc import post
+    pair = published if example == "published" else blanking
+    job = pair["cam"][0]
+    motions = {}
+    for c in ("cam", "control"):
+        prog = post(pair[c][1].toolpath, job.tools, title=c)
+        assert ("G41 D1" in prog) == (c == "control")
+        motions[c] = interpret(prog, job.tools, machine_units=job.units)
+    z = pair["cam"][1].report["curve"]["layers"][0]
+    a, b = _finish_xy(motions["cam"], z), _finish_xy(motions["control"], z)
+    assert len(a) == len(b) > 100
+    assert [k for k, _, _ in a] == [k for k, _, _ in b]
+    worst = max(float(np.abs(p - q).max()) for (_, p, _), (_, q, _) in zip(a, b))
+    assert worst <= 1e-4
+    for (k, _, c1), (_, _, c2) in zip(a, b):
+        if k == "arc":
+            assert np.abs(c1 - c2).max() <= 1e-4
+
+
+@pytest.mark.parametrize("comp", ["cam", "control"])
+def test_programs_are_accepted_by_rs274(rs274, blanking, comp):
+    from millpath.post.linuxcnc import post
+    from millpath.verify.rs274 import run_rs274
+    job, res = blanking[comp]
+    r = run_rs274(post(res.toolpath, job.tools), job.tools)
+    assert r.ok, (r.error, r.error_line)
+    assert len(r.motions) > 1000
+
+
+def test_rs274_compensates_the_control_variant_like_the_cam_offset(rs274, published):
+    from millpath.post.linuxcnc import post
+    from millpath.verify.rs274 import run_rs274
+    job = published["cam"][0]
+    got = {}
+    for c in ("cam", "control"):
+        tp = published[c][1].toolpath
+        r = run_rs274(post(tp, job.tools), job.tools)
+        assert r.ok, (r.error, r.error_line)
+        got[c] = _finish_xy(r.motions, published[c][1].report["curve"]["layers"][0])
+    a, b = got["cam"], got["control"]
+    assert len(a) == len(b) > 1000
+    # rs274 prints 4 decimals: each side carries up to 0.00005 of rounding
+    assert max(float(np.abs(p - q).max()) for (_, p, _), (_, q, _) in zip(a, b)) <= 1.5e-4
+
+
+def test_simulated_wall_follows_the_curve_without_gouge(blanking):
+    from millpath.part.curve.blend import build_curve
+    from millpath.part.curve.points import read_points_csv
+    from millpath.simulate import simulate_toolpath
+    job, res = blanking["cam"]
+    params = job.operations[0][1]
+    tol, res_xy = params["tolerance"], 0.25
+    sim = simulate_toolpath(res.toolpath, job.tools, job.stock, resolution=res_xy,
+                            design=res.design, machine=job.machine)
+    assert sim.rapids_through_material == 0
+    zm = sim.zmap
+    X, Y = np.meshgrid(zm.xs(), zm.ys())
+    curve = build_curve(read_points_csv(params["points_file"]))
+    true = Polygon(curve.sample(2000))
+    pts = shapely.points(X.ravel(), Y.ravel())
+    inside = shapely.contains(true, pts)
+    dist = shapely.distance(true.exterior, pts)
+    signed = np.where(inside, dist, -dist).reshape(X.shape)
+    cut = zm.heights < job.stock.zmax - 1e-6
+    through = zm.heights <= job.stock.zmin + 1e-6
+    # never inside the wall: no cut cell centre outside the true curve
+    undercut = res.report["curve"]["finish_max_undercut"]
+    assert not np.any(cut & (signed < -(undercut + 1e-9)))
+    # the wall is within T + resolution of the curve wherever the tool can reach
+    r = job.tools[1].radius
+    reach = true.buffer(-r).buffer(r, quad_segs=64).buffer(-(tol + res_xy))
+    must = shapely.contains(reach, pts).reshape(X.shape)
+    assert must.sum() > 1000
+    assert np.all(through[must])
