@@ -35,6 +35,9 @@ def polygon_problem(points) -> str | None:
     if len(pts) < 3:
         return f"a pocket outline needs at least 3 points, got {len(pts)}"
     poly = Polygon(pts)
+    span = np.abs(pts - pts.mean(axis=0)).max()
+    if span == 0 or np.linalg.matrix_rank(pts - pts.mean(axis=0), tol=1e-12 * span) < 2:
+        return "the outline encloses no area (all points on one line)"
     if not poly.is_valid:
         why = explain_validity(poly)
         if "Self-intersection" in why or "Ring Self-intersection" in why:

@@ -22,7 +22,8 @@ Gouge protection: a chain may carry check points (tip positions the path must no
 below, with their distance along the chain). A candidate line, arc or cubic in a
 vertical plane is rejected when it passes more than the tolerance below a check point
 inside its span; XY candidates must stay within the tolerance of the point polyline
-(so they never swing into a wall).
+(so they never cut corners), or, on the wall pass, inside the offset outline grown by
+the tolerance (so they follow the true round corners but never swing into a wall).
 """
 
 from __future__ import annotations
@@ -56,6 +57,8 @@ class Chain:
     pos: np.ndarray                 # (n,) XY distance along the chain
     checks: np.ndarray | None = None    # (k, 3) required tip positions
     check_pos: np.ndarray | None = None
+    region: object = None           # shapely area an XY curve may use (wall pass), else
+                                    # XY curves must stay within tol of the polyline
 
 
 # --- small geometry ------------------------------------------------------------------
@@ -219,6 +222,14 @@ class Fitter:
         zc = np.interp(sk, sc[order], curve[order, 2])
         return bool(np.all(zc >= K[:, 2] - budget))
 
+    def _xy_ok(self, chain: Chain, S: np.ndarray, Q: np.ndarray, tol: float) -> bool:
+        """An XY curve (samples S) may replace the polyline Q: inside the chain's region
+        (wall pass), else within tol of the polyline everywhere."""
+        if chain.region is not None:
+            import shapely
+            return bool(shapely.covers(chain.region, shapely.points(S)).all())
+        return bool(_dist_to_polyline(S, Q).max() <= tol)
+
     def _line_ok(self, chain: Chain, i: int, e: int, tol: float, plane) -> bool:
         Q = chain.pts[i:e + 1]
         if _dist_to_polyline(Q[1:-1], Q[[0, -1]]).max() > tol:
@@ -250,13 +261,15 @@ class Fitter:
             return None
         if pts is None:
             # the real arc between the points: not below check points, not out of the walls
-            th = np.linspace(ang[0], ang[-1], max(8, 4 * (e - i)))
+            # samples close enough that chords stay within tol / 8 of the arc
+            n = int(np.clip(abs(sweep) * r / math.sqrt(r * tol) + 2, 4 * (e - i), 4000))
+            th = np.linspace(ang[0], ang[-1], max(8, n))
             S = np.empty((len(th), 3))
             S[:, a1] = c[0] + r * np.cos(th)
             S[:, a2] = c[1] + r * np.sin(th)
             S[:, an] = P[i, an]
             if plane == "XY":
-                if _dist_to_polyline(S[:, :2], P[i:e + 1, :2]).max() > tol:
+                if not self._xy_ok(chain, S[:, :2], P[i:e + 1, :2], tol):
                     return None
             elif not self._z_ok(chain, i, e, S, budget):
                 return None
@@ -281,14 +294,14 @@ class Fitter:
             return None
         c1, c2 = cc
         tol = self.tol if plane == "XY" else self.tol / 2.0
-        S2 = _cubic_points(Q[0], c1, c2, Q[-1], max(24, 8 * (e - i)))
+        S2 = _cubic_points(Q[0], c1, c2, Q[-1], 64 + 8 * (e - i))
         if _dist_to_polyline(Q, S2).max() > tol:
             return None
         S = np.empty((len(S2), 3))
         S[:, a1], S[:, a2] = S2[:, 0], S2[:, 1]
         S[:, an] = P[i, an]
         if plane == "XY":
-            if _dist_to_polyline(S2, Q).max() > tol:
+            if not self._xy_ok(chain, S2, Q, tol):
                 return None
             return [Seg("cubic", P[e].copy(), c1=(float(c1[0]), float(c1[1])),
                         c2=(float(c2[0]), float(c2[1])))]

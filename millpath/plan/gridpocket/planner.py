@@ -173,7 +173,8 @@ class _Builder:
             self._line((tx, ty, tz), s.plunge_feed)
             self.stats.plunges += 1
 
-    def cut(self, xy: np.ndarray, floor: float, feed: float, done_floor: float) -> None:
+    def cut(self, xy: np.ndarray, floor: float, feed: float, done_floor: float,
+            region=None) -> None:
         """Feed through the XY points at ``max(tip Z, floor)``, arriving by :meth:`travel`."""
         s = self.spec
 
@@ -187,7 +188,7 @@ class _Builder:
         self.travel(pts[0], done_floor)
         if s.z_mode != "tool":
             checks = cpos = None
-        chain = Chain(pts, pos, checks, cpos)
+        chain = Chain(pts, pos, checks, cpos, region)
         for seg in self.fitter.fit(chain):
             if seg.kind == "line":
                 self.tp.line(*seg.end, feed)
@@ -295,10 +296,12 @@ def plan_pocket(spec: PocketSpec) -> tuple[Toolpath, dict]:
     b.begin("wall", "wall pass")
     spacing = min(spec.dx, spec.dy)
     wall_done = spec.top
+    wall_region = grid.region.buffer(spec.tolerance, quad_segs=16)
+    shapely.prepare(wall_region)
     for floor in floors:
         for ring in rings:
             pts = _ring_from(ring, b.pos, spacing)
-            b.cut(pts, floor, spec.finish_feed, wall_done)
+            b.cut(pts, floor, spec.finish_feed, wall_done, wall_region)
         wall_done = floor
 
     b.cleared = grid.region.buffer(tool.radius, quad_segs=16)
