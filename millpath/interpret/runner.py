@@ -55,8 +55,6 @@ def run_program(text: str, tools, machine_units: str
                 return machine.units, machine.store, None
     except GCodeError as e:
         return machine.units, machine.store, (n, e.message)
-    except (OverflowError, ValueError, ZeroDivisionError) as e:
-        return machine.units, machine.store, (n, f"Calculation error: {e}")
     last = max(len(lines), 1)
     msg = ("File ended with no percent sign" if percent
            else "File ended with no percent sign or program end")
