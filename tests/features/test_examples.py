@@ -26,8 +26,8 @@ def plan_example(name: str):
     return job, strategy(op_type).plan(ctx, params)
 
 
-def test_there_are_three_examples():
-    assert NAMES == ["features-block-slot", "features-plate", "features-pockets"]
+def test_there_are_four_examples():
+    assert NAMES == ["features-block-slot", "features-inch", "features-plate", "features-pockets"]
 
 
 @pytest.mark.parametrize("name", NAMES)
@@ -39,7 +39,7 @@ def test_example_is_accepted_by_rs274_and_cuts_the_features(name, rs274):
     job, r = plan_example(name)
     rep = r.report["features"]
     assert rep["unmachinable"] == [] and rep["planned"]
-    res = run_rs274(post(r.toolpath, job.tools, title=name), job.tools)
+    res = run_rs274(post(r.toolpath, job.tools, title=name), job.tools, table_units=job.units)
     assert res.ok, (res.error, res.error_line)
     stock = r.stock
     cell = job.simulation["resolution"]

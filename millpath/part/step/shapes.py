@@ -125,6 +125,14 @@ class ShapeSet:
     skipped: list[Unmachinable] = field(default_factory=list)
 
 
+_NOT_PLANNED = {
+    "STEP": "STEP features are not planned (AP224 gives the vee profile and the course "
+            "of travel, not the step's width and depth)",
+    "PLANAR_FACE": "PLANAR_FACE features are not planned (face milling)",
+    "FLAT_FACE": "FLAT_FACE features are not planned (face milling)",
+}
+
+
 class _Missing(Exception):
     pass
 
@@ -267,7 +275,8 @@ def feature_shapes(part: Part) -> ShapeSet:
         if f.children and all(c in children for c in f.children):
             continue      # composite: its components are features of their own
         if f.type not in MACHINABLE_TYPES:
-            out.skipped.append(Unmachinable(f.id, f.type, f"{f.type} features are not planned"))
+            out.skipped.append(Unmachinable(f.id, f.type, _NOT_PLANNED.get(
+                f.type, f"{f.type} features are not planned")))
             continue
         if f.placement is None:
             out.skipped.append(Unmachinable(f.id, f.type, "no placement ('orientation')"))
