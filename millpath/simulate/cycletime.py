@@ -98,51 +98,47 @@ def motion_times(motions: list[Motion], machine: Machine, *,
     a = float(machine.acceleration)
     if not a > 0:
         raise ValueError("machine acceleration must be positive")
-    L = np.zeros(n)
-    vmax = np.ones(n)
-    dwell = np.zeros(n)
-    t_in = np.zeros((n, 3))
-    t_out = np.zeros((n, 3))
+    S = np.array([m.start for m in motions], float).reshape(n, 3)
+    E = np.array([m.end for m in motions], float).reshape(n, 3)
+    kinds = [m.kind for m in motions]
+    t_in = E - S
+    t_out = t_in.copy()
+    L = np.linalg.norm(t_in, axis=1)
+    feed = np.array([m.feed for m in motions], float)
     kind = np.zeros(n, np.int8)               # 0 feed-like, 1 traverse, 2 dwell/none
-    for i, mo in enumerate(motions):
-        if mo.kind == "dwell":
-            dwell[i] = max(0.0, mo.dwell)
-            kind[i] = 2
-            continue
-        if mo.kind not in ("traverse", "feed", "arc", "cubic"):
-            kind[i] = 2
-            continue
-        ti, to, length, radius = _tangents(mo)
-        L[i] = length
-        t_in[i] = ti
-        t_out[i] = to
-        if mo.kind == "traverse":
-            vmax[i] = machine.rapid / 60.0
+    radius = np.full(n, np.inf)
+    dwell = np.zeros(n)
+    for i, k in enumerate(kinds):
+        if k == "traverse":
             kind[i] = 1
-            continue
-        f = mo.feed
-        if mo.feed_mode == "inverse_time":
-            f = f * length                    # F moves per minute -> units per minute
-        if not f > 0:
-            f = machine.max_feed
-        v = min(f, machine.max_feed) / 60.0
-        if math.isfinite(radius) and radius > 0:
-            v = min(v, math.sqrt(a * radius))
-        vmax[i] = v
+        elif k == "arc" or k == "cubic":
+            t_in[i], t_out[i], L[i], radius[i] = _tangents(motions[i])
+        elif k != "feed":
+            kind[i] = 2
+            L[i] = 0.0
+            if k == "dwell":
+                dwell[i] = max(0.0, motions[i].dwell)
+    inv = np.array([m.feed_mode == "inverse_time" for m in motions])
+    f = np.where(inv, feed * L, feed)         # inverse time: F moves per minute
+    f = np.where(f > 0, f, machine.max_feed)
+    vmax = np.minimum(f, machine.max_feed) / 60.0
+    with np.errstate(invalid="ignore"):
+        vmax = np.where(np.isfinite(radius) & (radius > 0),
+                        np.minimum(vmax, np.sqrt(a * radius)), vmax)
+    vmax = np.where(kind == 1, machine.rapid / 60.0, vmax)
+    vmax = np.where(vmax > 0, vmax, 1e-9)
+    # junction i sits between motions i-1 and i
     junction = np.zeros(n + 1)
-    cos_lim = math.cos(math.radians(corner_angle))
-    for i in range(1, n):
-        p, q = motions[i - 1], motions[i]
-        if kind[i - 1] != 0 or kind[i] != 0 or L[i - 1] <= 0 or L[i] <= 0:
-            continue
-        if max(abs(x - y) for x, y in zip(p.end, q.start)) > 1e-9:
-            continue
-        u, w = t_out[i - 1], t_in[i]
-        nu, nw = np.linalg.norm(u), np.linalg.norm(w)
-        if nu == 0 or nw == 0:
-            continue
-        if float(u @ w) / (nu * nw) >= cos_lim:
-            junction[i] = min(vmax[i - 1], vmax[i])
+    if n > 1:
+        u, w = t_out[:-1], t_in[1:]
+        nu, nw = np.linalg.norm(u, axis=1), np.linalg.norm(w, axis=1)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            cosang = np.einsum("ij,ij->i", u, w) / (nu * nw)
+        smooth = ((kind[:-1] == 0) & (kind[1:] == 0) & (L[:-1] > 0) & (L[1:] > 0)
+                  & (np.abs(E[:-1] - S[1:]).max(axis=1) <= 1e-9)
+                  & (nu > 0) & (nw > 0)
+                  & (cosang >= math.cos(math.radians(corner_angle))))
+        junction[1:-1] = np.where(smooth, np.minimum(vmax[:-1], vmax[1:]), 0.0)
     return _plan(L, vmax, junction, a) + dwell
 
 

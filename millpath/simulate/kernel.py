@@ -79,11 +79,13 @@ def _bull_u(R: float, rc: float, h2: float, m: float, ulo: float, uhi: float) ->
 
 
 @njit(cache=True, inline="always")
-def _envelope(px, py, x0, y0, z0, ux, uy, L, m, ttype, R, rc, k):
+def _envelope(px, py, x0, y0, z0, ux, uy, L, m, sq, ci, ttype, R, rc, k):
     """Lowest Z of the tool swept along the chord above (px, py); +inf if not under it.
 
     (x0, y0, z0) is the chord start, (ux, uy) the XY unit direction, L the XY length
-    (0 for a vertical chord, where z0 must be its lower end), m the slope.
+    (0 for a vertical chord, where z0 must be its lower end), m the slope; per chord
+    constants ``sq = sqrt(1 + m^2)`` and ``ci = 1 / sqrt(k^2 - m^2)`` (drill, when the
+    cone is steeper than the chord; else 0).
     """
     dx = px - x0
     dy = py - y0
@@ -108,10 +110,13 @@ def _envelope(px, py, x0, y0, z0, ux, uy, L, m, ttype, R, rc, k):
     elif ttype == FLAT:
         u = ulo if m > 0.0 else uhi
     elif ttype == BALL:
-        u = -m * w / math.sqrt(1.0 + m * m)
+        u = -m * w / sq
+        if ulo <= u <= uhi:
+            # on the swept cylinder: R - sqrt(w^2 - u^2) + m u = R - w sqrt(1 + m^2)
+            return z0 + m * s + R - w * sq
     elif ttype == DRILL:
-        if k > abs(m):
-            u = -m * abs(hh) / math.sqrt(k * k - m * m)
+        if ci > 0.0:
+            u = -m * abs(hh) * ci
         else:
             u = ulo if m > 0.0 else uhi
     else:
@@ -146,6 +151,75 @@ def _row_span(yc, x0, y0, x1, y1, R):
     xa = x0 + (x1 - x0) * ta
     xb = x0 + (x1 - x0) * tb
     return min(xa, xb) - R, max(xa, xb) + R
+
+
+@njit(cache=True)
+def _row_fast(row, xs0, dx, ddy, ux, uy, L, m, isq, ci, ttype, R, k, z0, zfloor, eps, write):
+    """One row of cells (``row`` a view, first cell centre at ``xs0`` relative to the
+    chord start, ``ddy`` the row's Y relative to it) under a non-vertical chord of a
+    flat, ball or drill tool. Branch-free so LLVM vectorises it. Returns the number of
+    cells that had material above the tool; lowers them when ``write``."""
+    R2 = R * R
+    big = 1e300
+    uflat = -big if m > 0.0 else big
+    hits = 0
+    zf = zfloor + eps
+    for i in range(row.shape[0]):
+        ddx = xs0 + i * dx
+        s = ddx * ux + ddy * uy
+        hh = ddx * uy - ddy * ux
+        h2 = hh * hh
+        w2 = R2 - h2
+        w2c = w2 if w2 > 0.0 else 0.0
+        w = math.sqrt(w2c)
+        ulo = -s if -s > -w else -w
+        ls = L - s
+        uhi = ls if ls < w else w
+        if ttype == BALL:
+            u0 = -m * w * isq
+        elif ttype == DRILL:
+            ah = hh if hh > 0.0 else -hh
+            u0 = -m * ah * ci if ci > 0.0 else uflat
+        else:
+            u0 = uflat
+        u = u0 if u0 > ulo else ulo
+        u = u if u < uhi else uhi
+        if ttype == BALL:
+            q = w2c - u * u
+            q = q if q > 0.0 else 0.0
+            prof = R - math.sqrt(q)
+        elif ttype == DRILL:
+            d2 = h2 + u * u
+            d2 = d2 if d2 < R2 else R2
+            prof = k * math.sqrt(d2)
+        else:
+            prof = 0.0
+        z = z0 + m * (s + u) + prof
+        z = z if (w2 >= 0.0) & (ulo <= uhi) else big
+        old = row[i]
+        hits += (z < old - eps) & (old > zf)
+        if write:
+            z = z if z > zfloor else zfloor
+            row[i] = z if z < old else old
+    return hits
+
+
+@njit(cache=True)
+def _row_generic(row, xs0, dx, ddy, ux, uy, L, m, sq, ci, ttype, R, rc, k, z0, zfloor,
+                 eps, write):
+    """Scalar version of :func:`_row_fast` for every case (vertical chords, bull)."""
+    hits = 0
+    for i in range(row.shape[0]):
+        old = row[i]
+        if old <= zfloor + eps:
+            continue
+        z = _envelope(xs0 + i * dx, ddy, 0.0, 0.0, z0, ux, uy, L, m, sq, ci, ttype, R, rc, k)
+        if z < old:
+            if z < old - eps:
+                hits += 1
+            if write:
+                row[i] = z if z > zfloor else zfloor
+    return hits
 
 
 @njit(cache=True)
@@ -188,7 +262,10 @@ def _sweep_band(H, bmax, B, jlo, jhi, zfloor, gx, gy, dx, dy,
         uy = Ly / L
         m = (z1 - z0) / L
         zs = z0 + zoff
-    hit = False
+    sq = math.sqrt(1.0 + m * m)
+    ci = 1.0 / math.sqrt(k * k - m * m) if (ttype == DRILL and k > abs(m)) else 0.0
+    fast = L > 0.0 and ttype != BULL
+    hits = 0
     for j in range(ja, jb + 1):
         yc = gy + (j + 0.5) * dy
         xa, xb = _row_span(yc, x0, y0, x1, y1, R)
@@ -196,20 +273,19 @@ def _sweep_band(H, bmax, B, jlo, jhi, zfloor, gx, gy, dx, dy,
             continue
         i0 = max(ia, int(math.ceil((xa - gx) / dx - 0.5)))
         i1 = min(ib, int(math.floor((xb - gx) / dx - 0.5)))
-        for i in range(i0, i1 + 1):
-            hcur = H[j, i]
-            if hcur <= zfloor + eps:
-                continue
-            xc = gx + (i + 0.5) * dx
-            z = _envelope(xc, yc, x0, y0, zs, ux, uy, L, m, ttype, R, rc, k)
-            if z < hcur:
-                if z < hcur - eps:
-                    hit = True
-                if cut:
-                    H[j, i] = z if z > zfloor else zfloor
-                elif hit:
-                    return True
-    return hit
+        if i0 > i1:
+            continue
+        row = H[j, i0:i1 + 1]
+        xs0 = gx + (i0 + 0.5) * dx - x0
+        if fast:
+            hits += _row_fast(row, xs0, dx, yc - y0, ux, uy, L, m, 1.0 / sq, ci, ttype, R,
+                              k, zs, zfloor, eps, cut)
+        else:
+            hits += _row_generic(row, xs0, dx, yc - y0, ux, uy, L, m, sq, ci, ttype, R,
+                                 rc, k, zs, zfloor, eps, cut)
+        if hits > 0 and not cut:
+            return True
+    return hits > 0
 
 
 @njit(cache=True, parallel=True)
