@@ -167,6 +167,17 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
             strat, tool, note = slot_tool(s, tools, tol)
         else:
             strat, tool, note = pocket_tool(s, tools, tol)
+        if tool is not None:
+            depth = (s.depth if not (isinstance(s, HoleShape) and s.bottom == "through")
+                     else s.z_top - stock.zmin)
+            reach = tool.flute_length
+            if reach < depth - 1e-9:
+                note = "; ".join(x for x in (note, f"T{tool.number} flutes ({reach:g}) are "
+                                             f"shorter than the depth ({depth:g})") if x)
+            if tool.stickout < depth - 1e-9:
+                note = "; ".join(x for x in (note, f"T{tool.number} stickout ({tool.stickout:g})"
+                                             f" is shorter than the depth: the holder will "
+                                             f"touch") if x)
         if tool is None:
             skipped.append({"id": s.id, "type": type(s).__name__.replace("Shape", "").upper(),
                             "reason": note, "kind": "no tool"})
@@ -207,6 +218,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
             rec = _cut(tp, t, tool, sp, h, start, stock, data.chip_breaking, allowance,
                        stepover, step_down, breakthrough)
             done.append(t.shape)
+            rec = {k: round(v, 6) if isinstance(v, float) else v for k, v in rec.items()}
             rec.update(id=t.shape.id, type=type(t.shape).__name__.replace("Shape", "").upper(),
                        strategy=t.strategy, tool=n, rpm=sp.rpm, feed=sp.feed)
             if t.note:
