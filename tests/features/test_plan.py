@@ -204,3 +204,16 @@ def test_nested_features_start_where_material_is(tmp_path, corner, inner, inner_
     expected = r.design.volume(0.125, (st.xmin, st.ymin, st.xmax, st.ymax), st.zmin)
     assert sim.removed_volume == pytest.approx(expected, rel=0.01)
     assert sim.max_gouge <= 1e-6 and sim.rapids_through_material == 0
+
+
+@pytest.mark.parametrize("name", sorted(PRISMATIC))
+def test_interpreted_program_gives_back_the_toolpath(name, planned):
+    from millpath.interpret import interpret
+    from millpath.post.linuxcnc import post_with_lines
+    from millpath.verify.roundtrip import compare_toolpath
+    units, tools, _ = PRISMATIC[name]
+    r = planned[name]
+    program, lines = post_with_lines(r.toolpath, tools, title=name)
+    motions = interpret(program, tools, machine_units=units)
+    tol = 2e-4 if units == "mm" else 2e-5
+    assert compare_toolpath(r.toolpath, lines, motions, tol) == []
