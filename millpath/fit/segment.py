@@ -75,13 +75,14 @@ def _check(kind, P, i, j, pl, tol, q, abs_lim, rmin, rmax, corner, T, out):
 
 
 @njit(cache=True)
-def _grow(kind, P, i, n, pl, tol, q, abs_lim, rmin, rmax, corner, T, best_out):
-    """Largest end vertex j > i for which the check passes (i if none); the parameters
-    of that fit are left in ``best_out``."""
+def _grow(kind, P, i, n, pl, tol, q, abs_lim, rmin, rmax, corner, T, best_out, jmin):
+    """Largest end vertex j >= jmin for which the check passes (i if none); the
+    parameters of that fit are left in ``best_out``. ``jmin``: a candidate must reach
+    at least this far to beat what another kind of primitive already reaches."""
     out = np.empty(8)
     last = min(n - 1, i + MAX_SPAN)
     best = i
-    j = i + 1 if kind == 0 else i + 2
+    j = max(jmin, i + 1 if kind == 0 else i + 2)
     bad = last + 1
     # a few short candidates, then doubling
     while j <= last:
@@ -93,6 +94,10 @@ def _grow(kind, P, i, n, pl, tol, q, abs_lim, rmin, rmax, corner, T, best_out):
         else:
             if best == i and kind != 0 and j == i + 2:
                 j += 1          # noisy starts: give the least-squares fit a 4th point
+                continue
+            if best == i and j == jmin and j < last:
+                j += 1          # one more point before giving up (not monotone)
+                jmin = -1
                 continue
             bad = j
             break
@@ -166,21 +171,23 @@ def segment(P, tol, q, abs_lim, rmin, rmax, corner, cubics, smooth_angle):
     cnt = 0
     i = 0
     while i < n - 1:
-        jl = _grow(0, P, i, n, 0, tol, q, abs_lim, rmin, rmax, corner, T, tmp)
+        jl = _grow(0, P, i, n, 0, tol, q, abs_lim, rmin, rmax, corner, T, tmp, i + 1)
         best_kind = 0
         best_j = max(jl, i + 1)
         bestp = np.zeros(8)
         for pl in range(3):
             if not plane_possible(P, i, n, PLANES[pl, 0], PLANES[pl, 1], PLANES[pl, 2], tol):
                 continue
-            ja = _grow(1, P, i, n, pl, tol, q, abs_lim, rmin, rmax, corner, T, cand)
+            ja = _grow(1, P, i, n, pl, tol, q, abs_lim, rmin, rmax, corner, T, cand,
+                       best_j + 1)
             if ja > best_j:
                 best_kind = 1
                 best_j = ja
                 bestp[0] = pl
                 bestp[1:6] = cand[:5]
         if cubics and i + 2 < n and P[i + 1, 2] == P[i, 2] and P[i + 2, 2] == P[i, 2]:
-            jc = _grow(2, P, i, n, 0, tol, q, abs_lim, rmin, rmax, corner, T, cand)
+            jc = _grow(2, P, i, n, 0, tol, q, abs_lim, rmin, rmax, corner, T, cand,
+                       best_j + 1)
             if jc > best_j:
                 best_kind = 2
                 best_j = jc
