@@ -217,3 +217,32 @@ def test_interpreted_program_gives_back_the_toolpath(name, planned):
     motions = interpret(program, tools, machine_units=units)
     tol = 2e-4 if units == "mm" else 2e-5
     assert compare_toolpath(r.toolpath, lines, motions, tol) == []
+
+
+@pytest.mark.parametrize("with_pocket", [False, True])
+def test_flat_holes_are_drilled_then_flattened_when_the_drill_comes_first(tmp_path, with_pocket):
+    from millpath.part.step.build import Ap224Builder
+    from millpath.simulate import simulate_toolpath
+    b = Ap224Builder("FLAT", units="mm", material="aluminium")
+    b.block(80.0, 40.0, 20.0)
+    b.hole((20.0, 20.0, 20.0), 10.0, 12.0, bottom="flat")
+    if with_pocket:           # the 6 mm end mill is needed first for the pocket
+        b.pocket((55.0, 20.0, 20.0), 3.0, "rectangular", length=30.0, width=20.0,
+                 corner_radius=3.0)
+    (tmp_path / "flat.stp").write_text(b.text())
+    ctx = PlanContext(units="mm", stock=None, machine=Machine(), tools=TOOLS_MM,
+                      base_dir=tmp_path)
+    r = plan(ctx, validate({"step": "flat.stp"}, PARAMS, "op", None, tmp_path))
+    hole = [p for p in r.report["features"]["planned"] if p["type"] == "HOLE"]
+    if with_pocket:
+        assert [(p["strategy"], p["tool"]) for p in hole] == [("helical", 3)]
+    else:
+        assert [(p["strategy"], p["tool"]) for p in hole] == [("drill", 8), ("flatten", 3)]
+        flatten = hole[1]
+        assert flatten["z_start"] == pytest.approx(8.0 + TOOLS_MM[8].point_depth())
+    assert len(r.toolpath.ops) == len({op.tool for op in r.toolpath.ops})
+    st = r.stock
+    sim = simulate_toolpath(r.toolpath, TOOLS_MM, st, resolution=0.2, design=r.design)
+    expected = r.design.volume(0.1, (st.xmin, st.ymin, st.xmax, st.ymax), st.zmin)
+    assert sim.removed_volume == pytest.approx(expected, rel=0.01)
+    assert sim.max_gouge <= 1e-6 and sim.max_left <= 0.05

@@ -39,7 +39,7 @@ from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.features import paths
 from millpath.plan.features.cutting import MATERIALS, material_class, speeds
 from millpath.plan.features.design import FeatureDesign, slot_outline
-from millpath.plan.features.select import hole_tool, pocket_tool, slot_tool
+from millpath.plan.features.select import hole_tool, matching_drill, pocket_tool, slot_tool
 
 
 def _tools_check(v: Any) -> str | None:
@@ -183,22 +183,36 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
                             "reason": note, "kind": "no tool"})
             unplanned.append(s)
             continue
-        tasks.append(_Task(s, strat, tool, note))
+        drill = (matching_drill(s, tools, tol)
+                 if isinstance(s, HoleShape) and s.bottom == "flat" and strat == "helical"
+                 else None)
+        if drill is not None:       # drill first, then flatten the cone with the end mill
+            tasks.append(_Task(s, "drill", drill, "flat bottom: the drill point's cone is "
+                                                  f"milled flat with T{tool.number}"))
+            tasks.append(_Task(s, "flatten", tool, note))
+        else:
+            tasks.append(_Task(s, strat, tool, note))
 
-    groups: dict[int, list[_Task]] = {}
-    for t in tasks:
-        groups.setdefault(t.tool.number, []).append(t)
-
-    def group_key(n: int):
-        g = groups[n]
-        region = any(t.strategy in ("slot", "pocket", "circular") for t in g)
-        tool = g[0].tool
-        return (0 if region else 1 if tool.type == "drill" else 2, -tool.diameter, n)
+    groups = _groups(tasks)
+    order = sorted(groups, key=lambda n: _group_key(groups[n], n))
+    # a flat-bottom hole whose end mill comes before its drill is milled in full
+    rank = {n: i for i, n in enumerate(order)}
+    drilled_at = {t.shape.id: rank[t.tool.number] for t in tasks if t.strategy == "drill"}
+    late = {t.shape.id for t in tasks
+            if t.strategy == "flatten" and rank[t.tool.number] < drilled_at[t.shape.id]}
+    if late:
+        tasks = [t for t in tasks if not (t.shape.id in late and t.strategy == "drill")]
+        for t in tasks:
+            if t.shape.id in late:
+                t.strategy = "helical"
+        groups = _groups(tasks)
+        order = sorted(groups, key=lambda n: _group_key(groups[n], n))
 
     tp = Toolpath(units=ctx.units)
     planned = []
     done: list = []                 # shapes cut so far, in program order
-    for n in sorted(groups, key=group_key):
+    drilled: dict[int, Tool] = {}   # flat-bottom holes drilled so far -> their drill
+    for n in order:
         group = _order(groups[n])
         tool = group[0].tool
         sp = speeds(tool, mat, ctx.units, max_rpm=params["max_rpm"],
@@ -215,9 +229,18 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
                            info={"material": mat, "vc": round(sp.vc, 1), "chip": sp.chip}))
         for t in group:
             start = _material_top(t.shape, done, z_top)
+            if t.strategy == "flatten":
+                d = drilled[t.shape.id]
+                start = min(start, t.shape.z_bottom + d.point_depth())
             rec = _cut(tp, t, tool, sp, h, start, stock, data.chip_breaking, allowance,
                        stepover, step_down, breakthrough)
-            done.append(t.shape)
+            if t.strategy == "drill" and isinstance(t.shape, HoleShape) \
+                    and t.shape.bottom == "flat":
+                drilled[t.shape.id] = tool
+                done.append(dataclasses.replace(t.shape, bottom="conical",
+                                                tip_angle=tool.point_angle))
+            else:
+                done.append(t.shape)
             rec = {k: round(v, 6) if isinstance(v, float) else v for k, v in rec.items()}
             rec.update(id=t.shape.id, type=type(t.shape).__name__.replace("Shape", "").upper(),
                        strategy=t.strategy, tool=n, rpm=sp.rpm, feed=sp.feed)
@@ -241,6 +264,21 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     }}
     return PlanResult(toolpath=tp, design=design, report=report,
                       stock=file_stock if ctx.stock is None else None)
+
+
+def _groups(tasks: list[_Task]) -> dict[int, list[_Task]]:
+    groups: dict[int, list[_Task]] = {}
+    for t in tasks:
+        groups.setdefault(t.tool.number, []).append(t)
+    return groups
+
+
+def _group_key(g: list[_Task], n: int):
+    """Tool order: region milling first (largest tool first), then drills, then the
+    other milling (helical holes, flattening of drilled holes)."""
+    region = any(t.strategy in ("slot", "pocket", "circular") for t in g)
+    tool = g[0].tool
+    return (0 if region else 1 if tool.type == "drill" else 2, -tool.diameter, n)
 
 
 def _material_top(shape, done: list, z_stock: float) -> float:

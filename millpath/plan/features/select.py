@@ -1,8 +1,9 @@
 """Tool selection for features from the job's tool library (job units).
 
 - Holes: a drill of the hole's diameter (within ``tol``) for through holes, conical
-  bottoms (the drill's point angle within 1 degree of the tip angle) and, when no end
-  mill fits, flat bottoms (the cone under the floor is left and reported); otherwise
+  bottoms (the drill's point angle within 1 degree of the tip angle) and flat bottoms
+  (the planner then mills the drill point's cone flat with the end mill chosen here;
+  without an end mill the cone is left and reported); otherwise
   helical interpolation with the largest flat end mill no wider than 0.9 x the hole
   (a bull nose of the bottom's corner radius for 'flat with radius'); a spherical bottom
   takes a ball end mill of the hole's diameter.
@@ -30,6 +31,12 @@ def _largest(cands: list[Tool], depth: float) -> Tool | None:
     if not cands:
         return None
     return max(cands, key=lambda t: (_flute_ok(t, depth), t.diameter, -t.number))
+
+
+def matching_drill(h: HoleShape, tools: list[Tool], tol: float) -> Tool | None:
+    """A drill of the hole's diameter (within ``tol``) whose flutes reach deepest."""
+    drills = [t for t in tools if t.type == "drill" and abs(t.diameter - h.diameter) <= tol]
+    return _largest(drills, h.depth)
 
 
 def hole_tool(h: HoleShape, tools: list[Tool], tol: float) -> tuple[str, Tool | None, str]:
