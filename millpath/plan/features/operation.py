@@ -17,10 +17,17 @@ Job keys (lengths in job units):
   :data:`millpath.plan.features.cutting.MATERIALS`).
 
 Holes get canned cycles (G81; G73 chip breaking or G83 full retract pecks of one
-diameter beyond three diameters deep), helical interpolation or a ball plunge; slots and
-pockets are cleared by contour-parallel rings per level plus a finishing wall pass.
-Operations are grouped by tool (one tool change per tool), region milling first.
+diameter beyond three diameters deep), helical interpolation or a ball plunge; a
+flat-bottom hole with a drill of its diameter is drilled and its point's cone milled
+flat. Slots and pockets are cleared by contour-parallel rings per level, entered by
+ramps, plus a finishing wall pass. Operations are grouped by tool (one tool change
+per tool): region milling first, then drills, then other milling; within a tool,
+higher feature tops first, then nearest neighbour. Each feature is milled from where
+material still is (its own top when earlier features cleared it, else the stock top).
 Coordinates are in the stock frame of the file (block corner at the origin).
+
+The report section ``features`` lists every planned feature (strategy, tool, spindle,
+feed, cycle, levels) and every feature left out with the reason.
 """
 
 from __future__ import annotations
