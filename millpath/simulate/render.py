@@ -41,9 +41,9 @@ def render_stock(zmap: ZMap, path: str | Path, *, title: str = "", units: str = 
     from matplotlib import cm
     plt, fig, ax = _figure(zmap)
     h, step = _decimate(zmap.heights)
-    lo, hi = float(zmap.zmin), float(zmap.ztop)
-    if hi - lo <= 0:
-        hi = lo + 1.0
+    lo, hi = float(zmap.heights.min()), float(zmap.ztop)
+    if hi - lo <= 1e-12:
+        lo = float(zmap.zmin) if zmap.zmin < hi else hi - 1.0
     norm = Normalize(vmin=lo, vmax=hi)
     cmap = plt.get_cmap("viridis")
     ls = LightSource(azdeg=315, altdeg=40)
@@ -70,19 +70,29 @@ def render_deviation(zmap: ZMap, design, path: str | Path, *, title: str = "",
 
     Red: the tool went below the design (gouge); blue: material left above it; white:
     within ``tolerance`` (job units). Returns the path."""
-    from matplotlib.colors import LinearSegmentedColormap, TwoSlopeNorm
+    from matplotlib.colors import LinearSegmentedColormap, Normalize, TwoSlopeNorm
     from millpath.simulate.simulator import deviation
     plt, fig, ax = _figure(zmap)
     dev = deviation(zmap, design)
     if tolerance > 0:
         dev = np.where(np.abs(dev) <= tolerance, 0.0, dev)
-    gmax = float(max(-dev.min(), 0.0))
-    lmax = float(max(dev.max(), 0.0))
-    tiny = 1e-9
-    norm = TwoSlopeNorm(vmin=-max(gmax, tiny), vcenter=0.0, vmax=max(lmax, tiny))
-    cmap = LinearSegmentedColormap.from_list(
-        "gouge_left", [(0.0, "#b2001d"), (0.35, "#f26b5b"), (0.5, "#ffffff"),
-                       (0.65, "#6baed6"), (1.0, "#08306b")])
+    gmax = max(float(-dev.min()), 0.0) + 0.0        # + 0.0: no "-0" in titles
+    lmax = max(float(dev.max()), 0.0) + 0.0
+    red = ["#b2001d", "#f26b5b", "#ffffff"]
+    blue = ["#ffffff", "#6baed6", "#08306b"]
+    if gmax > 0 and lmax > 0:
+        norm = TwoSlopeNorm(vmin=-gmax, vcenter=0.0, vmax=lmax)
+        cmap = LinearSegmentedColormap.from_list("dev", red + blue[1:])
+        ticks = [-gmax, -gmax / 2, 0.0, lmax / 2, lmax]
+    elif gmax > 0:
+        norm = Normalize(vmin=-gmax, vmax=0.0)
+        cmap = LinearSegmentedColormap.from_list("dev", red)
+        ticks = [-gmax, -gmax / 2, 0.0]
+    else:
+        top = lmax if lmax > 0 else 1.0
+        norm = Normalize(vmin=0.0, vmax=top)
+        cmap = LinearSegmentedColormap.from_list("dev", blue)
+        ticks = [0.0, top / 2, top]
     d, _ = _decimate(dev)
     # keep the extremes visible when decimating: take the block extremes instead
     if d.shape != dev.shape:
@@ -97,8 +107,7 @@ def render_deviation(zmap: ZMap, design, path: str | Path, *, title: str = "",
     cb = fig.colorbar(im, ax=ax, shrink=0.85)
     u = f" ({units})" if units else ""
     cb.set_label(f"deviation{u}: red = gouge (below design), blue = material left")
-    ticks = sorted({-gmax, -gmax / 2, 0.0, lmax / 2, lmax})
-    cb.set_ticks([t for t in ticks if abs(t) > 0 or t == 0.0])
+    cb.set_ticks(ticks)
     ax.set_xlabel("X")
     ax.set_ylabel("Y")
     ax.set_title(title or f"deviation from design: max gouge {gmax:.4g}, "

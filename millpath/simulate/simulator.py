@@ -137,52 +137,70 @@ def sweep(zmap: ZMap, segs: Segments, tools: dict[int, Tool], n_motions: int, *,
     return rapid_hit[:n_motions], holder_hit[:n_motions]
 
 
+def _design_rows(zmap: ZMap, design, j0: int, j1: int):
+    """Design heights for rows [j0, j1): (centre, lowest, highest over centre and the
+    four corners), each at least the stock bottom (NaN and -inf count as no part)."""
+    xs = zmap.xs()
+    ys = zmap.ys()[j0:j1]
+    X, Y = np.meshgrid(xs, ys)
+    dc = np.asarray(design.height(X, Y), float).reshape(X.shape)
+    xk = zmap.x0 + np.arange(len(xs) + 1) * zmap.dx
+    yk = zmap.y0 + np.arange(j0, j1 + 1) * zmap.dy
+    XK, YK = np.meshgrid(xk, yk)
+    dk = np.asarray(design.height(XK, YK), float).reshape(XK.shape)
+    corners = (dk[:-1, :-1], dk[1:, :-1], dk[:-1, 1:], dk[1:, 1:])
+    lo = dc.copy()
+    hi = dc.copy()
+    for c in corners:
+        np.fmin(lo, c, out=lo)
+        np.fmax(hi, c, out=hi)
+    zf = zmap.zmin
+    out = []
+    for a in (dc, lo, hi):
+        a = np.where(np.isnan(a), -np.inf, a)
+        out.append(np.maximum(a, zf))
+    return out
+
+
+def _row_blocks(zmap: ZMap, rows: int = 256):
+    ny = zmap.heights.shape[0]
+    for j0 in range(0, ny, rows):
+        yield j0, min(ny, j0 + rows)
+
+
+def _cut_mask(zmap: ZMap, h: np.ndarray) -> np.ndarray:
+    return h < zmap.ztop - 1e-9 * max(1.0, abs(zmap.ztop))
+
+
 def compare(zmap: ZMap, design) -> tuple[float, float, float]:
     """(max gouge, max material left, volume left) of the Z-map against ``design``.
 
     See the module docstring for the per-cell convention."""
-    xs, ys = zmap.xs(), zmap.ys()
-    X, Y = np.meshgrid(xs, ys)
-    dc = np.asarray(design.height(X, Y), float)
-    xk = zmap.x0 + np.arange(len(xs) + 1) * zmap.dx
-    yk = zmap.y0 + np.arange(len(ys) + 1) * zmap.dy
-    XK, YK = np.meshgrid(xk, yk)
-    dk = np.asarray(design.height(XK, YK), float)
-    lo = np.minimum.reduce([dc, dk[:-1, :-1], dk[1:, :-1], dk[:-1, 1:], dk[1:, 1:]])
-    hi = np.maximum.reduce([dc, dk[:-1, :-1], dk[1:, :-1], dk[:-1, 1:], dk[1:, 1:]])
-    zf = zmap.zmin
-    lo = np.maximum(np.nan_to_num(lo, nan=-np.inf), zf)
-    hi = np.maximum(np.nan_to_num(hi, nan=-np.inf), zf)
-    dc = np.maximum(np.nan_to_num(dc, nan=-np.inf), zf)
-    h = zmap.heights
-    cut = h < zmap.ztop - 1e-9 * max(1.0, abs(zmap.ztop))
-    gouge = float(np.max(lo - h, where=cut, initial=0.0))
-    left = float(np.max(h - hi, initial=0.0))
-    left_vol = float(np.sum(np.maximum(h - dc, 0.0)) * zmap.cell_area)
-    return max(gouge, 0.0), max(left, 0.0), left_vol
+    gouge = 0.0
+    left = 0.0
+    vol = 0.0
+    for j0, j1 in _row_blocks(zmap):
+        dc, lo, hi = _design_rows(zmap, design, j0, j1)
+        h = zmap.heights[j0:j1]
+        gouge = max(gouge, float(np.max(lo - h, where=_cut_mask(zmap, h), initial=0.0)))
+        left = max(left, float(np.max(h - hi, initial=0.0)))
+        vol += float(np.sum(np.maximum(h - dc, 0.0)))
+    return gouge, left, vol * zmap.cell_area
 
 
 def deviation(zmap: ZMap, design) -> np.ndarray:
     """Signed deviation per cell (ny, nx): positive = material left above the design
     (highest design value over the cell), negative = gouge (lowest value, cut cells),
     0 within the cell's own design range."""
-    xs, ys = zmap.xs(), zmap.ys()
-    X, Y = np.meshgrid(xs, ys)
-    dc = np.asarray(design.height(X, Y), float)
-    xk = zmap.x0 + np.arange(len(xs) + 1) * zmap.dx
-    yk = zmap.y0 + np.arange(len(ys) + 1) * zmap.dy
-    XK, YK = np.meshgrid(xk, yk)
-    dk = np.asarray(design.height(XK, YK), float)
-    corners = [dc, dk[:-1, :-1], dk[1:, :-1], dk[:-1, 1:], dk[1:, 1:]]
-    lo = np.maximum(np.nan_to_num(np.minimum.reduce(corners), nan=-np.inf), zmap.zmin)
-    hi = np.maximum(np.nan_to_num(np.maximum.reduce(corners), nan=-np.inf), zmap.zmin)
-    h = zmap.heights
-    cut = h < zmap.ztop - 1e-9 * max(1.0, abs(zmap.ztop))
-    out = np.zeros_like(h)
-    above = h > hi
-    out[above] = (h - hi)[above]
-    below = (h < lo) & cut
-    out[below] = (h - lo)[below]
+    out = np.zeros_like(zmap.heights)
+    for j0, j1 in _row_blocks(zmap):
+        _, lo, hi = _design_rows(zmap, design, j0, j1)
+        h = zmap.heights[j0:j1]
+        o = out[j0:j1]
+        above = h > hi
+        o[above] = (h - hi)[above]
+        below = (h < lo) & _cut_mask(zmap, h)
+        o[below] = (h - lo)[below]
     return out
 
 
@@ -211,6 +229,7 @@ def simulate_motions(motions: list[Motion], tools: dict[int, Tool], stock: Stock
     ``holder_contacts`` motions where the shank or holder met material.
     """
     machine = machine or Machine()
+    motions = list(motions)                 # MotionList builds records on access
     zmap = ZMap.from_stock(stock, resolution)
     segs = motion_segments(motions, resolution / 20.0)
     lines = [m.line for m in motions]
