@@ -155,3 +155,13 @@ def test_fixtures_round_trip(name):
 def test_shared_instance_counts(shared_dir):
     assert len(read(shared_dir / "step" / "ap224_995277945.stp")) == 2266
     assert len(read(shared_dir / "step" / "iso14649_teste_final_unblab.p21")) == 468
+
+
+def test_strings_broken_across_lines_drop_the_line_breaks():
+    assert parse(wrap("#1=A('a long\n string');"))[1].params == ["a long string"]
+
+
+def test_a_quote_left_open_is_reported_where_it_opens():
+    with pytest.raises(MillpathError) as e:
+        parse(wrap("#1=A(1);\n#2=B('x);\n#3=C('y');\n#4=D(2);"), "q.stp")
+    assert (e.value.line, e.value.entity, e.value.message) == (7, "#2", "unterminated string")

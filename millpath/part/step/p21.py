@@ -312,6 +312,8 @@ def _unescape_match(m: re.Match) -> str:
 
 def decode_string(body: str) -> str:
     """Decode the inside of a Part 21 string literal (without the quotes)."""
+    if "\n" in body or "\r" in body:     # a string broken across lines: breaks are not data
+        body = body.replace("\r", "").replace("\n", "")
     if "''" in body:
         body = body.replace("''", "'")
     if "\\" in body:
@@ -375,6 +377,11 @@ class _Parser:
             if e.i >= len(toks):
                 raise self.fail_at(len(text), e.msg, e.inst) from None
             t = toks[e.i]
+            # a quote left open swallows text up to the next quote: find that "string"
+            for j in range(e.i - 1, max(e.i - 60, 0) - 1, -1):
+                if toks[j][0] == "'" and "\n" in toks[j] and ";" in toks[j]:
+                    e.i, e.msg, t = j, "unterminated string", toks[j]
+                    break
             if t == "'":
                 e.msg = "unterminated string"
             elif t == "/" and e.i + 1 < len(toks) and toks[e.i + 1] == "*":
@@ -529,7 +536,8 @@ class _Parser:
                     if len(t) < 2:
                         raise _Fail(i - 1, "unterminated string", iid)
                     body = t[1:-1]
-                    cur.append(decode_string(body) if ("'" in body or "\\" in body) else body)
+                    cur.append(decode_string(body) if ("'" in body or "\\" in body
+                                                       or "\n" in body) else body)
                 elif c == "(":
                     stack.append(cur)
                     typed.append(name)
