@@ -326,13 +326,11 @@ class _Reader:
         p = inst.get("DIRECTION")
         if p is None or not isinstance(p[1], list):
             raise self.sf.error(inst, "expected a DIRECTION", Ap224Error)
-        v = np.array([float(x) for x in p[1]] + [0.0] * (3 - len(p[1])))
-        n = np.linalg.norm(v)
+        v = [float(x) for x in p[1]] + [0.0] * (3 - len(p[1]))
+        n = math.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
         if not n > 0:
             raise self.sf.error(inst, "zero-length DIRECTION", Ap224Error)
-        v = v / n
-        v[np.abs(v) < 1e-12] = 0.0
-        return (float(v[0]), float(v[1]), float(v[2]))
+        return tuple(0.0 if abs(x / n) < 1e-12 else x / n for x in v[:3])  # type: ignore
 
     def placement(self, inst: Instance) -> Placement:
         p = inst.get("AXIS2_PLACEMENT_3D")
@@ -525,8 +523,11 @@ def read_part(source: str | Path | StepFile) -> Part:
         return read_iso14649(sf)
     r = _Reader(sf)
     r.global_units()
+    cand = {i.id for name in ("MACHINING_FEATURE", "INSTANCED_FEATURE", *FEATURE_TYPES)
+            for i in sf.by_type(name)}
     feats = []
-    for inst in sf.instances.values():
+    for iid in [i for i in sf.instances if i in cand]:       # file order
+        inst = sf[iid]
         t = r.feature_type(inst)
         if t is not None:
             feats.append(r.feature(inst, t))

@@ -118,7 +118,10 @@ class Instance:
         return [r[0] for r in self.records]
 
     def has(self, name: str) -> bool:
-        return any(r[0] == name for r in self.records)
+        for r in self.records:
+            if r[0] == name:
+                return True
+        return False
 
     def get(self, name: str) -> list | None:
         """Parameters of the record ``name`` (None if the instance has no such record)."""
@@ -182,13 +185,14 @@ class StepFile:
         return [self.instances[i] for i in self._by_type.get(name.upper(), ())]
 
     def inverse(self, ref: int) -> list[Instance]:
-        """Instances whose parameters reference ``#ref`` (each once, in id order)."""
+        """Instances whose parameters reference ``#ref`` (each once, in file order)."""
         if self._inverse is None and self._pairs is not None:
             inv2: dict[int, list[int]] = {}
             for tgt, src in zip(*self._pairs):
                 if src >= 0:
                     inv2.setdefault(tgt, []).append(src)
-            self._inverse = {k: sorted(set(v)) for k, v in inv2.items()}
+            self._inverse = {k: (v if len(v) == 1 else list(dict.fromkeys(v)))
+                             for k, v in inv2.items()}
         if self._inverse is None:
             inv: dict[int, list[int]] = {}
             for inst in self.instances.values():
