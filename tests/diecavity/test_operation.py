@@ -158,18 +158,21 @@ def test_simulated_wall_follows_the_curve_without_gouge(blanking):
     X, Y = np.meshgrid(zm.xs(), zm.ys())
     curve = build_curve(read_points_csv(params["points_file"]))
     true = Polygon(curve.sample(2000))
-    pts = shapely.points(X.ravel(), Y.ravel())
-    inside = shapely.contains(true, pts)
-    dist = shapely.distance(true.exterior, pts)
-    signed = np.where(inside, dist, -dist).reshape(X.shape)
+    shapely.prepare(true)
+    inside = shapely.contains_xy(true, X, Y)
     cut = zm.heights < job.stock.zmax - 1e-6
     through = zm.heights <= job.stock.zmin + 1e-6
-    # never inside the wall: no cut cell centre outside the true curve
+    # never inside the wall: no cut cell centre outside the true curve (beyond the
+    # reported LinuxCNC near-straight-corner undercut)
     undercut = res.report["curve"]["finish_max_undercut"]
-    assert not np.any(cut & (signed < -(undercut + 1e-9)))
+    bad = cut & ~inside
+    if bad.any():
+        d = shapely.distance(true.exterior, shapely.points(X[bad], Y[bad]))
+        assert d.max() <= undercut + 1e-9
     # the wall is within T + resolution of the curve wherever the tool can reach
     r = job.tools[1].radius
     reach = true.buffer(-r).buffer(r, quad_segs=64).buffer(-(tol + res_xy))
-    must = shapely.contains(reach, pts).reshape(X.shape)
+    shapely.prepare(reach)
+    must = shapely.contains_xy(reach, X, Y)
     assert must.sum() > 1000
     assert np.all(through[must])
