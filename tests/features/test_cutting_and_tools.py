@@ -150,3 +150,11 @@ def test_entries_into_material_ramp_no_steeper_than_the_ramp_angle(region):
         prev = m.end
     assert descents > 0
     assert min(m.end[2] for m in tp.moves) == pytest.approx(4.0)
+
+
+def test_speed_and_feed_scales():
+    t = Tool(1, "flat", 10.0, flutes=3)
+    base = speeds(t, "steel", "mm")
+    scaled = speeds(t, "steel", "mm", speed_scale=0.5, feed_scale=2.0)
+    assert scaled.rpm == pytest.approx(base.rpm / 2, abs=1)
+    assert scaled.feed == pytest.approx(base.feed, abs=2)     # half rpm, double chip

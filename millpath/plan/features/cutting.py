@@ -76,14 +76,16 @@ class Speeds:
 
 
 def speeds(tool: Tool, material: str, units: str, *, max_rpm: float = 24000.0,
-           max_feed: float | None = None) -> Speeds:
-    """Spindle speed and feeds for ``tool`` (job ``units``) in material class ``material``."""
+           max_feed: float | None = None, speed_scale: float = 1.0,
+           feed_scale: float = 1.0) -> Speeds:
+    """Spindle speed and feeds for ``tool`` (job ``units``) in material class ``material``;
+    ``speed_scale`` and ``feed_scale`` multiply the table's cutting speed and chip load."""
     data = MATERIALS[material]
     scale = 25.4 if units == "inch" else 1.0
     d_mm = tool.diameter * scale
     hss = tool.material.lower() in ("hss", "hss-co", "hsse", "high speed steel")
-    factor = 0.35 if hss else 1.0
-    size = min(max(d_mm / 10.0, 0.2), 2.0)
+    factor = (0.35 if hss else 1.0) * speed_scale
+    size = min(max(d_mm / 10.0, 0.2), 2.0) * feed_scale
     if tool.type == "drill":
         vc = data.vc_drill * factor
         chip = data.fr_drill * size

@@ -12,7 +12,9 @@ Job keys (lengths in job units):
 - ``step_down``: largest depth per level (default half of each cutter's diameter).
 - ``clearance``: rapid plane above the stock top (default 5 mm / 0.2 in); feeds start
   1 mm / 0.04 in above the top.
-- ``max_rpm``: spindle limit (default 24000); ``coolant``: flood, mist or off;
+- ``max_rpm``: spindle limit (default 24000); ``speed_scale`` and ``feed_scale``:
+  factors on the table's cutting speeds and chip loads (default 1);
+  ``coolant``: flood, mist or off;
   ``material``: a material class overriding the file's (see
   :data:`millpath.plan.features.cutting.MATERIALS`).
 
@@ -64,6 +66,8 @@ PARAMS: dict[str, Param] = {
     "step_down": Param("float", None, positive=True),
     "clearance": Param("float", None, positive=True),
     "max_rpm": Param("float", 24000.0, positive=True),
+    "speed_scale": Param("float", 1.0, positive=True, doc="factor on table cutting speeds"),
+    "feed_scale": Param("float", 1.0, positive=True, doc="factor on table chip loads"),
     "coolant": Param("str", "flood", choices=("flood", "mist", "off")),
     "material": Param("str", "", check=lambda v: None if not v or v in MATERIALS else
                       f"unknown material class (known: {', '.join(MATERIALS)})"),
@@ -223,7 +227,8 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         group = _order(groups[n])
         tool = group[0].tool
         sp = speeds(tool, mat, ctx.units, max_rpm=params["max_rpm"],
-                    max_feed=ctx.machine.max_feed)
+                    max_feed=ctx.machine.max_feed, speed_scale=params["speed_scale"],
+                    feed_scale=params["feed_scale"])
         stepover = params["stepover"] or 0.4 * tool.diameter
         if stepover > 0.9 * tool.diameter:
             notes.append(f"stepover {stepover:g} limited to 90 % of T{n}'s diameter")
