@@ -87,8 +87,6 @@ def toolpath_motions(tp: Toolpath) -> tuple[list[Motion], list[int]]:
     first = tp.moves[0]
     pos: Vec3 = (first.end[0], first.end[1],
                  max(first.end[2], first.r_plane) if first.kind == "drill" else first.end[2])
-    series_z = pos[2]
-    prev_drill = False
     for i, m in enumerate(tp.moves):
         tool = tp.ops[m.op].tool
         k = m.kind
@@ -98,12 +96,10 @@ def toolpath_motions(tp: Toolpath) -> tuple[list[Motion], list[int]]:
                 "compensation cannot be simulated directly: post it and simulate the "
                 "interpreted motion (millpath.interpret.interpret + simulate_motions)")
         if k == "drill":
-            if not prev_drill:
-                series_z = pos[2]
-            ms = _drill_motions(m, pos, series_z, tool, i, tp.units)
-            prev_drill = True
+            # G98 returns to the Z the move starts at: for a series of holes posted as
+            # one cycle that is max(Z before the series, R), the same for every hole
+            ms = _drill_motions(m, pos, pos[2], tool, i, tp.units)
         else:
-            prev_drill = False
             if k == "rapid":
                 ms = [Motion("traverse", i, pos, m.end, tool=tool)]
             elif k == "line":

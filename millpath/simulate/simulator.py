@@ -16,6 +16,7 @@ bottom (or ``-inf``: through holes) count as the stock bottom.
 
 from __future__ import annotations
 
+import copy
 import math
 from dataclasses import dataclass, field
 from typing import Any
@@ -218,18 +219,36 @@ def _finish(zmap, design, motions, flags, times, resolution, lines, nseg) -> Sim
         holder_lines=[lines[i] for i in np.flatnonzero(holder_hit)], chords=nseg)
 
 
+def _lift_start(motions: list[Motion], stock: Stock) -> list[Motion]:
+    """The machine's position before the first programmed move is unknown (an
+    interpreter starts at machine zero, e.g. Z = -tool length after G43): the first
+    motion, when a traverse, starts above its end point at the stock top or higher."""
+    for k, m in enumerate(motions):
+        if m.kind == "dwell":
+            continue
+        if m.kind == "traverse":
+            z = max(m.end[2], stock.zmax, m.start[2] if m.start[:2] == m.end[:2] else -np.inf)
+            first = copy.copy(m)
+            first.start = (m.end[0], m.end[1], z)
+            motions = motions[:k] + [first] + motions[k + 1:]
+        break
+    return motions
+
+
 def simulate_motions(motions: list[Motion], tools: dict[int, Tool], stock: Stock, *,
                      resolution: float, design=None, machine: Machine | None = None,
                      progress: bool = False, corner_angle: float = 10.0) -> SimResult:
     """Simulate interpreted motion (tool tip = motion coordinates, program units).
 
+    The first motion, when a traverse, is taken to start above its end point at the
+    stock top (the machine's position before the program is unknown).
     ``tools`` maps tool numbers (``Motion.tool``) to shapes; ``machine`` defaults to
     ``Machine()`` (mm rates: pass ``Machine.default_for("inch")`` for inch programs).
     Counts are per motion: ``rapids_through_material`` traverses that removed material,
     ``holder_contacts`` motions where the shank or holder met material.
     """
     machine = machine or Machine()
-    motions = list(motions)                 # MotionList builds records on access
+    motions = _lift_start(list(motions), stock)
     zmap = ZMap.from_stock(stock, resolution)
     segs = motion_segments(motions, resolution / 20.0)
     lines = [m.line for m in motions]
@@ -243,6 +262,7 @@ def simulate_toolpath(toolpath: Toolpath, tools: dict[int, Tool], stock: Stock, 
                       progress: bool = False, corner_angle: float = 10.0) -> SimResult:
     """Simulate a Toolpath directly (units: the toolpath's).
 
+    The tool starts above the first move's end point at the stock top or higher.
     Canned drilling cycles are expanded as LinuxCNC runs them; ``comp`` moves raise
     ValueError (simulate the interpreted motion instead). Counts are per toolpath move
     (``rapid_lines``/``holder_lines`` hold move indices); ``per_operation`` gives each
@@ -250,6 +270,7 @@ def simulate_toolpath(toolpath: Toolpath, tools: dict[int, Tool], stock: Stock, 
     """
     machine = machine or Machine.default_for(toolpath.units)
     motions, src = toolpath_motions(toolpath)
+    motions = _lift_start(motions, stock)
     zmap = ZMap.from_stock(stock, resolution)
     segs = motion_segments(motions, resolution / 20.0)
     rapid_hit, holder_hit = sweep(zmap, segs, tools, len(motions), progress=progress,

@@ -1,0 +1,97 @@
+"""Toolpath simulation agrees with simulating the interpreted posted program.
+
+The same toolpath is simulated directly (drilling cycles expanded by the simulator)
+and as the motion of its posted RS274NGC program, interpreted by millpath's
+interpreter and by LinuxCNC's rs274: canned-cycle expansion, arc directions and
+helices must agree.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from millpath.model import Machine, Operation, Stock, Tool, Toolpath
+from millpath.simulate import simulate_motions, simulate_toolpath
+from millpath.simulate.path import toolpath_motions
+
+TOOLS = {1: Tool(1, "flat", 6.0, flute_length=25, stickout=35),
+         2: Tool(2, "drill", 5.0, flute_length=30, stickout=40),
+         3: Tool(3, "ball", 4.0, flute_length=20, stickout=30)}
+STOCK = Stock(0, 0, -20, 60, 50, 0)
+
+
+def _toolpath() -> Toolpath:
+    tp = Toolpath()
+    tp.begin(Operation("mill", "slots and arcs", 1))
+    tp.rapid(10, 10, 5)
+    tp.line(10, 10, -2, 200)
+    tp.line(40, 12, -2, 600)
+    tp.arc((40, 32, -2), (40, 22, -2), clockwise=False, feed=600)
+    tp.arc((20, 32, -4), (30, 32, -2), clockwise=True, feed=600)
+    tp.arc((22, 32, -7), (21, 32, -7), clockwise=False, feed=400, turns=2)  # helix
+    tp.rapid(22, 32, 5)
+    tp.begin(Operation("drill", "holes", 2))
+    tp.rapid(50, 5, 10)
+    tp.drill(50, 5, -10, 2, 150, cycle="G81")
+    tp.drill(50, 15, -12, 2, 150, cycle="G83", peck=3.0)
+    tp.drill(50, 25, -9, 2, 150, cycle="G73", peck=2.0, retract_initial=True)
+    tp.drill(50, 35, -6, 1, 150, cycle="G82", dwell=0.5)
+    tp.drill(50, 44, -5, 1, 150, cycle="G85")
+    tp.drill(5, 44, -5, 1, 150, cycle="G89", dwell=0.25, retract_initial=True)
+    tp.begin(Operation("finish", "ball ramp", 3))
+    tp.rapid(5, 25, 5)
+    tp.line(5, 25, -1, 200)
+    tp.line(15, 40, -3, 400)
+    tp.rapid(15, 40, 10)
+    return tp
+
+
+def _posted():
+    from millpath.post.linuxcnc import post
+    return post(_toolpath(), TOOLS, title="simulate cross-check")
+
+
+def _compare(motions):
+    direct = simulate_toolpath(_toolpath(), TOOLS, STOCK, resolution=0.1,
+                               machine=Machine())
+    inter = simulate_motions(motions, TOOLS, STOCK, resolution=0.1, machine=Machine())
+    # posted coordinates are rounded to 0.001 mm (rs274 prints 0.0001)
+    assert np.abs(direct.zmap.heights - inter.zmap.heights).max() < 0.003
+    assert inter.removed_volume == pytest.approx(direct.removed_volume, rel=1e-4)
+    assert inter.cycle_time_s == pytest.approx(direct.cycle_time_s, rel=0.01)
+    assert inter.rapids_through_material == direct.rapids_through_material == 0
+
+
+def _path(motions):
+    """End points of moving motions, without zero-length ones."""
+    out = []
+    for m in motions:
+        if m.kind == "dwell":
+            out.append(("dwell", round(m.dwell, 3)))
+        elif max(abs(a - b) for a, b in zip(m.start, m.end)) > 1e-6:
+            out.append((m.kind, tuple(round(v, 3) for v in m.end)))
+    return out
+
+
+def test_millpath_interpreter_motion_simulates_like_the_toolpath():
+    from millpath.interpret import interpret
+    motions = interpret(_posted(), TOOLS, machine_units="mm")
+    _compare(motions)
+
+
+def test_drilling_cycles_and_arcs_expand_like_millpath_interpreter():
+    from millpath.interpret import interpret
+    motions = interpret(_posted(), TOOLS, machine_units="mm")
+    mine, _ = toolpath_motions(_toolpath())
+    # the interpreter starts at machine zero; the toolpath at its first end point
+    assert _path(motions)[1:] == _path(mine)
+
+
+def test_rs274_motion_simulates_like_the_toolpath(rs274):
+    from millpath.verify.rs274 import run_rs274
+    res = run_rs274(_posted(), TOOLS, table_units="mm")
+    assert res.ok, res.error
+    _compare(res.motions)
+    mine, _ = toolpath_motions(_toolpath())
+    assert _path(res.motions)[1:] == _path(mine)
