@@ -231,3 +231,21 @@ def test_si_units_without_prefix_are_metres_and_plans_scale_to_the_job(tmp_path)
     assert r.stock.box == pytest.approx((0.0, 0.0, 0.0, 100.0, 50.0, 20.0))
     (d,) = [m for m in r.toolpath.moves if m.kind == "drill"]
     assert d.end[:2] == pytest.approx((50.0, 25.0))
+
+
+def test_step_and_planar_face_are_extracted_and_listed():
+    b = Ap224Builder("STEP-FACE", units="mm")
+    b.block(100.0, 50.0, 20.0)
+    st = b.step((0.0, 0.0, 20.0), (1.0, 0.0), 100.0)
+    pf = b.planar_face((0.0, 25.0, 20.0), (1.0, 0.0), 100.0, 50.0, 0.5)
+    part = read_part(parse(b.text()))
+    by_id = {f.id: f for f in part.features}
+    assert by_id[st].type == "STEP"
+    assert by_id[st].component("VEE_PROFILE").params["profile angle"] == 90.0
+    assert by_id[st].component("PATH_FEATURE_COMPONENT").params["distance"] == 100.0
+    face = by_id[pf]
+    assert face.type == "PLANAR_FACE" and face.params["removal depth"] == 0.5
+    assert face.component("LINEAR_PROFILE").params["profile length"] == 50.0
+    assert face.placement.origin == (0.0, 25.0, 20.0)
+    reasons = {u.id: u.reason for u in feature_shapes(part).skipped}
+    assert "width and depth" in reasons[st] and "face milling" in reasons[pf]

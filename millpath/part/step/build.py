@@ -240,6 +240,38 @@ class Ap224Builder:
                         rel="FEATURE_COMPONENT_RELATIONSHIP")
         return f
 
+    def step(self, start, direction, length: float, profile_angle: float = 90.0,
+             name: str = "") -> Ref:
+        """A STEP along an edge: course of travel from ``start`` along ``direction`` for
+        ``length``; removal boundary a VEE_PROFILE of ``profile_angle`` (AP224 gives no
+        width or depth for a step)."""
+        d = (float(direction[0]), float(direction[1]), 0.0)
+        pl = self.placement(start, (0.0, 0.0, -1.0), d)
+        f = self._feature("STEP", name, pl)
+        self._component(f, "PATH_FEATURE_COMPONENT", "linear", "course of travel occurrence",
+                        ("course of travel", "path feature component usage"),
+                        [pl, self.length("distance", length)], direction=d)
+        self._component(f, "VEE_PROFILE", "v-shape", "removal boundary occurrence",
+                        ("removal boundary", "profile usage"),
+                        [pl, self.angle("profile angle", profile_angle),
+                         self.angle("tilt angle", 0.0), self.length("profile radius", 0.0)])
+        return f
+
+    def planar_face(self, start, direction, length: float, width: float, depth: float,
+                    name: str = "") -> Ref:
+        """A PLANAR_FACE: course of travel ``length`` along ``direction``, removal
+        boundary a LINEAR_PROFILE of ``width``, 'removal depth' ``depth``."""
+        d = (float(direction[0]), float(direction[1]), 0.0)
+        pl = self.placement(start, (0.0, 0.0, -1.0), d)
+        f = self._feature("PLANAR_FACE", name, pl, [self.length("removal depth", depth)])
+        self._component(f, "PATH_FEATURE_COMPONENT", "linear", "course of travel occurrence",
+                        ("course of travel", "path feature component usage"),
+                        [pl, self.length("distance", length)], direction=d)
+        self._component(f, "LINEAR_PROFILE", "", "removal boundary occurrence",
+                        ("removal boundary", "profile usage"),
+                        [pl, self.length("profile length", width)])
+        return f
+
     def text(self) -> str:
         return write(self.sf)
 
