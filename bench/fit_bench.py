@@ -140,30 +140,34 @@ def blocks_bytes(tp: Toolpath, tools) -> tuple[int, int]:
 
 
 def seconds(tp: Toolpath) -> float | None:
+    """Simulated cycle time, or None (no simulator, or a toolpath it cannot time
+    directly, e.g. one with cutter compensation)."""
     try:
         from millpath.simulate import cycle_time
-    except ImportError:
+        return cycle_time(tp)
+    except (ImportError, ValueError):
         return None
-    return cycle_time(tp)
 
 
 def run_case(name: str, tp: Toolpath, tools, mode: str, min_radius: float) -> dict:
     tol = TOLS[tp.units]
     n_lines = tp.counts()["line"]
-    t0 = time.perf_counter()
+    t0, c0_ = time.perf_counter(), time.process_time()
     fitted = fit_toolpath(tp, tol, mode, min_radius=min_radius)
-    dt = time.perf_counter() - t0
+    dt, cpu = time.perf_counter() - t0, time.process_time() - c0_
     b0, y0 = blocks_bytes(tp, tools)
     b1, y1 = blocks_bytes(fitted, tools)
     c0, c1 = seconds(tp), seconds(fitted)
     row = dict(case=name, mode=mode, tol=tol, units=tp.units, lines=n_lines,
                blocks=(b0, b1), bytes=(y0, y1), cycle=(c0, c1), fit_s=dt,
-               rate=n_lines / dt * 60.0 if dt > 0 else float("inf"),
+               rate=n_lines / max(dt, 1e-9) * 60.0, cpu_rate=n_lines / max(cpu, 1e-9) * 60.0,
                counts=fitted.counts())
-    cyc = (f"{c0:8.1f} -> {c1:8.1f} s" if c0 is not None else "   (no simulator)")
+    cyc = (f"{c0:8.1f} -> {c1:8.1f} s" if c0 is not None and c1 is not None
+           else "     n/a            ")
     print(f"{name:34s} {mode:11s} blocks {b0:7d} -> {b1:7d} ({b0 / b1:5.2f}x)  "
           f"bytes {y0:9d} -> {y1:8d} ({y0 / y1:5.2f}x)  cycle {cyc}  "
-          f"fit {dt:6.3f} s = {row['rate'] / 1e6:5.2f} M moves/min")
+          f"fit {dt:6.3f} s = {row['rate'] / 1e6:5.2f} M moves/min "
+          f"(CPU {row['cpu_rate'] / 1e6:5.2f})")
     return row
 
 
@@ -183,6 +187,18 @@ def main() -> None:
     for name, tp, ts, rmin in cases:
         for m in modes:
             run_case(name, tp, ts, m, rmin)
+    # the program-level filter (millpath fit) on the posted zigzag program
+    from millpath.fit import fit_program
+    from millpath.post.linuxcnc import post
+    text = post(cases[1][1], tools)
+    n_in = text.count("\n")
+    t0, c0 = time.perf_counter(), time.process_time()
+    out = fit_program(text, 0.005, "arcs")
+    dt, cpu = time.perf_counter() - t0, time.process_time() - c0
+    print(f"{'fit_program on the zigzag program':34s} arcs        blocks {n_in:7d} -> "
+          f"{out.count(chr(10)):7d}  bytes {len(text):9d} -> {len(out):8d}  "
+          f"fit {dt:6.3f} s = {n_in / dt * 60 / 1e6:5.2f} M lines/min "
+          f"(CPU {n_in / max(cpu, 1e-9) * 60 / 1e6:5.2f})")
     if not a.no_examples:
         for name, tp, ts in example_toolpaths():
             rmin = max((ts[o.tool].radius for o in tp.ops if o.tool in ts), default=0.0)

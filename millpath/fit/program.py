@@ -27,6 +27,7 @@ from millpath.fit import FitSettings, fit_points
 from millpath.fit.segment import PLANE_NAMES, PLANES
 
 _WORD = re.compile(r"([A-Za-z])\s*([-+]?(?:\d+\.?\d*|\.\d+))")
+_ALL_WORDS = re.compile(r"(?:\s*[A-Za-z]\s*[-+]?(?:\d+\.?\d*|\.\d+))*\s*$")
 _COMMENT = re.compile(r"\([^)]*\)|;.*$")
 _PLANE_CODE = {"XY": "G17", "XZ": "G18", "YZ": "G19"}
 _IJK = "IJK"
@@ -73,32 +74,26 @@ class _Block:
     def __init__(self, raw: str):
         self.raw = raw
         body = raw.strip()
-        self.comment = bool(_COMMENT.search(body))
-        code = _COMMENT.sub("", body).strip()
-        if code.startswith("/"):                 # block delete: optional, not followed
-            self.opaque = True
+        self.comment = ("(" in body or ";" in body) and bool(_COMMENT.search(body))
+        code = _COMMENT.sub("", body).strip() if self.comment else body
+        self.opaque = code.startswith("/")       # block delete: optional, not followed
+        if self.opaque:
             code = code[1:]
-        else:
-            self.opaque = False
         self.empty = code == "" or code == "%"
-        rest = _WORD.sub("", code).strip()
-        if rest or "#" in code or "[" in code:
+        if not _ALL_WORDS.match(code) or "#" in code or "[" in code:
             self.opaque = True                   # expressions, parameters, O-words
         self.g: list[float] = []
         self.words: dict[str, float] = {}
         self.text: dict[str, str] = {}
-        self.letters: list[str] = []
-        for m in _WORD.finditer(code):
-            letter = m.group(1).upper()
-            val = float(m.group(2))
-            self.letters.append(letter)
+        for letter, num in _WORD.findall(code):
+            letter = letter.upper()
             if letter == "G":
-                self.g.append(round(val, 2))
-            elif letter in self.words and letter not in "M":
+                self.g.append(round(float(num), 2))
+            elif letter in self.words and letter != "M":
                 self.opaque = True               # repeated word: leave to LinuxCNC
             else:
-                self.words[letter] = val
-                self.text[letter] = m.group(2)
+                self.words[letter] = float(num)
+                self.text[letter] = num
             if letter == "O":
                 self.opaque = True
 
