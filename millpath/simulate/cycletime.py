@@ -111,13 +111,13 @@ def motion_times(motions: list[Motion], machine: Machine, *,
     for i, k in enumerate(kinds):
         if k == "traverse":
             kind[i] = 1
-        elif k == "arc" or k == "cubic":
+        elif k == "arc" or (k == "cubic" and motions[i].controls is not None):
             t_in[i], t_out[i], L[i], radius[i] = _tangents(motions[i])
-        elif k != "feed":
+        elif k == "dwell":
             kind[i] = 2
             L[i] = 0.0
-            if k == "dwell":
-                dwell[i] = max(0.0, motions[i].dwell)
+            dwell[i] = max(0.0, motions[i].dwell)
+        # anything else (feed, rs274's NURBS without control points): a straight feed
     inv = np.array([m.feed_mode == "inverse_time" for m in motions])
     f = np.where(inv, feed * L, feed)         # inverse time: F moves per minute
     f = np.where(f > 0, f, machine.max_feed)

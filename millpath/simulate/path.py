@@ -224,13 +224,17 @@ def motion_segments(motions: list[Motion], chord_tol: float) -> Segments:
     big_i: list[np.ndarray] = []
     for k, mo in enumerate(motions):
         kind = mo.kind
-        if kind == "traverse" or kind == "feed":
+        if kind == "dwell":
+            continue
+        if kind != "arc" and kind != "cubic" or (kind == "cubic" and mo.controls is None):
+            # traverse, feed, and motion known only by its end points (rs274's NURBS
+            # output of G5): a straight chord
             starts.append(mo.start)
             ends.append(mo.end)
             idx.append(k)
             rap.append(kind == "traverse")
             tools.append(mo.tool)
-        elif kind == "arc" or kind == "cubic":
+        else:
             pts = motion_points(mo, chord_tol)
             if starts:      # flush the pending straight moves to keep order
                 big_s.append(np.asarray(starts, float).reshape(-1, 3))
@@ -241,7 +245,6 @@ def motion_segments(motions: list[Motion], chord_tol: float) -> Segments:
             big_s.append(pts[:-1])
             big_e.append(pts[1:])
             big_i.append(np.array([[k] * n, [0] * n, [mo.tool] * n], dtype=np.int64))
-        # dwell and unknown kinds make no motion
     if starts:
         big_s.append(np.asarray(starts, float).reshape(-1, 3))
         big_e.append(np.asarray(ends, float).reshape(-1, 3))

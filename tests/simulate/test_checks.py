@@ -193,3 +193,27 @@ def test_height_field_design_interpolates_and_is_empty_outside():
     d = HeightFieldDesign(x, y, np.array([[0.0, 10.0], [0.0, 10.0]]))
     assert d.height(np.array([2.5, 7.5]), np.array([5.0, 5.0])) == pytest.approx([2.5, 7.5])
     assert np.isneginf(d.height(np.array([11.0]), np.array([5.0]))[0])
+
+
+def test_progress_bar_run_gives_the_same_result(monkeypatch):
+    import millpath.simulate.simulator as sim
+    monkeypatch.setattr(sim, "CHUNK", 7)          # several kernel calls, bar shown
+    tp = _tp()
+    _raster(tp, 8, 8, 32, 32, -1.0, 2.5)
+    a = simulate_toolpath(tp, {1: TOOL}, STOCK, resolution=0.2, progress=True)
+    monkeypatch.setattr(sim, "CHUNK", 20_000)
+    b = simulate_toolpath(tp, {1: TOOL}, STOCK, resolution=0.2)
+    assert np.array_equal(a.zmap.heights, b.zmap.heights)
+    assert a.to_json() == b.to_json()
+
+
+def test_motion_without_geometry_is_swept_as_a_straight_chord():
+    from millpath.interpret.motion import Motion
+    from millpath.simulate import simulate_motions
+    ms = [Motion("traverse", 1, (5.0, 5.0, 5.0), (5.0, 5.0, 1.0), tool=1),
+          Motion("feed", 2, (5.0, 5.0, 1.0), (5.0, 5.0, -1.0), feed=100, tool=1),
+          Motion("nurbs", 3, (5.0, 5.0, -1.0), (25.0, 5.0, -1.0), feed=100, tool=1),
+          Motion("dwell", 4, (25.0, 5.0, -1.0), (25.0, 5.0, -1.0), dwell=2.0, tool=1)]
+    r = simulate_motions(ms, {1: TOOL}, STOCK, resolution=0.1)
+    assert r.removed_volume == pytest.approx((20 * 6 + math.pi * 9) * 1, rel=0.01)
+    assert r.cycle_time_s > 2.0 + 20 / (100 / 60)
