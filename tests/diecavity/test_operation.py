@@ -176,3 +176,56 @@ def test_simulated_wall_follows_the_curve_without_gouge(blanking):
     must = shapely.contains_xy(reach, X, Y)
     assert must.sum() > 1000
     assert np.all(through[must])
+
+
+def _job_text(extra: str, tool_type: str = "flat") -> str:
+    return f"""units = "mm"
+[stock]
+box = [0.0, 0.0, 0.0, 170.0, 140.0, 12.0]
+[[tools]]
+number = 1
+type = "{tool_type}"
+diameter = 10.0
+[[operations]]
+type = "die-cavity"
+tool = 1
+tolerance = 0.01
+depth = 5.0
+step_down = 2.5
+feed = 500.0
+{extra}
+"""
+
+
+def _plan_file(path):
+    job = load_job(path)
+    ctx = PlanContext(job.units, job.stock, job.machine, job.tools, job.base_dir, job.path)
+    return op.plan(ctx, job.operations[0][1])
+
+
+def test_bad_points_file_line_is_named_in_the_error(tmp_path):
+    src = (EXAMPLES / "die-blanking" / "outline.csv").read_text().splitlines()
+    src[7] = "50,18,3"
+    (tmp_path / "pts.csv").write_text("\n".join(src) + "\n")
+    (tmp_path / "job.toml").write_text(_job_text('points_file = "pts.csv"'))
+    with pytest.raises(GeometryError) as e:
+        _plan_file(tmp_path / "job.toml")
+    assert str(e.value).startswith(f"{tmp_path / 'pts.csv'}:8: ")
+
+
+def test_points_and_points_file_together_and_ball_tools_are_job_errors(tmp_path):
+    pts = "points = [[0.0,0.0],[10.0,0.0],[20.0,0.0],[30.0,0.0]]"
+    (tmp_path / "job.toml").write_text(_job_text(pts + '\npoints_file = "x.csv"'))
+    with pytest.raises(JobError, match="exactly one of points and points_file"):
+        _plan_file(tmp_path / "job.toml")
+    (tmp_path / "job.toml").write_text(_job_text(pts, tool_type="ball"))
+    with pytest.raises(JobError, match="flat end mill"):
+        _plan_file(tmp_path / "job.toml")
+
+
+def test_unreachable_corners_say_how_much_is_left(blanking):
+    _, res = blanking["cam"]
+    corners = res.report["curve"]["unreachable_corners"]
+    # a square-ish corner leaves about r (sqrt 2 - 1) = 2.07 for r = 5, never more
+    assert all(0 <= c["max_uncut"] < 5.0 for c in corners)
+    assert max(c["max_uncut"] for c in corners) > 0.5

@@ -290,12 +290,16 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         z_prev = z
 
     unreachable = []
+    swept = LineString(path).buffer(r, quad_segs=16)
+    shapely.prepare(swept)
     for run in reach.removed:
         idx = np.array(run)
         pv = verts[idx]
+        uncut = shapely.distance(swept, shapely.points(pv))
         unreachable.append({"chords": len(run), "from": [float(v) for v in pv[0]],
                             "to": [float(v) for v in verts[(idx[-1] + 1) % len(verts)]],
-                            "at": [float(v) for v in pv.mean(axis=0)]})
+                            "at": [float(v) for v in pv[np.argmax(uncut)]],
+                            "max_uncut": float(uncut.max())})
     report = lin.report()
     report.update({
         "closed": curve.closed, "segments_count": len(curve.segments),
@@ -308,6 +312,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         "unreachable_corners": unreachable,
         "tight_curvature": _curvature_report(curve, r),
         "finish_max_undercut": undercut,
+        "program_grid": grid,
         "compensation": params["compensation"],
         "layers": [float(z) for z in zs],
         "through": through,
