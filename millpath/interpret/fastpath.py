@@ -1,11 +1,265 @@
-"""Fast path for the commonest block shapes (filled in below)."""
+"""Fast path for the commonest block shapes: ``[G0-3] [X] [Y] [Z] [I] [J] [K] [R] [F]``.
+
+One regular expression recognizes such a line (words in this order, plain numbers, no
+comments or parameters) and hands its values straight to the machine's motion code,
+skipping the general reader and the block checks, which cannot fail for these words
+when the motion is G0-G3. Any other line goes to the general reader, so behaviour and
+errors are the same either way; only the time differs.
+"""
 
 from __future__ import annotations
 
+import re
+from math import hypot
+
+from millpath.interpret.errors import GCodeError
+from millpath.interpret.arcs import RADIUS_TOLERANCE, SPIRAL_RELATIVE, SPIRAL_TOLERANCE
+from millpath.interpret.lexer import Block
+from millpath.interpret.store import PLANE_CODE
+
+_NUM = r"([-+]?+(?:\d++\.?+\d*+|\.\d++))"
+# possessive quantifiers (Python 3.11) keep the regex engine from backtracking
+_FAST = re.compile(r"[ \t]*+(?:[Gg]0*([0-3])(?![\d.])[ \t]*+)?+"
+                   + "".join(rf"(?:[{u}{u.lower()}][ \t]*+{_NUM}[ \t]*+)?+" for u in "XYZIJKRF")
+                   + r"\r?")
+_LETTERS = "xyzijkrf"
+
 
 class FastPath:
+    """Executes simple motion lines directly on ``machine``."""
+
     def __init__(self, machine) -> None:
         self.m = machine
+        self.match = _FAST.fullmatch
+        self.blk = Block(0, "")
+        self.k = 0
+
+    def run(self, lines: list[str], k: int) -> int:
+        """Execute ``lines[k:]`` while they have the simple shape; return the index of the
+        first line the general reader must handle (or ``len(lines)``)."""
+        match = self.match
+        m = self.m
+        store = m.store
+        fext = store.f.extend
+        iext = store.i.extend
+        one = self.groups
+        end_k = len(lines)
+        try:
+            return self._loop(lines, k, end_k, match, m, fext, iext, one)
+        except GCodeError as e:
+            e.line = self.k + 1
+            raise
+
+    def _loop(self, lines, k, end_k, match, m, fext, iext, one) -> int:
+        tols = (RADIUS_TOLERANCE[m.units], SPIRAL_TOLERANCE[m.units])
+        units = m.units
+        while k < end_k:
+            mt = match(lines[k])
+            if mt is None:
+                return k
+            g, x, y, z, i, j, kk, r, f = mt.groups()
+            if g is None:
+                if x is None and y is None and z is None:
+                    self.k = k
+                    if not one(g, x, y, z, i, j, kk, r, f, k + 1):
+                        return k
+                    k += 1
+                    continue
+                code = m.motion_mode
+            else:
+                code = (ord(g) - 48) * 10
+            if m.comp_side or not m.dist_abs or m.feed_mode != 0 or code > 30 \
+                    or (code >= 20 and (r is not None or m.ijk_abs or m.arc_not_allowed)):
+                self.k = k
+                if not one(g, x, y, z, i, j, kk, r, f, k + 1):
+                    return k
+                k += 1
+                continue
+            if f is not None:
+                if f[0] == "-":
+                    return k
+                m.feed_rate = float(f)
+            cur = m.cur
+            end = [cur[0] if x is None else float(x), cur[1] if y is None else float(y),
+                   cur[2] if z is None else float(z)]
+            o = m.out
+            if code <= 10:
+                # G0/G1 without compensation: LinuxCNC's convert_straight, inlined
+                if i is not None or j is not None or kk is not None or r is not None:
+                    return k
+                if code == 10:
+                    feed = m.feed_rate
+                    if feed == 0.0:
+                        return k
+                    fext((o[0], o[1], o[2], end[0], end[1], end[2], feed, 0.0, 0.0, 0.0))
+                    iext((1, k + 1, 0, PLANE_CODE[m.plane], m._state_idx))
+                else:
+                    fext((o[0], o[1], o[2], end[0], end[1], end[2], 0.0, 0.0, 0.0, 0.0))
+                    iext((0, k + 1, 0, PLANE_CODE[m.plane], m._state_idx))
+                m.arc_not_allowed = False
+            else:
+                # G2/G3 with incremental I/J/K, no compensation: convert_arc2, inlined
+                plane = m.plane
+                if plane == "XY":
+                    o1, o2, bad = i, j, kk
+                elif plane == "XZ":
+                    o1, o2, bad = kk, i, j
+                else:
+                    o1, o2, bad = j, kk, i
+                feed = m.feed_rate
+                if bad is not None or (o1 is None and o2 is None) or feed == 0.0:
+                    return k
+                a1, a2, an = m.axes
+                s1 = cur[a1]
+                s2 = cur[a2]
+                c1 = s1 if o1 is None else s1 + float(o1)
+                c2 = s2 if o2 is None else s2 + float(o2)
+                r1 = hypot(c1 - s1, c2 - s2)
+                r2 = hypot(c1 - end[a1], c2 - end[a2])
+                if units != m.units:
+                    units = m.units
+                    tols = (RADIUS_TOLERANCE[units], SPIRAL_TOLERANCE[units])
+                if r1 < tols[0] or r2 < tols[0]:
+                    return k
+                err = abs(r1 - r2)
+                if err > tols[1] and err > SPIRAL_RELATIVE * max(r1, r2):
+                    return k
+                center = [0.0, 0.0, 0.0]
+                center[a1] = c1
+                center[a2] = c2
+                center[an] = cur[an]
+                fext((o[0], o[1], o[2], end[0], end[1], end[2], feed,
+                      center[0], center[1], center[2]))
+                iext((2, k + 1, -1 if code == 20 else 1, PLANE_CODE[plane], m._state_idx))
+            m.out = end
+            m.cur = end
+            m.motion_mode = code
+            m.cycle_il_flag = False
+            k += 1
+        return k
 
     def try_line(self, raw: str, n: int) -> bool:
-        return False
+        """Execute ``raw`` if it has the simple shape; False to use the general reader."""
+        mt = self.match(raw)
+        if mt is None:
+            return False
+        return self.groups(*mt.groups(), n)
+
+    def groups(self, g, x, y, z, i, j, k, r, f, n: int) -> bool:
+        """Execute a simple line from its regex groups; False to use the general reader."""
+        m = self.m
+        if g is not None:
+            code = int(g) * 10
+        elif x is None and y is None and z is None:
+            if i is not None or j is not None or k is not None or r is not None:
+                return False
+            if f is not None:
+                if f[0] == "-":
+                    return False
+                if m.feed_mode != 1:
+                    m.feed_rate = float(f)
+            return True                       # empty line or a lone F word
+        else:
+            code = m.motion_mode
+            if code not in (0, 10, 20, 30):
+                return False
+        if code < 20 and (i is not None or j is not None or k is not None or r is not None):
+            return False
+        if f is not None and f[0] == "-":
+            return False
+        if code < 20 and m.dist_abs and not (m.comp_side and m.comp_radius > 0.0) and (
+                code == 0 or m.feed_mode == 0):
+            # straight move without compensation: LinuxCNC's convert_straight, inlined
+            if f is not None:
+                m.feed_rate = float(f)
+            if code == 10 and m.feed_rate == 0.0:
+                return False                  # the general path raises the error
+            cur = m.cur
+            end = [cur[0] if x is None else float(x), cur[1] if y is None else float(y),
+                   cur[2] if z is None else float(z)]
+            o = m.out
+            store = m.store
+            feed = m.feed_rate if code == 10 else 0.0
+            store.f.extend((o[0], o[1], o[2], end[0], end[1], end[2], feed, 0.0, 0.0, 0.0))
+            store.i.extend((1 if code == 10 else 0, n, 0, PLANE_CODE[m.plane], m._state_idx))
+            m.out = end
+            m.cur = end
+            m.motion_mode = code
+            m.arc_not_allowed = False
+            m.cycle_il_flag = False
+            return True
+        if code >= 20 and m.dist_abs and not m.comp_side and m.feed_mode == 0 \
+                and not m.ijk_abs and not m.arc_not_allowed and r is None:
+            # arc with incremental I/J/K and no compensation: convert_arc2, inlined
+            if f is not None:
+                m.feed_rate = float(f)
+            plane = m.plane
+            if plane == "XY":
+                o1, o2, bad = i, j, k
+            elif plane == "XZ":
+                o1, o2, bad = k, i, j
+            else:
+                o1, o2, bad = j, k, i
+            if bad is not None or (o1 is None and o2 is None) or m.feed_rate == 0.0:
+                return False
+            cur = m.cur
+            end = [cur[0] if x is None else float(x), cur[1] if y is None else float(y),
+                   cur[2] if z is None else float(z)]
+            a1, a2, an = m.axes
+            s1, s2 = cur[a1], cur[a2]
+            c1 = s1 + (0.0 if o1 is None else float(o1))
+            c2 = s2 + (0.0 if o2 is None else float(o2))
+            r1 = hypot(c1 - s1, c2 - s2)
+            r2 = hypot(c1 - end[a1], c2 - end[a2])
+            tol = RADIUS_TOLERANCE[m.units]
+            if r1 < tol or r2 < tol:
+                return False
+            err = abs(r1 - r2)
+            if err > SPIRAL_TOLERANCE[m.units] and err / max(r1, r2) > SPIRAL_RELATIVE:
+                return False
+            center = [0.0, 0.0, 0.0]
+            center[a1] = c1
+            center[a2] = c2
+            center[an] = cur[an]
+            o = m.out
+            store = m.store
+            store.f.extend((o[0], o[1], o[2], end[0], end[1], end[2], m.feed_rate,
+                            center[0], center[1], center[2]))
+            store.i.extend((2, n, -1 if code == 20 else 1, PLANE_CODE[plane], m._state_idx))
+            m.out = end
+            m.cur = end
+            m.motion_mode = code
+            m.cycle_il_flag = False
+            return True
+        w = {}
+        if x is not None:
+            w["x"] = float(x)
+        if y is not None:
+            w["y"] = float(y)
+        if z is not None:
+            w["z"] = float(z)
+        if code >= 20:
+            if i is not None:
+                w["i"] = float(i)
+            if j is not None:
+                w["j"] = float(j)
+            if k is not None:
+                w["k"] = float(k)
+            if r is not None:
+                w["r"] = float(r)
+        if f is not None:
+            fv = float(f)
+            w["f"] = fv
+            if m.feed_mode != 1:
+                m.feed_rate = fv
+        blk = self.blk
+        blk.line = n
+        blk.words = w
+        store = m.store
+        mark = len(store.i)
+        try:
+            m.motion(code, blk)
+        except GCodeError:
+            store.truncate(mark // 5)
+            raise
+        return True

@@ -338,10 +338,11 @@ class Machine(CompMixin, CycleMixin):
             return
         f = MM_PER_INCH if units == "mm" else 1.0 / MM_PER_INCH
         self.units = units
-        for v in (self.cur, self.prog, self.origin, self.axis_offset, self.out):
-            v[0] *= f
-            v[1] *= f
-            v[2] *= f
+        self.cur = [v * f for v in self.cur]          # new lists: cur and out may alias
+        self.out = [v * f for v in self.out]
+        self.prog = [v * f for v in self.prog]
+        self.origin = [v * f for v in self.origin]
+        self.axis_offset = [v * f for v in self.axis_offset]
         self.comp_scale(f)
         # rs274 re-reads the tool offset and feed from its canon layer, which keeps the
         # numbers it was given: they are not converted (a G43 before G20/G21 keeps its

@@ -24,8 +24,17 @@ def run_program(text: str, tools, machine_units: str
     percent = None
     fast = FastPath(machine)
     n = 0
+    k = 0
+    total = len(lines)
     try:
-        for n, raw in enumerate(lines, 1):
+        while k < total:
+            if percent is not None:
+                k = fast.run(lines, k)
+                if k >= total:
+                    break
+            raw = lines[k]
+            k += 1
+            n = k
             if percent is None:
                 s = raw.strip()
                 if s:
@@ -35,8 +44,6 @@ def run_program(text: str, tools, machine_units: str
             elif percent and raw.strip().startswith("%"):
                 machine.flush_comp(n)
                 return machine.units, machine.store, None
-            if fast.try_line(raw, n):
-                continue
             mark = len(machine.store)
             try:
                 blk = read_block(raw, n, machine.params, machine.named)
@@ -54,7 +61,7 @@ def run_program(text: str, tools, machine_units: str
             if machine.ended:
                 return machine.units, machine.store, None
     except GCodeError as e:
-        return machine.units, machine.store, (n, e.message)
+        return machine.units, machine.store, (getattr(e, "line", None) or n, e.message)
     last = max(len(lines), 1)
     msg = ("File ended with no percent sign" if percent
            else "File ended with no percent sign or program end")
