@@ -211,7 +211,8 @@ class _Emitter:
         if plane is not None and plane != self.plane:
             words.append(_PLANE_CODE[plane])
             self.plane = plane
-        if self.motion != {"G1": 1.0, "G2": 2.0, "G3": 3.0, "G5": 5.0}[code]:
+        # LinuxCNC wants the G5 word on every cubic block (I J P Q are not modal)
+        if code == "G5" or self.motion != {"G1": 1.0, "G2": 2.0, "G3": 3.0, "G5": 5.0}[code]:
             words.append(code)
             self.motion = {"G1": 1.0, "G2": 2.0, "G3": 3.0, "G5": 5.0}[code]
         return words

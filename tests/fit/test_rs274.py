@@ -91,11 +91,12 @@ def test_rs274_accepts_cubic_programs(rs274):
     assert np.allclose(ends[-1], np.round(P[-1], 4), atol=1e-4)
 
 
-@settings(max_examples=12, deadline=None,
+@settings(max_examples=16, deadline=None,
           suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
 @given(seed=st.integers(0, 2**32 - 1), tol=st.floats(0.002, 0.05),
-       plane=st.sampled_from(["XY", "XZ", "YZ", "helix"]))
-def test_rs274_accepts_every_fitted_program(rs274, fitkit, seed, tol, plane):
+       plane=st.sampled_from(["XY", "XZ", "YZ", "helix"]),
+       mode=st.sampled_from(["arcs", "arcs+cubics"]))
+def test_rs274_accepts_every_fitted_program(rs274, fitkit, seed, tol, plane, mode):
     from millpath.verify.rs274 import run_rs274
     rng = np.random.default_rng(seed)
     n = 300
@@ -117,10 +118,28 @@ def test_rs274_accepts_every_fitted_program(rs274, fitkit, seed, tol, plane):
     lines += ["G1 X{:.4f} Y{:.4f} Z{:.4f}".format(*p) for p in P[1:]]
     lines += ["G0 Z5", "M2"]
     src = "\n".join(lines) + "\n"
-    out = fit_program(src, tol, "arcs")
+    out = fit_program(src, tol, mode)
     r0 = run_rs274(src)
     r1 = run_rs274(out)
     assert r0.ok and r1.ok, (r1.error, r1.error_block)
-    s0, m0 = feed_path(r0.motions)
-    s1, m1 = feed_path(r1.motions)
-    assert fitkit.hausdorff(s0, m0, m1, tol / 4) <= tol * 1.002
+    if mode == "arcs":          # rs274 reports G5 without its control points
+        s0, m0 = feed_path(r0.motions)
+        s1, m1 = feed_path(r1.motions)
+        assert fitkit.hausdorff(s0, m0, m1, tol / 4) <= tol * 1.002
+
+
+def test_rs274_accepts_fit_program_cubics_in_a_row(rs274):
+    from millpath.verify.rs274 import run_rs274
+    t = np.linspace(0.5, 6 * math.pi, 1200)
+    lines = ["G21 G90 G18 G94", "G0 X0 Y0 Z5", "G1 Z-1 F200", "F900"]
+    lines += [f"G1 X{a * math.cos(a):.4f} Y{0.5 * a * math.sin(a):.4f}" for a in t]
+    lines += ["X0 Y0", "G0 Z5", "M2"]
+    src = "\n".join(lines) + "\n"
+    out = fit_program(src, 0.005, "arcs+cubics")
+    g5 = [l for l in out.splitlines() if l.startswith(("G5", "G17 G5"))]
+    assert len(g5) >= 3
+    ol = out.splitlines()
+    assert "G18" in ol[ol.index(g5[-1]):ol.index("G0 Z5")]     # the plane comes back
+    r = run_rs274(out)
+    assert r.ok, (r.error, r.error_block)
+    assert sum(m.kind == "nurbs" for m in r.motions) == len(g5)
