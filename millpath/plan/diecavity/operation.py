@@ -152,6 +152,30 @@ def _entry(q: np.ndarray, region_in: Polygon, r: float):
     raise PlanningError("no place on the contour leaves room for a lead-in of the tool")
 
 
+#: ramp angle of roughing entries (degrees): the tool descends along the ring
+RAMP_DEG = 3.0
+
+
+def _ramp(tp: Toolpath, ring: np.ndarray, z_from: float, z_to: float, feed: float) -> None:
+    """Descend from ``z_from`` to ``z_to`` at RAMP_DEG while following the closed
+    ``ring`` from its first point (as many laps as needed), ending back at its first
+    point; a ring too short to ramp on gets a straight plunge."""
+    closed = np.vstack([ring, ring[:1]])
+    seg = np.hypot(*np.diff(closed, axis=0).T)
+    lap = float(seg.sum())
+    need = (z_from - z_to) / math.tan(math.radians(RAMP_DEG))
+    if lap < 1e-3 or need <= 0:
+        tp.line(ring[0][0], ring[0][1], z_to, feed)
+        return
+    laps = max(1, int(math.ceil(need / lap - 1e-9)))
+    total = laps * lap
+    walked = 0.0
+    for _ in range(laps):
+        for p, L in zip(closed[1:], seg):
+            walked += L
+            tp.line(p[0], p[1], z_from - (z_from - z_to) * walked / total, feed)
+
+
 def _grid_round(pts: np.ndarray, grid: float) -> np.ndarray:
     q = np.round(pts / grid) * grid
     keep = np.ones(len(q), bool)
@@ -251,6 +275,8 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         # roughing, inside out
         cur = None
         for ring in rough:
+            if cur is not None:
+                ring = np.roll(ring, -int(np.argmin(np.hypot(*(ring - cur).T))), axis=0)
             start = ring[0]
             if cur is not None and any(a.contains(LineString([cur, start])) for a in area_ok):
                 tp.line(start[0], start[1], z, feed)
@@ -259,7 +285,8 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
                     tp.rapid(cur[0], cur[1], safe)
                 tp.rapid(start[0], start[1], safe)
                 tp.rapid(start[0], start[1], z_prev + clear)
-                tp.line(start[0], start[1], z, plunge)
+                tp.line(start[0], start[1], z_prev, plunge)
+                _ramp(tp, ring, z_prev, z, plunge)
             for p in ring[1:]:
                 tp.line(p[0], p[1], z, feed)
             tp.line(start[0], start[1], z, feed)
