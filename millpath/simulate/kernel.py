@@ -133,24 +133,45 @@ def _envelope(px, py, x0, y0, z0, ux, uy, L, m, sq, ci, ttype, R, rc, k):
 
 @njit(cache=True, inline="always")
 def _row_span(yc, x0, y0, x1, y1, R):
-    """Conservative X interval of the chord's R-neighbourhood on the line Y = yc."""
-    if abs(y1 - y0) < 1e-12:
-        if abs(yc - y0) > R:
-            return 1.0, -1.0
-        return min(x0, x1) - R, max(x0, x1) + R
-    ta = (yc - R - y0) / (y1 - y0)
-    tb = (yc + R - y0) / (y1 - y0)
-    if ta > tb:
-        ta, tb = tb, ta
-    if ta < 0.0:
-        ta = 0.0
-    if tb > 1.0:
-        tb = 1.0
-    if ta > tb:
-        return 1.0, -1.0
-    xa = x0 + (x1 - x0) * ta
-    xb = x0 + (x1 - x0) * tb
-    return min(xa, xb) - R, max(xa, xb) + R
+    """X interval of the chord's R-neighbourhood (a capsule) on the line Y = yc:
+    the union of the two end discs and the swept rectangle (empty: xa > xb)."""
+    xa = np.inf
+    xb = -np.inf
+    for px, py in ((x0, y0), (x1, y1)):
+        d = yc - py
+        if d * d <= R * R:
+            r = math.sqrt(R * R - d * d)
+            xa = min(xa, px - r)
+            xb = max(xb, px + r)
+    Lx = x1 - x0
+    Ly = y1 - y0
+    L = math.sqrt(Lx * Lx + Ly * Ly)
+    if L > 0.0:
+        ux = Lx / L
+        uy = Ly / L
+        dy = yc - y0
+        lo = -np.inf
+        hi = np.inf
+        # 0 <= s = dx ux + dy uy <= L
+        if abs(ux) > 1e-12:
+            a = (0.0 - dy * uy) / ux
+            b = (L - dy * uy) / ux
+            lo = max(lo, min(a, b))
+            hi = min(hi, max(a, b))
+        elif not (0.0 <= dy * uy <= L):
+            hi = -np.inf
+        # -R <= h = dx uy - dy ux <= R
+        if abs(uy) > 1e-12:
+            a = (-R + dy * ux) / uy
+            b = (R + dy * ux) / uy
+            lo = max(lo, min(a, b))
+            hi = min(hi, max(a, b))
+        elif abs(dy * ux) > R:
+            hi = -np.inf
+        if lo <= hi:
+            xa = min(xa, x0 + lo)
+            xb = max(xb, x0 + hi)
+    return xa, xb
 
 
 @njit(cache=True)
