@@ -18,9 +18,13 @@ from millpath.io.atomic import write_text
                    "(program units).")
 @click.option("--mode", type=click.Choice(["arcs", "arcs+cubics"]), default="arcs",
               show_default=True, help="Fit arcs only, or arcs and G5 cubics (XY).")
+@click.option("--min-radius", type=float, default=0.0, show_default=True,
+              help="Arcs get a larger radius than this (program units), e.g. the tool "
+                   "radius, so that concave arcs stay larger than the tool.")
 @click.option("-o", "--output", type=click.Path(dir_okay=False, path_type=Path),
               default=None, help="Output program (default: PROGRAM-fit.ngc beside it).")
-def command(program: Path, tolerance: float, mode: str, output: Path | None) -> None:
+def command(program: Path, tolerance: float, mode: str, min_radius: float,
+            output: Path | None) -> None:
     """Rewrite runs of G1 moves in PROGRAM as G2/G3 arcs (and G5 cubics) within
     --tolerance; every other line stays as written."""
     from millpath.fit import fit_program
@@ -29,7 +33,7 @@ def command(program: Path, tolerance: float, mode: str, output: Path | None) -> 
     except UnicodeDecodeError:
         raise MillpathError("not a text file", program) from None
     t0 = time.perf_counter()
-    out = fit_program(text, tolerance, mode, file=str(program))
+    out = fit_program(text, tolerance, mode, min_radius=min_radius, file=str(program))
     dt = time.perf_counter() - t0
     target = output if output is not None else program.with_name(program.stem + "-fit.ngc")
     if target.resolve() == program.resolve():

@@ -171,8 +171,8 @@ def fit_toolpath(toolpath: Toolpath, tolerance: float, mode: str = "arcs", *,
 
 
 def fit_program(text: str, tolerance: float, mode: str = "arcs", *,
-                file: str | None = None) -> str:
-    """Rewrite the runs of ``G1`` moves of an RS274NGC program; see
-    :mod:`millpath.fit.program`."""
+                min_radius: float = 0.0, file: str | None = None) -> str:
+    """Rewrite the runs of ``G1`` moves of an RS274NGC program within ``tolerance``
+    (program units); see :mod:`millpath.fit.program`."""
     from millpath.fit.program import fit_program as _fp
-    return _fp(text, tolerance, mode, file=file)
+    return _fp(text, tolerance, mode, min_radius=min_radius, file=file)

@@ -18,6 +18,7 @@ restored when the run changed them and the following block relies on them.
 
 from __future__ import annotations
 
+import math
 import re
 
 import numpy as np
@@ -269,7 +270,8 @@ def _needs_motion(blocks: list[_Block], k: int) -> bool:
     return False
 
 
-def _fit_run(st: _State, run: list[_Block], tol: float, mode: str) -> list[str] | None:
+def _fit_run(st: _State, run: list[_Block], tol: float, mode: str,
+             min_radius: float) -> list[str] | None:
     """Rewritten lines for a run (None: keep it as written)."""
     base = 5 if st.units != "mm" else 4
     d = base
@@ -285,7 +287,7 @@ def _fit_run(st: _State, run: list[_Block], tol: float, mode: str) -> list[str] 
             if a in b.words:
                 p["XYZ".index(a)] = b.words[a]
         pts.append(p)
-    s = FitSettings("inch" if st.units != "mm" else "mm", tol, mode, decimals=d)
+    s = FitSettings("inch" if st.units != "mm" else "mm", tol, mode, min_radius, decimals=d)
     P, idx, kinds, ends, par = fit_points(np.array(pts, dtype=float), s)
     if len(kinds) >= len(run):
         return None
@@ -312,15 +314,18 @@ def _fit_run(st: _State, run: list[_Block], tol: float, mode: str) -> list[str] 
 
 
 def fit_program(text: str, tolerance: float, mode: str = "arcs", *,
-                file: str | None = None) -> str:
+                min_radius: float = 0.0, file: str | None = None) -> str:
     """Return ``text`` with its runs of ``G1`` moves replaced by arcs (and ``G5``
     cubics with ``mode="arcs+cubics"``) within ``tolerance`` (program units).
 
-    Lines that are not rewritten are copied exactly. ``file`` names the program in
-    error messages.
+    No arc gets a radius at or below ``min_radius`` (program units; give the largest
+    tool radius so that concave arcs stay larger than the tool). Lines that are not
+    rewritten are copied exactly. ``file`` names the program in error messages.
     """
     try:
-        FitSettings("mm", tolerance, mode)
+        if not (min_radius >= 0.0 and math.isfinite(min_radius)):
+            raise ValueError(f"min radius must be a length >= 0, not {min_radius!r}")
+        FitSettings("mm", tolerance, mode, min_radius)
     except ValueError as e:
         raise MillpathError(str(e), file) from None
     src = text.splitlines()
@@ -341,7 +346,8 @@ def fit_program(text: str, tolerance: float, mode: str = "arcs", *,
                 _apply(st, blocks[j])
                 j += 1
             run = blocks[i:j]
-            new = _fit_run(start_state, run, tolerance, mode) if len(run) >= 2 else None
+            new = (_fit_run(start_state, run, tolerance, mode, min_radius) if len(run) >= 2
+                   else None)
             if new is None:
                 out.extend(rb.raw for rb in run)
             else:

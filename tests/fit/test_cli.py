@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 
 from click.testing import CliRunner
 
@@ -45,3 +46,14 @@ def test_fit_errors_are_one_line_with_the_file(tmp_path):
     assert r.exit_code == 1 and "missing.ngc" in r.output
     r = CliRunner().invoke(cli, ["fit", str(src), "-t", "0.01", "-o", str(src)])
     assert r.exit_code == 1 and "overwrite" in r.output
+
+
+def test_fit_min_radius_keeps_small_circles_as_lines(tmp_path):
+    src = write_program(tmp_path / "part.ngc")          # a 10 mm circle
+    out = tmp_path / "fitted.ngc"
+    r = CliRunner().invoke(cli, ["fit", str(src), "-t", "0.005", "--min-radius", "10.5",
+                                 "-o", str(out)])
+    assert r.exit_code == 0, r.output
+    assert not re.search(r"\bG[23]\b", out.read_text())
+    r = CliRunner().invoke(cli, ["fit", str(src), "-t", "0.005", "--min-radius", "nan"])
+    assert r.exit_code == 1 and "min radius" in r.output
