@@ -48,12 +48,17 @@ def test_fit_errors_are_one_line_with_the_file(tmp_path):
     assert r.exit_code == 1 and "overwrite" in r.output
 
 
-def test_fit_min_radius_keeps_small_circles_as_lines(tmp_path):
+def test_fit_min_radius_keeps_arcs_larger_than_it(tmp_path):
     src = write_program(tmp_path / "part.ngc")          # a 10 mm circle
     out = tmp_path / "fitted.ngc"
     r = CliRunner().invoke(cli, ["fit", str(src), "-t", "0.005", "--min-radius", "10.5",
                                  "-o", str(out)])
     assert r.exit_code == 0, r.output
-    assert not re.search(r"\bG[23]\b", out.read_text())
+    text = out.read_text()
+    for line in text.splitlines():
+        if re.match(r"G[23]\b", line):
+            w = dict(re.findall(r"([IJ])(-?[\d.]+)", line))
+            assert math.hypot(float(w["I"]), float(w["J"])) > 10.5
+    assert len(text.splitlines()) > 100            # a 10 mm circle stays mostly lines
     r = CliRunner().invoke(cli, ["fit", str(src), "-t", "0.005", "--min-radius", "nan"])
     assert r.exit_code == 1 and "min radius" in r.output
