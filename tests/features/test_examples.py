@@ -44,8 +44,8 @@ def test_example_is_accepted_by_rs274_and_cuts_the_features(name, rs274):
     stock = r.stock
     cell = job.simulation["resolution"]
     sim = simulate_toolpath(r.toolpath, job.tools, stock, resolution=cell, design=r.design)
-    expected = r.design.volume(cell / 2.0, (stock.xmin, stock.ymin, stock.xmax, stock.ymax),
-                               stock.zmin)
+    expected = r.design.volume_on_grid(sim.zmap.xs(), sim.zmap.ys(), sim.zmap.cell_area,
+                                          sim.zmap.zmin)
     assert sim.removed_volume == pytest.approx(expected, rel=0.01)
     assert sim.max_gouge <= 1e-6
     assert sim.rapids_through_material == 0 and sim.holder_contacts == 0

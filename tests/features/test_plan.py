@@ -165,8 +165,8 @@ def test_simulation_removes_the_feature_volumes_and_nothing_else(name, planned):
     r = planned[name]
     stock = r.stock
     sim = simulate_toolpath(r.toolpath, tools, stock, resolution=res, design=r.design)
-    expected = r.design.volume(res / 2.0, (stock.xmin, stock.ymin, stock.xmax, stock.ymax),
-                               stock.zmin)
+    expected = r.design.volume_on_grid(sim.zmap.xs(), sim.zmap.ys(), sim.zmap.cell_area,
+                                          sim.zmap.zmin)
     assert sim.removed_volume == pytest.approx(expected, rel=0.01)
     assert sim.max_gouge <= 1e-6                  # nothing below the finished part
     assert sim.rapids_through_material == 0
@@ -201,7 +201,8 @@ def test_nested_features_start_where_material_is(tmp_path, corner, inner, inner_
     assert drill.cycle == "G81"                 # 8 mm hole, 11 mm deep once cleared
     st = r.stock
     sim = simulate_toolpath(r.toolpath, TOOLS_MM, st, resolution=0.25, design=r.design)
-    expected = r.design.volume(0.125, (st.xmin, st.ymin, st.xmax, st.ymax), st.zmin)
+    expected = r.design.volume_on_grid(sim.zmap.xs(), sim.zmap.ys(), sim.zmap.cell_area,
+                                          sim.zmap.zmin)
     assert sim.removed_volume == pytest.approx(expected, rel=0.01)
     assert sim.max_gouge <= 1e-6 and sim.rapids_through_material == 0
 
@@ -243,6 +244,27 @@ def test_flat_holes_are_drilled_then_flattened_when_the_drill_comes_first(tmp_pa
     assert len(r.toolpath.ops) == len({op.tool for op in r.toolpath.ops})
     st = r.stock
     sim = simulate_toolpath(r.toolpath, TOOLS_MM, st, resolution=0.2, design=r.design)
-    expected = r.design.volume(0.1, (st.xmin, st.ymin, st.xmax, st.ymax), st.zmin)
+    expected = r.design.volume_on_grid(sim.zmap.xs(), sim.zmap.ys(), sim.zmap.cell_area,
+                                          sim.zmap.zmin)
     assert sim.removed_volume == pytest.approx(expected, rel=0.01)
     assert sim.max_gouge <= 1e-6 and sim.max_left <= 0.05
+
+
+def test_flat_slot_ends_leave_exactly_the_square_corners(tmp_path):
+    from millpath.part.step.build import Ap224Builder
+    from millpath.simulate import simulate_toolpath
+    b = Ap224Builder("FLAT-ENDS", units="mm", material="aluminium")
+    b.block(60.0, 30.0, 20.0)
+    b.slot((15.0, 15.0, 20.0), (1.0, 0.0), 30.0, 10.0, 6.0, ends=("flat", "flat"))
+    (tmp_path / "s.stp").write_text(b.text())
+    ctx = PlanContext(units="mm", stock=None, machine=Machine(), tools=TOOLS_MM,
+                      base_dir=tmp_path)
+    r = plan(ctx, validate({"step": "s.stp"}, PARAMS, "op", None, tmp_path))
+    (rec,) = r.report["features"]["planned"]
+    assert rec["tool"] == 2 and "square corners" in rec["note"]
+    sim = simulate_toolpath(r.toolpath, TOOLS_MM, r.stock, resolution=0.1, design=r.design)
+    expected = r.design.volume_on_grid(sim.zmap.xs(), sim.zmap.ys(), sim.zmap.cell_area,
+                                       sim.zmap.zmin)
+    corners = 4 * (1 - np.pi / 4) * 5.0 ** 2 * 6.0        # tool radius 5, depth 6
+    assert expected - sim.removed_volume == pytest.approx(corners, rel=0.1)
+    assert sim.max_gouge <= 1e-6

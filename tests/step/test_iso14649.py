@@ -74,6 +74,7 @@ def test_planning_an_arm_file_cuts_its_features(shared_dir, rs274):
     assert res.ok, (res.error, res.error_line)
     st = r.stock
     sim = simulate_toolpath(r.toolpath, tools, st, resolution=0.5, design=r.design)
-    expected = r.design.volume(0.25, (st.xmin, st.ymin, st.xmax, st.ymax), st.zmin)
+    expected = r.design.volume_on_grid(sim.zmap.xs(), sim.zmap.ys(), sim.zmap.cell_area,
+                                          sim.zmap.zmin)
     assert sim.removed_volume == pytest.approx(expected, rel=0.01)
     assert sim.max_gouge <= 1e-6 and sim.rapids_through_material == 0

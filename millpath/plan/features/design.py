@@ -83,7 +83,7 @@ class FeatureDesign:
                 if not box.any():
                     continue
                 r = np.hypot(xb[box] - s.x, yb[box] - s.y)
-                inside = r < R
+                inside = r <= R                      # closed: the wall belongs to the cut
                 sub = out[box]
                 sub[inside] = np.minimum(sub[inside], hole_floor(s, r[inside]))
                 out[box] = sub
@@ -91,7 +91,7 @@ class FeatureDesign:
             box = (xb >= x0) & (xb <= x1) & (yb >= y0) & (yb <= y1)
             if not box.any():
                 continue
-            inside = shapely.contains_xy(poly, xb[box], yb[box])
+            inside = shapely.intersects_xy(poly, xb[box], yb[box])   # boundary included
             floor = -np.inf if getattr(s, "bottom", "") == "through" else s.z_top - s.depth
             sub = out[box]
             sub[inside] = np.minimum(sub[inside], floor)
@@ -105,6 +105,12 @@ class FeatureDesign:
         x0, y0, x1, y1 = box
         xs = np.arange(x0 + cell / 2.0, x1, cell)
         ys = np.arange(y0 + cell / 2.0, y1, cell)
+        return self.volume_on_grid(xs, ys, cell * cell, z_bottom)
+
+    def volume_on_grid(self, xs: np.ndarray, ys: np.ndarray, cell_area: float,
+                       z_bottom: float) -> float:
+        """Removed volume summed on the cells centred at ``xs`` x ``ys`` (e.g. a Z-map's,
+        for a comparison without discretisation noise), down to ``z_bottom``."""
         X, Y = np.meshgrid(xs, ys)
-        hgt = np.maximum(self.height(X, Y), z_bottom)
-        return float((self.z_top - hgt).sum() * cell * cell)
+        hgt = np.clip(self.height(X, Y), z_bottom, self.z_top)
+        return float((self.z_top - hgt).sum() * cell_area)
