@@ -229,3 +229,31 @@ def test_unreachable_corners_say_how_much_is_left(blanking):
     # a square-ish corner leaves about r (sqrt 2 - 1) = 2.07 for r = 5, never more
     assert all(0 <= c["max_uncut"] < 5.0 for c in corners)
     assert max(c["max_uncut"] for c in corners) > 0.5
+
+
+def test_inch_job_control_and_cam_interpret_alike(rs274):
+    from millpath.interpret import interpret
+    from millpath.job.schema import validate
+    from millpath.model import Machine, Stock, Tool
+    from millpath.post.linuxcnc import post
+    from millpath.verify.rs274 import run_rs274
+    from millpath.part.curve.points import read_points_csv
+    pts = read_points_csv(EXAMPLES / "die-blanking" / "outline.csv") / 25.4
+    tools = {3: Tool(3, "flat", 0.375)}
+    ctx = PlanContext("inch", Stock(0, 0, 0, 170 / 25.4, 140 / 25.4, 0.5),
+                      Machine.default_for("inch"), tools, Path("."))
+    got = {}
+    for comp in ("cam", "control"):
+        params = validate({"tool": 3, "points": pts.tolist(), "tolerance": 0.0001,
+                           "depth": 0.25, "step_down": 0.125, "allowance": 0.01, "feed": 20.0,
+                           "compensation": comp}, op.PARAMS, "op", None)
+        res = op.plan(ctx, params)
+        prog = post(res.toolpath, tools)
+        r = run_rs274(prog, tools, table_units="inch")
+        assert r.ok, (r.error, r.error_line)
+        got[comp] = [m for m in interpret(prog, tools, machine_units="inch")
+                     if m.kind in ("feed", "arc")]
+    a, b = got["cam"], got["control"]
+    assert len(a) == len(b) > 500
+    # the post writes 5 decimals in inch: the CAM side carries up to 0.000005
+    assert max(float(np.abs(np.subtract(x.end, y.end)).max()) for x, y in zip(a, b)) <= 1e-5

@@ -99,7 +99,7 @@ def _curvature_report(curve: Curve, radius: float, samples: int = 400) -> list[d
     return out
 
 
-def _entry(q: np.ndarray, region_in: Polygon, r: float):
+def _entry(q: np.ndarray, region_in: Polygon, r: float, grid: float):
     """Pick the contour start and the lead-in: returns (k, S, A, exit_point, overlap).
 
     The lead-in ends with a line A -> q[k] turning 0.06 rad onto the first chord (a
@@ -126,8 +126,9 @@ def _entry(q: np.ndarray, region_in: Polygon, r: float):
     c, sn = math.cos(-phi), math.sin(-phi)
     d_in = np.stack([c * t[:, 0] - sn * t[:, 1], sn * t[:, 0] + c * t[:, 1]], axis=1)
     n_in = np.stack([-d_in[:, 1], d_in[:, 0]], axis=1)
-    a_pts = q - 2.0 * r * d_in
-    s_pts = a_pts + 2.0 * r * n_in
+    # on the program's number grid, so LinuxCNC starts from the very same points
+    a_pts = np.round((q - 2.0 * r * d_in) / grid) * grid
+    s_pts = np.round((a_pts + 2.0 * r * n_in) / grid) * grid
     inside = shapely.contains_xy(region_in, s_pts[:, 0], s_pts[:, 1])
     for k in np.argsort(score, kind="stable"):
         if not inside[k]:
@@ -145,7 +146,7 @@ def _entry(q: np.ndarray, region_in: Polygon, r: float):
         ov = [q[i % m] for i in range(k + 1, j + 1)]
         jm = (j - 1) % m
         nj = np.array([-t[jm, 1], t[jm, 0]])
-        exit_point = q[j % m] + 2.0 * r * nj
+        exit_point = np.round((q[j % m] + 2.0 * r * nj) / grid) * grid
         if not region_in.contains(LineString([q[j % m] + 1.01 * r * nj, exit_point])):
             continue
         return int(k), S, A, exit_point, ov
@@ -226,8 +227,9 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     except CompensationError as e:
         p = verts[e.index % len(verts)]
         raise PlanningError(f"{e} near ({p[0]:.3f}, {p[1]:.3f})", ctx.job_file) from None
-    q = reach.points
-    k, S, A, exit_point, overlap = _entry(q, region_in, r)
+    # corners where removed chords were bridged are new points: put them on the grid
+    q = np.round(reach.points / grid) * grid
+    k, S, A, exit_point, overlap = _entry(q, region_in, r, grid)
     q = np.roll(q, -k, axis=0)
     prog = [A] + list(q) + [q[0]] + [np.asarray(p) for p in overlap]
     try:
