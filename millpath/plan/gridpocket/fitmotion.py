@@ -129,6 +129,7 @@ class Fitter:
         self.tol = tol
         self.max_radius = max_radius
         self.decimals = decimals    # points are written with this many decimals
+        self.max_span = 40          # longest span (segments) tried as one arc or cubic
 
     def fit(self, chain: Chain) -> list[Seg]:
         P = chain.pts
@@ -181,6 +182,8 @@ class Fitter:
                 elif e - i == 1:
                     out.append(Seg("line", P[e].copy()))
                     done = True
+                elif e - i > self.max_span:
+                    continue        # curves are tried on at most max_span segments
                 elif plane is not None and self.mode == "arc":
                     seg = self._arc(chain, i, e, plane, self.tol, self.tol)
                     if seg is not None:

@@ -7,9 +7,9 @@ everywhere, with ``finish_feed``), the wall pass (one lap of the offset outline 
 layer floor, ending at the bottom, starting at the outline corner nearest to where the
 finish layer ended), then the X zigzag and the Y zigzag runs at the bottom.
 
-A layer with floor ``f`` puts each point at ``max(tip Z on the bottom, f)`` and visits
-only the cells whose bottom lies below the floor of the layer before it (elsewhere the
-bottom was already reached). Moves between non-adjacent cells stay at cutting depth
+A layer with floor ``f`` puts each point at ``max(tip Z on the bottom, f)`` and skips
+the cells whose bottom is above ``f``; the finish layer visits every cell, so it takes
+the skipped cells down to the bottom (at most one step of material). Moves between non-adjacent cells stay at cutting depth
 when the straight move keeps the tool inside the offset outline; otherwise the tool
 retracts to ``safe_z``. Clean-up runs are joined at the bottom when they start next
 to where the previous one ended, else over a short retract above the cleared bottom.
@@ -272,24 +272,27 @@ def plan_pocket(spec: PocketSpec) -> tuple[Toolpath, dict]:
     final_path: list = []
     for k, floor in enumerate(floors):
         finish = k == len(floors) - 1
-        mask = grid.inside & (zc < done - eps)
+        # a roughing layer skips cells whose bottom is above its floor (the finish layer
+        # takes them down to the bottom); the finish layer visits every cell
+        mask = grid.inside & (zc < (spec.top if finish else floor) - eps)
         path = main_path(mask, spec.dx, spec.dy)
         phase = "finish" if finish else "rough"
+        layers.append({"floor": None if math.isinf(floor) else floor, "finish": finish,
+                       "cells": len(path), "length": 0.0})
+        if not path:
+            continue
         b.begin(phase, "finish layer" if finish else f"rough layer {k + 1} (floor {floor:g})")
         before = b.stats.phases.get(phase, 0.0)
         feed = spec.finish_feed if finish else spec.feed
         for chunk in _path_chunks(grid, path):
             b.cut(_cells_xy(grid, chunk), floor, feed, done)
-        layers.append({"floor": None if math.isinf(floor) else floor, "finish": finish,
-                       "cells": len(path),
-                       "length": b.stats.phases.get(phase, 0.0) - before})
+        layers[-1]["length"] = b.stats.phases.get(phase, 0.0) - before
         if finish:
             final_path = path
-        if b.cleared is None and path:
-            # the first layer visits every cell: its discs are cleared from now on
-            c = _cells_xy(grid, path)
-            b.cleared = shapely.union_all(shapely.buffer(shapely.points(c), tool.radius,
-                                                         quad_segs=16))
+        # the discs this layer swept are clear down to its floor (or the bottom)
+        c = _cells_xy(grid, path)
+        b.cleared = shapely.union_all(shapely.buffer(shapely.points(c), tool.radius,
+                                                     quad_segs=16))
         done = floor
 
     # wall pass: one lap per floor, down to the bottom
