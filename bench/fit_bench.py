@@ -8,6 +8,7 @@ Cases (tolerance 0.005 mm, 0.0002 in for inch jobs):
 - ``zigzag``: 3D zigzag finishing of the surface z = -12 + 6 sin(x/23) cos(y/31)
   - 0.02 y (tool tip, rows along X every 1 mm, 0.2 mm moves), the program of
   bench/sim_speed.py, with flat regions added (z clipped at -14);
+- ``zigzag at 45 deg``: the same surface with rows at 45 degrees to X (84,000 moves);
 - ``example:<name>``: the bundled example jobs of other strategies
   (millpath/examples), planned with millpath.pipeline.plan_job, when they plan.
 
@@ -118,6 +119,28 @@ def zigzag_toolpath(moves: int = 200_000, size: float = 200.0) -> Toolpath:
     return tp
 
 
+def diagonal_zigzag_toolpath(step: float = 0.2, stepover: float = 1.0) -> Toolpath:
+    """The same surface finished with rows at 45 degrees to X (no XZ/YZ plane holds a
+    row: only helical arcs and lines can shorten it)."""
+    tp = Toolpath(units="mm")
+    tp.begin(Operation("surface-finish", "3D zigzag finishing at 45 degrees", 2,
+                       spindle=15000))
+    s = np.arange(0.0, 140.0, step)
+    c = math.sqrt(0.5)
+    for k, o in enumerate(np.arange(-60.0, 60.0, stepover)):
+        u = s if k % 2 == 0 else s[::-1]
+        x = 100 + (u - 70) * c - o * c
+        y = 100 + (u - 70) * c + o * c
+        z = np.maximum(-12.0 + 6.0 * np.sin(x / 23.0) * np.cos(y / 31.0) - 0.02 * y, -14.0)
+        if k == 0:
+            tp.rapid(x[0], y[0], 5.0)
+            tp.line(x[0], y[0], z[0], 500.0)
+        for xi, yi, zi in zip(x, y, z):
+            tp.line(xi, yi, zi, 2000.0)
+    tp.rapid(x[-1], y[-1], 5.0)
+    return tp
+
+
 def example_toolpaths():
     """(name, toolpath, tools) of the bundled examples that plan."""
     from millpath.job.jobfile import load_job
@@ -183,7 +206,8 @@ def main() -> None:
     for m in modes:
         fit_toolpath(warm, 0.005, m)                 # compile / load the numba cache
     cases = [("2.5D contours (chord 0.5 um)", contours_toolpath(), tools, 3.0),
-             (f"3D zigzag finishing ({a.moves} moves)", zigzag_toolpath(a.moves), tools, 3.0)]
+             (f"3D zigzag finishing ({a.moves} moves)", zigzag_toolpath(a.moves), tools, 3.0),
+             ("3D zigzag at 45 deg (84000 moves)", diagonal_zigzag_toolpath(), tools, 3.0)]
     for name, tp, ts, rmin in cases:
         for m in modes:
             run_case(name, tp, ts, m, rmin)
