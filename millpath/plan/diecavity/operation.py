@@ -2,16 +2,21 @@
 
 Points -> four-point segments with C1 blends (closed) -> fewest chords within
 ``tolerance`` -> the programmed contour (chords the tool cannot follow removed, their
-neighbours extended to meet) -> per depth step: contour-parallel roughing from the
-inside out leaving ``allowance``, then the wall finished on the offset contour.
+neighbours extended to meet; points on the post's number grid, 0.0001 mm / 0.00001 in)
+-> per depth step: contour-parallel roughing from the inside out leaving ``allowance``
+(each ring entered by a 3 degree ramp along it), then the wall finished on the offset
+contour.
 
 ``compensation = "cam"`` writes the tool-centre path (arcs round convex corners,
 concave corners trimmed, LinuxCNC's rules, see :mod:`millpath.part.curve.offset`);
 ``"control"`` writes the contour itself between ``G41 D<tool>`` and ``G40`` and lets
-the control offset it; both interpret to the same motion. The contour is cut counter-
-clockwise with the tool on its left (G41, climb milling with M3). Lengths in job
-units; ``depth`` below the stock top; a cavity at least as deep as the block is a
-through cavity cut ``breakthrough`` below the block bottom.
+the control offset it; both interpret to the same motion. LinuxCNC joins corners that
+turn 0.05 rad or less straight, so at such a concave corner turning ``a`` the tool
+stands up to r (1 - cos a) inside the wall; that is measured and reported as
+``finish_max_undercut``. The contour is cut counter-clockwise with the tool on its
+left (G41, climb milling with M3). Lengths in job units; ``depth`` below the stock
+top; a cavity at least as deep as the block is a through cavity cut ``breakthrough``
+below the block bottom.
 """
 
 from __future__ import annotations
