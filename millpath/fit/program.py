@@ -142,8 +142,6 @@ def _apply(st: _State, b: _Block) -> None:
         st.feed = w["F"]
     if "M" in w and w["M"] in (6.0, 61.0):
         lost = True                          # a tool change may move the tool
-    if any(l in w for l in "ABCUVW"):
-        pass                                 # other axes: XYZ still follow the words
     axes = [a for a in "XYZ" if a in w]
     moved = bool(axes) and not any(g in (4.0, 10.0, 28.0, 30.0, 52.0, 92.0) for g in b.g)
     if lost or any(g in (28.0, 30.0, 53.0, 92.0, 10.0, 52.0) for g in b.g):

@@ -2,13 +2,11 @@
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import pytest
 from scipy.spatial import cKDTree
 
-from millpath.model.toolpath import Move, Toolpath, Operation, sample_move
+from millpath.model.toolpath import Operation, Toolpath, sample_move
 
 
 def _sample_lines(A: np.ndarray, B: np.ndarray, step: float) -> np.ndarray:
