@@ -138,3 +138,15 @@ def test_points_csv_reads_header_comments_and_names_bad_lines(tmp_path):
     assert str(e.value).startswith(f"{f}:2:")
     with pytest.raises(JobError, match="exactly one"):
         points_from_params(None, None, "job.toml", "op")
+
+
+def test_each_chord_reaches_as_far_as_the_tolerance_allows():
+    """Greedy fewest chords: every chord's far end is the last parameter within T."""
+    tol = 0.0005
+    curve = build_curve(PUBLISHED)
+    lin = linearize_curve(curve, tol)
+    for seg, sl in zip(curve.segments, lin.segments):
+        a, b = sl.u[:-2], sl.u[1:-1]                      # all chords but the last
+        longer = np.minimum(b + 1e-6 * (b - a), 1.0)
+        assert np.all(chord_deviation(seg, a, longer) > tol)
+        assert np.all(sl.deviation <= tol)
