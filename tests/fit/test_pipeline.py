@@ -1,0 +1,29 @@
+"""`millpath run` with fit = "arcs+cubics": the fitted program passes the pipeline's
+interpretation round trip and simulation without gouges."""
+
+from __future__ import annotations
+
+import re
+import shutil
+from pathlib import Path
+
+import pytest
+
+EXAMPLE = Path(__file__).resolve().parents[2] / "millpath" / "examples" / "features-pockets"
+
+
+def test_run_with_fitting_writes_a_shorter_verified_program(tmp_path):
+    if not (EXAMPLE / "job.toml").is_file():
+        pytest.skip("the features-pockets example is not in this checkout")
+    from millpath.pipeline import run_job
+    for f in EXAMPLE.iterdir():
+        shutil.copy(f, tmp_path / f.name)
+    job = (tmp_path / "job.toml").read_text()
+    plain = run_job(tmp_path / "job.toml", tmp_path / "plain")
+    (tmp_path / "job.toml").write_text(re.sub(r'(?m)^name = (.*)$',
+                                              r'name = \1\nfit = "arcs+cubics"', job, count=1))
+    fitted = run_job(tmp_path / "job.toml", tmp_path / "fitted")
+    assert fitted.report["fit"]["mode"] == "arcs+cubics"
+    assert fitted.report["verification"]["max_gouge"] <= 0.005
+    assert fitted.report["lines"] < plain.report["lines"] * 0.6
+    assert re.search(r"(?m)^(G1[789] )?G[235] ", fitted.program)
