@@ -92,13 +92,13 @@ def command(program: Path, tools_path: Path | None, stock_text: str,
         tools, tool_arg = _read_tools(tools_path, "inch")
         res = _interpret(program, tool_arg, "inch")
     motions = list(res.motions)
-    used = sorted({m.tool for m in motions if m.kind != "dwell"})
+    used = sorted({m.tool for m in motions if m.kind != "dwell" and m.tool != 0})
     for t in used:
         if t not in tools:
             line = next(m.line for m in motions if m.tool == t)
-            what = "no tool in the spindle (T.. M6)" if t == 0 else f"tool {t} is not defined"
-            hint = (f" in {tools_path}" if tools_path else "; give --tools")
-            raise MillpathError(f"{what}{hint}", program, line)
+            hint = (f" in {tools_path} (a tool table row needs a diameter D)"
+                    if tools_path else "; give --tools")
+            raise MillpathError(f"tool {t} is not defined{hint}", program, line)
     if resolution is None:
         w, h, _ = stock.size
         resolution = max(w, h) / 1000.0

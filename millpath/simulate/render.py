@@ -108,6 +108,7 @@ def render_deviation(zmap: ZMap, design, path: str | Path, *, title: str = "",
     u = f" ({units})" if units else ""
     cb.set_label(f"deviation{u}: red = gouge (below design), blue = material left")
     cb.set_ticks(ticks)
+    cb.set_ticklabels([f"{t:.3g}" for t in ticks])
     ax.set_xlabel("X")
     ax.set_ylabel("Y")
     ax.set_title(title or f"deviation from design: max gouge {gmax:.4g}, "

@@ -95,7 +95,13 @@ def _tool_arrays(numbers: list[int], tools: dict[int, Tool]):
 def sweep(zmap: ZMap, segs: Segments, tools: dict[int, Tool], n_motions: int, *,
           progress: bool = False, lines: list[int] | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Cut ``segs`` into ``zmap`` in place. Returns per-motion flags (rapid through
-    material, holder contact) as int8 arrays of length ``n_motions``."""
+    material, holder contact) as int8 arrays of length ``n_motions``. Chords of tool 0
+    (no tool in the spindle) cut nothing; other tools missing from ``tools`` are a
+    ValueError."""
+    if len(segs) and (segs.tool == 0).any():          # empty spindle: nothing cuts
+        keep = segs.tool != 0
+        segs = Segments(segs.start[keep], segs.end[keep], segs.motion[keep],
+                        segs.rapid[keep], segs.tool[keep])
     numbers = sorted({int(t) for t in np.unique(segs.tool)}) if len(segs) else []
     for t in numbers:
         if t not in tools:

@@ -217,3 +217,14 @@ def test_motion_without_geometry_is_swept_as_a_straight_chord():
     r = simulate_motions(ms, {1: TOOL}, STOCK, resolution=0.1)
     assert r.removed_volume == pytest.approx((20 * 6 + math.pi * 9) * 1, rel=0.01)
     assert r.cycle_time_s > 2.0 + 20 / (100 / 60)
+
+
+def test_moves_with_an_empty_spindle_cut_nothing():
+    from millpath.interpret.motion import Motion
+    from millpath.simulate import simulate_motions
+    ms = [Motion("traverse", 1, (5.0, 5.0, 5.0), (5.0, 5.0, -1.0), tool=0),
+          Motion("traverse", 2, (5.0, 5.0, -1.0), (5.0, 5.0, 5.0), tool=0),
+          Motion("feed", 3, (5.0, 5.0, 5.0), (5.0, 5.0, -1.0), feed=100, tool=1)]
+    r = simulate_motions(ms, {1: TOOL}, STOCK, resolution=0.1)
+    assert r.removed_volume == pytest.approx(math.pi * 9, rel=0.01)
+    assert r.rapids_through_material == 0
