@@ -268,3 +268,30 @@ def test_flat_slot_ends_leave_exactly_the_square_corners(tmp_path):
     corners = 4 * (1 - np.pi / 4) * 5.0 ** 2 * 6.0        # tool radius 5, depth 6
     assert expected - sim.removed_volume == pytest.approx(corners, rel=0.1)
     assert sim.max_gouge <= 1e-6
+
+
+@pytest.mark.parametrize("width, centre_y", [
+    (50.0, 25.0),           # the whole top: every side open
+    (20.0, 10.0),           # a band along one edge: one side is a wall
+])
+def test_planar_faces_are_face_milled(tmp_path, width, centre_y):
+    from millpath.part.step.build import Ap224Builder
+    from millpath.simulate import simulate_toolpath
+    b = Ap224Builder("FACE", units="mm", material="aluminium")
+    b.block(100.0, 50.0, 20.0)
+    b.planar_face((0.0, centre_y, 20.0), (1.0, 0.0), 100.0, width, 1.5)
+    b.pocket((50.0, 35.0 if width < 50 else 25.0, 18.5 if width == 50 else 20.0), 4.0,
+             "rectangular", length=30.0, width=10.0, corner_radius=5.0)
+    (tmp_path / "f.stp").write_text(b.text())
+    ctx = PlanContext(units="mm", stock=None, machine=Machine(), tools=TOOLS_MM,
+                      base_dir=tmp_path)
+    r = plan(ctx, validate({"step": "f.stp"}, PARAMS, "op", None, tmp_path))
+    face = next(p for p in r.report["features"]["planned"] if p["type"] == "FACE")
+    assert face["strategy"] == "face" and face["tool"] == 1        # largest end mill
+    st = r.stock
+    sim = simulate_toolpath(r.toolpath, TOOLS_MM, st, resolution=0.25, design=r.design)
+    expected = r.design.volume_on_grid(sim.zmap.xs(), sim.zmap.ys(), sim.zmap.cell_area,
+                                       sim.zmap.zmin)
+    assert sim.removed_volume == pytest.approx(expected, rel=0.01)
+    assert sim.max_gouge <= 1e-6 and sim.rapids_through_material == 0
+    assert sim.max_left <= 0.05

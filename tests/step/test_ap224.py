@@ -233,7 +233,7 @@ def test_si_units_without_prefix_are_metres_and_plans_scale_to_the_job(tmp_path)
     assert d.end[:2] == pytest.approx((50.0, 25.0))
 
 
-def test_step_and_planar_face_are_extracted_and_listed():
+def test_step_and_planar_face_are_extracted():
     b = Ap224Builder("STEP-FACE", units="mm")
     b.block(100.0, 50.0, 20.0)
     st = b.step((0.0, 0.0, 20.0), (1.0, 0.0), 100.0)
@@ -247,5 +247,8 @@ def test_step_and_planar_face_are_extracted_and_listed():
     assert face.type == "PLANAR_FACE" and face.params["removal depth"] == 0.5
     assert face.component("LINEAR_PROFILE").params["profile length"] == 50.0
     assert face.placement.origin == (0.0, 25.0, 20.0)
-    reasons = {u.id: u.reason for u in feature_shapes(part).skipped}
-    assert "width and depth" in reasons[st] and "face milling" in reasons[pf]
+    shapes = feature_shapes(part)
+    assert [u.id for u in shapes.skipped] == [st] and "width and depth" in shapes.skipped[0].reason
+    (face_shape,) = shapes.shapes
+    assert (face_shape.start, face_shape.length, face_shape.width, face_shape.depth) == (
+        (0.0, 25.0), 100.0, 50.0, 0.5)

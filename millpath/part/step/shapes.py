@@ -18,6 +18,9 @@ angles in degrees):
   An open end means the slot leaves the part there.
 - A pocket's profile is centred on the placement origin; a rectangle's ``length`` runs
   along the profile's X direction, ``width`` along its Y.
+- A planar face's course of travel starts at the placement origin (like a slot's); its
+  removal boundary (a LINEAR_PROFILE's 'profile length') is centred across it; it is
+  lowered by its 'removal depth'.
 """
 
 from __future__ import annotations
@@ -29,7 +32,7 @@ import numpy as np
 
 from millpath.part.step.ap224 import Feature, Part, Placement
 
-MACHINABLE_TYPES = ("ROUND_HOLE", "SLOT", "POCKET")
+MACHINABLE_TYPES = ("ROUND_HOLE", "SLOT", "POCKET", "PLANAR_FACE", "FLAT_FACE")
 
 
 @dataclass
@@ -109,6 +112,29 @@ class PocketShape:
 
 
 @dataclass
+class FaceShape:
+    """A planar face lowered by ``depth``: a rectangle whose centreline runs from
+    ``start`` along ``direction`` for ``length`` (course of travel), ``width`` across
+    (the removal boundary's profile length). Its sides on or beyond the stock's
+    boundary are open."""
+
+    id: int
+    start: tuple[float, float]
+    direction: tuple[float, float]
+    length: float
+    width: float
+    depth: float
+    z_top: float
+    kind: str = "face"
+
+    def outline(self, segments_per_quarter: int = 16):
+        from shapely.geometry import LineString
+        d = np.asarray(self.direction)
+        a = np.asarray(self.start, float)
+        return LineString([a, a + d * self.length]).buffer(self.width / 2.0, cap_style="flat")
+
+
+@dataclass
 class Unmachinable:
     id: int
     type: str
@@ -116,7 +142,7 @@ class Unmachinable:
     kind: str = "unmachinable"
 
 
-Shape = HoleShape | SlotShape | PocketShape
+Shape = HoleShape | SlotShape | PocketShape | FaceShape
 
 
 @dataclass
@@ -128,8 +154,6 @@ class ShapeSet:
 _NOT_PLANNED = {
     "STEP": "STEP features are not planned (AP224 gives the vee profile and the course "
             "of travel, not the step's width and depth)",
-    "PLANAR_FACE": "PLANAR_FACE features are not planned (face milling)",
-    "FLAT_FACE": "FLAT_FACE features are not planned (face milling)",
 }
 
 
@@ -263,6 +287,31 @@ def _pocket(f: Feature, o, ref, frame: Placement) -> PocketShape:
     return p
 
 
+def _face(f: Feature, o, ref) -> FaceShape:
+    depth = f.params.get("removal depth")
+    if depth is None:
+        c = next((c for c in f.components if "removal depth" in c.params), None)
+        depth = c.params["removal depth"] if c is not None else None
+    if depth is None:
+        raise _Missing("face without a 'removal depth'")
+    path = f.component("PATH_FEATURE_COMPONENT")
+    if path is None or path.description not in ("", "linear"):
+        raise _Missing("face without a linear course of travel")
+    length = _need(path.params, "distance", "length", what="face course of travel")
+    prof = f.component("LINEAR_PROFILE")
+    if prof is None:
+        raise _Missing("face without a LINEAR_PROFILE removal boundary")
+    width = _need(prof.params, "profile length", what="face removal boundary")
+    d = np.asarray(path.direction if path.direction is not None else ref, float)
+    if abs(d[2]) > 1e-6:
+        raise _Missing("face course of travel is not horizontal")
+    d = d[:2] / np.linalg.norm(d[:2])
+    if not (depth > 0 and length > 0 and width > 0):
+        raise _Missing("face depth, length and width must be positive")
+    return FaceShape(f.id, (float(o[0]), float(o[1])), (float(d[0]), float(d[1])), length,
+                     width, float(depth), float(o[2]))
+
+
 def feature_shapes(part: Part) -> ShapeSet:
     """Machinable shapes of a part's features, and the features left out (with reasons).
 
@@ -284,7 +333,8 @@ def feature_shapes(part: Part) -> ShapeSet:
         o, axis, ref = _local(frame, f.placement)
         path = f.component("PATH_FEATURE_COMPONENT")
         depth_dir = axis
-        if f.type != "SLOT" and path is not None and path.direction is not None:
+        if f.type in ("ROUND_HOLE", "POCKET") and path is not None \
+                and path.direction is not None:
             depth_dir = frame.matrix().T @ np.asarray(path.direction)
         if depth_dir[2] > -1 + 1e-6:
             out.skipped.append(Unmachinable(
@@ -295,6 +345,8 @@ def feature_shapes(part: Part) -> ShapeSet:
                 out.shapes.append(_hole(f, o, depth_dir))
             elif f.type == "SLOT":
                 out.shapes.append(_slot(f, o, axis, ref))
+            elif f.type in ("PLANAR_FACE", "FLAT_FACE"):
+                out.shapes.append(_face(f, o, ref))
             else:
                 out.shapes.append(_pocket(f, o, ref, frame))
         except _Missing as e:

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import shapely
 
-from millpath.part.step.shapes import HoleShape, PocketShape, SlotShape
+from millpath.part.step.shapes import FaceShape, HoleShape, PocketShape, SlotShape
 
 
 def slot_outline(s: SlotShape, reach: float):
@@ -64,7 +64,7 @@ class FeatureDesign:
         for s in self.shapes:
             if isinstance(s, SlotShape):
                 poly = slot_outline(s, self.reach)
-            elif isinstance(s, PocketShape):
+            elif isinstance(s, (PocketShape, FaceShape)):
                 poly = s.outline(32)
             else:
                 continue

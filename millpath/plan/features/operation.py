@@ -43,12 +43,14 @@ from millpath.errors import JobError, PlanningError
 from millpath.job.schema import Param
 from millpath.model import Operation, Stock, Tool, Toolpath
 from millpath.part.step.ap224 import read_part
-from millpath.part.step.shapes import HoleShape, PocketShape, SlotShape, feature_shapes
+from millpath.part.step.shapes import (FaceShape, HoleShape, PocketShape, SlotShape,
+                                      feature_shapes)
 from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.features import paths
 from millpath.plan.features.cutting import MATERIALS, material_class, speeds
 from millpath.plan.features.design import FeatureDesign, slot_outline
-from millpath.plan.features.select import hole_tool, matching_drill, pocket_tool, slot_tool
+from millpath.plan.features.select import (face_tool, hole_tool, matching_drill, pocket_tool,
+                                           slot_tool)
 
 
 def _tools_check(v: Any) -> str | None:
@@ -74,6 +76,10 @@ PARAMS: dict[str, Param] = {
 }
 
 
+#: strategies that mill an area (planned before holes, see _group_key)
+REGION = ("face", "slot", "pocket", "circular")
+
+
 @dataclasses.dataclass
 class _Task:
     shape: Any
@@ -91,7 +97,7 @@ def _scaled(shape, k: float):
             f[name] = getattr(shape, name) * k
     if isinstance(shape, HoleShape) and shape.bottom in ("spherical", "flat with radius"):
         f["bottom_radius"] = shape.bottom_radius * k
-    if isinstance(shape, SlotShape):
+    if isinstance(shape, (SlotShape, FaceShape)):
         f["start"] = (shape.start[0] * k, shape.start[1] * k)
     if isinstance(shape, PocketShape):
         f["center"] = (shape.center[0] * k, shape.center[1] * k)
@@ -101,7 +107,7 @@ def _scaled(shape, k: float):
 def _position(s) -> tuple[float, float]:
     if isinstance(s, HoleShape):
         return (s.x, s.y)
-    if isinstance(s, SlotShape):
+    if isinstance(s, (SlotShape, FaceShape)):
         return s.start
     return s.center
 
@@ -111,8 +117,8 @@ def _order(tasks: list[_Task]) -> list[_Task]:
     pocket or hole in its floor); nearest neighbour among equals."""
     out: list[_Task] = []
     cur = np.zeros(2)
-    for group in ([t for t in tasks if t.strategy in ("slot", "pocket", "circular")],
-                  [t for t in tasks if t.strategy not in ("slot", "pocket", "circular")]):
+    for group in ([t for t in tasks if t.strategy in REGION],
+                  [t for t in tasks if t.strategy not in REGION]):
         left = list(group)
         while left:
             top = max(t.shape.z_top for t in left)
@@ -176,6 +182,8 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
             strat, tool, note = hole_tool(s, tools, tol)
         elif isinstance(s, SlotShape):
             strat, tool, note = slot_tool(s, tools, tol)
+        elif isinstance(s, FaceShape):
+            strat, tool, note = face_tool(s, tools, tol)
         else:
             strat, tool, note = pocket_tool(s, tools, tol)
         if tool is not None:
@@ -288,7 +296,7 @@ def _groups(tasks: list[_Task]) -> dict[int, list[_Task]]:
 def _group_key(g: list[_Task], n: int):
     """Tool order: region milling first (largest tool first), then drills, then the
     other milling (helical holes, flattening of drilled holes)."""
-    region = any(t.strategy in ("slot", "pocket", "circular") for t in g)
+    region = any(t.strategy in REGION for t in g)
     tool = g[0].tool
     return (0 if region else 1 if tool.type == "drill" else 2, -tool.diameter, n)
 
@@ -353,6 +361,8 @@ def _cut(tp: Toolpath, t: _Task, tool: Tool, sp, h: paths.Heights, z_start: floa
                 "z_start": z_start}
     if isinstance(s, SlotShape):
         rough, finish = _slot_regions(s, tool.radius, allowance, stock)
+    elif isinstance(s, FaceShape):
+        rough, finish = _face_regions(s, tool.radius, allowance, stock)
     else:
         outline = s.outline(16)
         rough = outline.buffer(-(tool.radius + allowance), join_style="mitre")
@@ -397,6 +407,33 @@ def _slot_regions(s: SlotShape, r: float, allowance: float, stock: Stock):
     finish = region(r)
     rough = region(r + allowance) if s.width / 2.0 - r - allowance > 1e-6 else finish
     return rough, finish
+
+
+def _face_regions(f: FaceShape, r: float, allowance: float, stock: Stock):
+    """Roughing and finishing regions of the tool centre on a face: the tool may leave
+    the face only where it leaves the stock (open sides), and runs out past those by its
+    radius so the whole face is cut."""
+    from shapely.geometry import box
+    face = f.outline()
+    s = box(stock.xmin, stock.ymin, stock.xmax, stock.ymax)
+    big = s.buffer(max(stock.size) + 4 * r + 10.0, join_style="mitre")
+    allowed = face.union(big.difference(s))
+    near = face.buffer(r, join_style="mitre")
+    finish = _one_area(allowed.buffer(-r, join_style="mitre").intersection(near), f.id, r)
+    rough = _one_area(allowed.buffer(-(r + allowance), join_style="mitre").intersection(near),
+                      f.id, r)
+    return (rough if not rough.is_empty else finish), finish
+
+
+def _one_area(g, fid: int, r: float):
+    """The polygon of ``g`` once slivers and touching lines are dropped."""
+    if g.geom_type == "Polygon" or g.is_empty:
+        return g
+    parts = sorted((p for p in getattr(g, "geoms", []) if p.geom_type == "Polygon"),
+                   key=lambda p: -p.area)
+    if not parts or any(p.area > 1e-6 * r * r for p in parts[1:]):
+        raise PlanningError(f"#{fid}: the face's tool region is not one area")
+    return parts[0]
 
 
 def _exit(p: np.ndarray, d: np.ndarray, stock: Stock) -> np.ndarray:

@@ -8,6 +8,7 @@
   (a bull nose of the bottom's corner radius for 'flat with radius'); a spherical bottom
   takes a ball end mill of the hole's diameter.
 - Slots: the largest flat end mill no wider than the slot.
+- Faces: the largest flat end mill.
 - Pockets: the largest flat end mill whose radius is no larger than the corner radius
   and that fits the pocket; without one, the smallest that fits (corners are left
   with the tool's radius and reported).
@@ -20,7 +21,7 @@ from __future__ import annotations
 import math
 
 from millpath.model import Tool
-from millpath.part.step.shapes import HoleShape, PocketShape, SlotShape
+from millpath.part.step.shapes import FaceShape, HoleShape, PocketShape, SlotShape
 
 
 def _flute_ok(t: Tool, depth: float) -> bool:
@@ -106,3 +107,9 @@ def pocket_tool(p: PocketShape, tools: list[Tool], tol: float) -> tuple[str, Too
     t = min(fits, key=lambda t: (not _flute_ok(t, p.depth), t.diameter))
     return "pocket", t, (f"corner radius {p.corner_radius:g} is below the smallest tool "
                          f"radius {t.radius:g}: corners are left at the tool radius")
+
+
+def face_tool(f: FaceShape, tools: list[Tool], tol: float) -> tuple[str, Tool | None, str]:
+    """Face milling: the largest flat end mill."""
+    t = _largest([t for t in tools if t.type == "flat"], f.depth)
+    return ("face", t, "") if t else ("", None, "no flat end mill for face milling")
