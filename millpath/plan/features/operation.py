@@ -21,8 +21,9 @@ Job keys (lengths in job units):
 Holes get canned cycles (G81; G73 chip breaking or G83 full retract pecks of one
 diameter beyond three diameters deep), helical interpolation or a ball plunge; a
 flat-bottom hole with a drill of its diameter is drilled and its point's cone milled
-flat. Slots and pockets are cleared by contour-parallel rings per level, entered by
-ramps, plus a finishing wall pass. Operations are grouped by tool (one tool change
+flat. Slots, pockets and planar faces are cleared by contour-parallel rings per level,
+entered by ramps, plus a finishing wall pass (faces run out past the sides where they
+leave the stock). Operations are grouped by tool (one tool change
 per tool): region milling first, then drills, then other milling; within a tool,
 higher feature tops first, then nearest neighbour. Each feature is milled from where
 material still is (its own top when earlier features cleared it, else the stock top).
