@@ -8,6 +8,7 @@ units, same turn counts. Dwells are not compared (rs274 does not report them as 
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 
 from millpath.interpret import run
@@ -54,22 +55,48 @@ def compare_motions(ours, theirs, tol: float = 1e-4) -> list[str]:
     return diffs
 
 
+def _norm_block(text: str) -> str:
+    t = "".join(text.split()).lower()
+    t = t.lstrip("/")
+    return re.sub(r"^n\d+(\.\d*)?", "", t)
+
+
+def same_block(program: str, line: int, rs274_block: str | None) -> bool:
+    """Whether rs274's failing block text is our failing line ``line`` (1-based)."""
+    if rs274_block is None:
+        return False
+    lines = program.splitlines()
+    if not 1 <= line <= len(lines):
+        return False
+    return _norm_block(lines[line - 1]) == _norm_block(rs274_block)
+
+
+def compare_results(program: str, ours, theirs, tol: float = 1e-4) -> Comparison:
+    """Compare an InterpretResult with an Rs274Result for ``program``.
+
+    Errors must be on the same block (compared by its text, since rs274 reports the
+    block it failed on); motion is then compared up to that block (rs274 may print
+    part of the failing block's motion before failing)."""
+    oe = (ours.error.line, ours.error.message) if ours.error else None
+    te = (theirs.error_line, theirs.error) if theirs.error else None
+    a, b = list(ours.motions), theirs.motions
+    diffs = []
+    if (oe is None) != (te is None):
+        diffs.append(f"error mismatch: ours {oe} vs rs274 {te}")
+    elif oe and te:
+        if not same_block(program, oe[0], theirs.error_block):
+            diffs.append(f"error block mismatch: ours {oe} vs rs274 {te} "
+                         f"block {theirs.error_block!r}")
+        a = [m for m in a if m.line < oe[0]]
+        b = [m for m in b if m.kind in KINDS][:len([m for m in a if m.kind in KINDS])]
+    diffs += compare_motions(a, b, tol)
+    return Comparison(not diffs, diffs, oe, te)
+
+
 def differential(program: str, tools=None, *, machine_units: str = "inch",
                  tol: float = 1e-4) -> Comparison:
     """Run our interpreter and rs274 on ``program``; tool values in ``machine_units``."""
     from millpath.verify.rs274 import run_rs274
     ours = run(program, tools, machine_units=machine_units)
     theirs = run_rs274(program, tools, table_units=machine_units)
-    oe = (ours.error.line, ours.error.message) if ours.error else None
-    te = (theirs.error_line, theirs.error) if theirs.error else None
-    a, b = ours.motions, theirs.motions
-    if oe and te and te[0] == oe[0]:
-        # rs274 may print part of the failing block before it fails: compare before it
-        a = [m for m in a if m.line < oe[0]]
-        b = [m for m in b if m.line < oe[0]]
-    diffs = compare_motions(a, b, tol)
-    if (oe is None) != (te is None):
-        diffs.insert(0, f"error mismatch: ours {oe} vs rs274 {te}")
-    elif oe and te and te[0] is not None and oe[0] != te[0]:
-        diffs.insert(0, f"error line mismatch: ours {oe} vs rs274 {te}")
-    return Comparison(not diffs, diffs, oe, te)
+    return compare_results(program, ours, theirs, tol)

@@ -239,10 +239,14 @@ class Reader:
             raise GCodeError("Left bracket missing after unary operation name")
         self.i += 1
         if name == "exists":
-            j = self.s.find("]", self.i)
-            body = self.s[self.i:j] if j >= 0 else ""
-            self.i = j + 1 if j >= 0 else len(self.s)
-            return 1.0 if body.startswith("#<") and body[2:-1] in self.named else 0.0
+            if self.peek() != "#":
+                raise GCodeError("Expected # reading parameter")
+            self.i += 1
+            idx = self.param_index()
+            if self.peek() != "]":
+                raise GCodeError("Expected ] reading bracketed parameter")
+            self.i += 1
+            return 1.0 if not isinstance(idx, str) or idx in self.named else 0.0
         a = self.expression()
         if name == "atan":
             if self.peek() != "/":

@@ -57,6 +57,8 @@ class Machine(CompMixin, CycleMixin):
         self.selected_tool = 0
         self.spindle_tool = 0
         self.toolchange_flag = False
+        self.tlo_effect = [0.0, 0.0, 0.0]       # TLO shifts of ``cur`` since the last move
+        self.tlo_mark = 0
         self.retract_r_plane = True             # rs274's default retract mode is G99
         self.comp_init()
         self.cycle_init()
@@ -166,6 +168,8 @@ class Machine(CompMixin, CycleMixin):
             self.motion(blk.motion, blk)
         if 4 in m:
             self.stop(m[4], line)
+        if 6 in m:
+            self.resync_after_tool_change()
 
     def check(self, blk: Block) -> None:
         """LinuxCNC's enhance_block and check_items."""
@@ -343,6 +347,7 @@ class Machine(CompMixin, CycleMixin):
         self.prog = [v * f for v in self.prog]
         self.origin = [v * f for v in self.origin]
         self.axis_offset = [v * f for v in self.axis_offset]
+        self.tlo_effect = [v * f for v in self.tlo_effect]
         self.comp_scale(f)
         # rs274 re-reads the tool offset and feed from its canon layer, which keeps the
         # numbers it was given: they are not converted (a G43 before G20/G21 keeps its
@@ -377,11 +382,31 @@ class Machine(CompMixin, CycleMixin):
             d = self.tool_data(h)
             new = [self.tlo[0] + self.user_to_prog(d[1]), self.tlo[1] + self.user_to_prog(d[2]),
                    self.tlo[2] + self.user_to_prog(d[3])]
+        if self._moved_since(self.tlo_mark):
+            self.tlo_effect = [0.0, 0.0, 0.0]
+        self.tlo_mark = len(self.store.i)
         for k in range(3):
             self.cur[k] += self.tlo[k] - new[k]
+            self.tlo_effect[k] += self.tlo[k] - new[k]
         self.tlo = new
         self.sync_out()
         self.touch_state()
+
+    def _moved_since(self, mark: int) -> bool:
+        """Whether a move (not a dwell) was emitted after ``mark`` (an index into store.i)."""
+        i = self.store.i
+        return any(i[j] != T_DWELL for j in range(mark, len(i), 5))
+
+    def resync_after_tool_change(self) -> None:
+        """rs274 re-reads the position from its canon layer after M6/M61, which has not
+        seen tool length offset changes made since the last move (a G43 in the M6 block
+        does not move the current point)."""
+        if not self._moved_since(self.tlo_mark):
+            for k in range(3):
+                self.cur[k] -= self.tlo_effect[k]
+            self.sync_out()
+        self.tlo_effect = [0.0, 0.0, 0.0]
+        self.tlo_mark = len(self.store.i)
 
     def work_offset_params(self, index: int) -> list[float]:
         base = 5201 + 20 * index

@@ -338,3 +338,27 @@ def test_programs_meant_to_run_run_without_error(name):
     from millpath.interpret import run
     r = run(P[name], TOOLS)
     assert r.error is None and len(r.motions) > 0
+
+
+P2 = {}
+P2["tool_change_resync"] = """G20
+G0 X0 Y0 Z0
+T1 M6
+G43 H1
+G0 X1
+T4 M6 G43 H4
+G0 X2
+T1 M6 G43 H1 G92 X5
+G0 Y1
+T4 M6 G43 H4 G0 X2
+G0 Y2
+G4 P1 T1 M6 G43 H1
+G0 X0
+M2
+"""
+
+
+@pytest.mark.parametrize("name", sorted(P2))
+def test_more_same_as_rs274(rs274, name):
+    c = differential(P2[name], TOOLS, machine_units="inch")
+    assert c.same, f"{name}:\n{c}"
