@@ -67,14 +67,17 @@ def brute_force_gouge(P: np.ndarray, tool, surface) -> float:
     return worst
 
 
-def plan_view(zmap, design, polygon, tool_radius: float):
+def plan_view(zmap, design, polygon, tool):
     """(largest material above the design inside the reachable area, deepest cut
-    outside the walls) of a simulated Z-map. The reachable area is what a tool of
-    that radius can reach inside the walls (the offset outline grown back), less one
-    Z-map cell; the walls are checked one cell outside the outline."""
+    outside the walls) of a simulated Z-map. The reachable area is where the tool's
+    flat bottom can reach inside the walls (the offset outline grown back by the flat
+    radius R - corner radius; for a ball, the tool centre positions), less 1.5 Z-map
+    cells; the walls are checked 1.5 cells outside the outline."""
+    tool_radius = tool.radius
     X, Y = np.meshgrid(zmap.xs(), zmap.ys())
     cell = max(zmap.dx, zmap.dy)
-    reach = inward_offset(polygon, tool_radius).buffer(tool_radius - 1.5 * cell)
+    reach = inward_offset(polygon, tool_radius).buffer(
+        tool_radius - tool.corner_radius - 1.5 * cell)
     inner = shapely.contains_xy(reach, X, Y)
     left = float(np.max((zmap.heights - design.height(X, Y))[inner], initial=0.0))
     outside = ~shapely.contains_xy(polygon.buffer(1.5 * cell), X, Y)
