@@ -290,10 +290,28 @@ def chords_on_offset(vertices, radius: float, side: str, eroded, slack: float) -
     t /= np.hypot(t[:, 0], t[:, 1])[:, None]
     sgn = 1.0 if side == "left" else -1.0
     nrm = sgn * np.stack([-t[:, 1], t[:, 0]], axis=1) * radius
-    bd = eroded.boundary
-    shapely.prepare(bd)
     ok = np.zeros(len(v), bool)
     for f in (0.5, 0.02, 0.98):
         p = v + (w - v) * f + nrm
-        ok |= shapely.distance(bd, shapely.points(p)) <= slack
+        ok |= boundary_distance(eroded, p) <= slack
     return ok
+
+
+def boundary_distance(geom, points) -> np.ndarray:
+    """Distance (n,) from each point (n, 2) to the boundary of the shapely area
+    ``geom``, through a search tree over the boundary's segments (fast for long
+    outlines)."""
+    import shapely
+    rings = []
+    for g in getattr(geom, "geoms", [geom]):
+        if g.is_empty:
+            continue
+        rings.append(np.asarray(g.exterior.coords))
+        rings.extend(np.asarray(h.coords) for h in g.interiors)
+    pts = np.asarray(points, float).reshape(-1, 2)
+    if not rings:
+        return np.full(len(pts), np.inf)
+    segs = np.concatenate([np.stack([c[:-1], c[1:]], axis=1) for c in rings])
+    tree = shapely.STRtree(shapely.linestrings(segs))
+    _, dist = tree.query_nearest(shapely.points(pts), return_distance=True, all_matches=False)
+    return dist

@@ -35,8 +35,9 @@ from millpath.model import Operation, Toolpath
 from millpath.part.curve.blend import build_curve
 from millpath.part.curve.fourpoint import Curve
 from millpath.part.curve.linearize import linearize_curve
-from millpath.part.curve.offset import (CompensationError, chords_on_offset, compensate,
-                                        reachable_contour, sample_elements)
+from millpath.part.curve.offset import (CompensationError, boundary_distance,
+                                        chords_on_offset, compensate, reachable_contour,
+                                        sample_elements)
 from millpath.part.curve.points import points_from_params
 from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.diecavity.design import CavityDesign
@@ -225,7 +226,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     t = np.roll(verts, -1, axis=0) - verts
     t /= np.hypot(t[:, 0], t[:, 1])[:, None]
     mids = 0.5 * (verts + np.roll(verts, -1, axis=0)) + r * np.stack([-t[:, 1], t[:, 0]], 1)
-    dist = shapely.distance(region_in.boundary, shapely.points(mids))
+    dist = boundary_distance(region_in, mids)
     keep = chords_on_offset(verts, r, "left", region.buffer(-r, quad_segs=64), 20 * grid)
     try:
         reach = reachable_contour(verts, r, "left", start=int(np.argmin(dist)), keep=keep)
@@ -244,7 +245,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
                             ctx.job_file) from None
     # how far the finishing path comes to the true wall (negative: inside it)
     path = sample_elements(S, elements, max(tol, r / 50))
-    clearance = shapely.distance(region.boundary, shapely.points(path)) - r
+    clearance = boundary_distance(region, path) - r
     undercut = float(max(0.0, -clearance.min()))
 
     # layers
