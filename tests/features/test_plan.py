@@ -274,9 +274,11 @@ def test_flat_slot_ends_leave_exactly_the_square_corners(tmp_path):
     (50.0, 25.0),           # the whole top: every side open
     (20.0, 10.0),           # a band along one edge: one side is a wall
 ])
-def test_planar_faces_are_face_milled(tmp_path, width, centre_y):
+def test_planar_faces_are_face_milled(tmp_path, width, centre_y, rs274):
     from millpath.part.step.build import Ap224Builder
+    from millpath.post.linuxcnc import post
     from millpath.simulate import simulate_toolpath
+    from millpath.verify.rs274 import run_rs274
     b = Ap224Builder("FACE", units="mm", material="aluminium")
     b.block(100.0, 50.0, 20.0)
     b.planar_face((0.0, centre_y, 20.0), (1.0, 0.0), 100.0, width, 1.5)
@@ -288,6 +290,8 @@ def test_planar_faces_are_face_milled(tmp_path, width, centre_y):
     r = plan(ctx, validate({"step": "f.stp"}, PARAMS, "op", None, tmp_path))
     face = next(p for p in r.report["features"]["planned"] if p["type"] == "FACE")
     assert face["strategy"] == "face" and face["tool"] == 1        # largest end mill
+    res = run_rs274(post(r.toolpath, TOOLS_MM), TOOLS_MM)
+    assert res.ok, (res.error, res.error_line)
     st = r.stock
     sim = simulate_toolpath(r.toolpath, TOOLS_MM, st, resolution=0.25, design=r.design)
     expected = r.design.volume_on_grid(sim.zmap.xs(), sim.zmap.ys(), sim.zmap.cell_area,
