@@ -122,8 +122,9 @@ def command(program: Path, tools_path: Path | None, stock_text: str,
     click.echo(f"{program.name}: {len(motions)} motions, {units}, resolution {resolution:g}")
     click.echo(f"removed volume   {j['removed_volume']:.6g} {u3}")
     if design is not None:
-        click.echo(f"max gouge        {j['max_gouge']:.4g} {units}")
-        click.echo(f"max left         {j['max_left']:.4g} {units}")
+        at = (lambda p: f" at X{p[0]:.4g} Y{p[1]:.4g}" if p else "")
+        click.echo(f"max gouge        {j['max_gouge']:.4g} {units}{at(r.gouge_at)}")
+        click.echo(f"max left         {j['max_left']:.4g} {units}{at(r.left_at)}")
         click.echo(f"left volume      {j['left_volume']:.6g} {u3}")
     click.echo(f"rapids through material  {j['rapids_through_material']}"
                + (f" (lines {', '.join(map(str, r.rapid_lines[:10]))})" if r.rapid_lines else ""))

@@ -40,8 +40,8 @@ Conventions (all lengths in the program's / toolpath's units):
 from millpath.model.stock import Machine
 from millpath.simulate.cycletime import cycle_time, motion_times, operation_times
 from millpath.simulate.design import BoxDesign, HeightFieldDesign, MeshDesign, PlaneDesign
-from millpath.simulate.simulator import (SimResult, compare, deviation, simulate_motions,
-                                         simulate_toolpath)
+from millpath.simulate.simulator import (Comparison, SimResult, compare, compare_design,
+                                         deviation, simulate_motions, simulate_toolpath)
 from millpath.simulate.zmap import ZMap
 
 
@@ -57,7 +57,7 @@ def render_deviation(zmap, design, path, **kw):
     return _r(zmap, design, path, **kw)
 
 
-__all__ = ["BoxDesign", "HeightFieldDesign", "Machine", "MeshDesign", "PlaneDesign",
+__all__ = ["BoxDesign", "Comparison", "compare_design", "HeightFieldDesign", "Machine", "MeshDesign", "PlaneDesign",
            "SimResult", "ZMap", "compare", "cycle_time", "deviation", "motion_times",
            "operation_times", "render_deviation", "render_stock", "simulate_motions",
            "simulate_toolpath"]

@@ -55,6 +55,8 @@ class SimResult:
     rapid_lines: list[int] = field(default_factory=list)     # source line / move index
     holder_lines: list[int] = field(default_factory=list)
     chords: int = 0
+    gouge_at: tuple[float, float] | None = None    # (x, y) of the largest gouge
+    left_at: tuple[float, float] | None = None     # (x, y) of the most material left
 
     def to_json(self) -> dict[str, Any]:
         """The verification keys of report.json / ``millpath simulate --json``."""
@@ -179,20 +181,47 @@ def _cut_mask(zmap: ZMap, h: np.ndarray) -> np.ndarray:
     return h < zmap.ztop - 1e-9 * max(1.0, abs(zmap.ztop))
 
 
+@dataclass
+class Comparison:
+    """Deviation of a Z-map from a design (see the module docstring)."""
+
+    max_gouge: float
+    max_left: float
+    left_volume: float
+    gouge_at: tuple[float, float] | None      # cell centre of the largest gouge
+    left_at: tuple[float, float] | None       # cell centre of the most material left
+
+
+def compare_design(zmap: ZMap, design) -> Comparison:
+    """Gouge and material left of ``zmap`` against ``design``, with their places."""
+    gouge, left, vol = 0.0, 0.0, 0.0
+    g_at = l_at = None
+    xs, ys = zmap.xs(), zmap.ys()
+    for j0, j1 in _row_blocks(zmap):
+        dc, lo, hi = _design_rows(zmap, design, j0, j1)
+        h = zmap.heights[j0:j1]
+        g = np.where(_cut_mask(zmap, h), lo - h, 0.0)
+        k = int(np.argmax(g))
+        if g.flat[k] > gouge:
+            gouge = float(g.flat[k])
+            j, i = np.unravel_index(k, g.shape)
+            g_at = (float(xs[i]), float(ys[j0 + j]))
+        lft = h - hi
+        k = int(np.argmax(lft))
+        if lft.flat[k] > left:
+            left = float(lft.flat[k])
+            j, i = np.unravel_index(k, lft.shape)
+            l_at = (float(xs[i]), float(ys[j0 + j]))
+        vol += float(np.sum(np.maximum(h - dc, 0.0)))
+    return Comparison(gouge, left, vol * zmap.cell_area, g_at, l_at)
+
+
 def compare(zmap: ZMap, design) -> tuple[float, float, float]:
     """(max gouge, max material left, volume left) of the Z-map against ``design``.
 
     See the module docstring for the per-cell convention."""
-    gouge = 0.0
-    left = 0.0
-    vol = 0.0
-    for j0, j1 in _row_blocks(zmap):
-        dc, lo, hi = _design_rows(zmap, design, j0, j1)
-        h = zmap.heights[j0:j1]
-        gouge = max(gouge, float(np.max(lo - h, where=_cut_mask(zmap, h), initial=0.0)))
-        left = max(left, float(np.max(h - hi, initial=0.0)))
-        vol += float(np.sum(np.maximum(h - dc, 0.0)))
-    return gouge, left, vol * zmap.cell_area
+    c = compare_design(zmap, design)
+    return c.max_gouge, c.max_left, c.left_volume
 
 
 def deviation(zmap: ZMap, design) -> np.ndarray:
@@ -213,16 +242,17 @@ def deviation(zmap: ZMap, design) -> np.ndarray:
 
 def _finish(zmap, design, motions, flags, times, resolution, lines, nseg) -> SimResult:
     rapid_hit, holder_hit = flags
-    if design is not None:
-        g, l, lv = compare(zmap, design)
-    else:
-        g = l = lv = None
+    c = compare_design(zmap, design) if design is not None else None
+    g = c.max_gouge if c else None
+    l = c.max_left if c else None
+    lv = c.left_volume if c else None
     return SimResult(
         removed_volume=zmap.removed_volume(), max_gouge=g, max_left=l, left_volume=lv,
         rapids_through_material=int(rapid_hit.sum()), holder_contacts=int(holder_hit.sum()),
         cycle_time_s=float(times.sum()), resolution=float(resolution), zmap=zmap,
         rapid_lines=[lines[i] for i in np.flatnonzero(rapid_hit)],
-        holder_lines=[lines[i] for i in np.flatnonzero(holder_hit)], chords=nseg)
+        holder_lines=[lines[i] for i in np.flatnonzero(holder_hit)], chords=nseg,
+        gouge_at=c.gouge_at if c else None, left_at=c.left_at if c else None)
 
 
 def _lift_start(motions: list[Motion], stock: Stock) -> list[Motion]:

@@ -77,6 +77,8 @@ def test_tool_half_a_millimetre_into_a_wall_gouges_by_the_wall_height():
     _raster(tp, 13, 13, 27.5, 27, -3.0, 3.5)                 # 0.5 past the X wall
     r = simulate_toolpath(tp, {1: TOOL}, STOCK, resolution=0.12, design=design)
     assert r.max_gouge == pytest.approx(3.0, abs=1e-9)
+    x, y = r.gouge_at
+    assert 30 < x < 30.5 and 10 < y < 30          # in the wall the tool entered
 
 
 def test_without_design_gouge_and_left_are_null():
