@@ -148,6 +148,10 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         if part.stock.shape == "cylinder":
             notes.append("cylindrical stock: its bounding box is used")
     stock = ctx.stock or file_stock
+    if ctx.stock is not None and file_stock is not None and \
+            max(abs(a - b) for a, b in zip(ctx.stock.box, file_stock.box)) > 1e-6:
+        notes.append(f"the job's stock {list(ctx.stock.box)} differs from the file's "
+                     f"{list(file_stock.box)}: features are placed in the file's frame")
     if stock is None:
         raise PlanningError("the STEP file has no stock and the job gives none",
                             params["step"])
