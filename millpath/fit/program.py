@@ -195,6 +195,18 @@ class _Emitter:
         self.arc_absolute = st.arc_absolute
         self.pos = [_fmt(v, d) for v in st.pos]   # type: ignore[arg-type]
         self.lines: list[str] = []
+        self.feed = ""                  # F word of the run, until a block carries it
+
+    def _emit(self, words: list[str]) -> None:
+        self.lines.append(" ".join(words) + self.feed)
+        self.feed = ""
+
+    def finish(self) -> list[str]:
+        """The blocks; a lone F word if no block could carry the run's feed."""
+        if self.feed:
+            self.lines.append(self.feed.strip())
+            self.feed = ""
+        return self.lines
 
     def _axes(self, end, skip: tuple[int, ...] = ()) -> list[str]:
         words = []
@@ -216,13 +228,15 @@ class _Emitter:
             self.motion = {"G1": 1.0, "G2": 2.0, "G3": 3.0, "G5": 5.0}[code]
         return words
 
-    def line(self, end, feed_word: str) -> None:
+    def line(self, end) -> None:
         words = self._head("G1") + self._axes(end)
         if words:
-            self.lines.append(" ".join(words) + feed_word)
+            self._emit(words)
 
     def verbatim(self, block: "_Block", end) -> None:
         """Copy an original G1 block, prefixed by G1 when the motion mode changed."""
+        if "F" in block.words:
+            self.feed = ""                       # the block sets the feed itself
         if block.g:                              # the block names G1 itself
             self.motion = 1.0
             self.lines.append(block.raw)
@@ -232,8 +246,7 @@ class _Emitter:
         for k in range(3):
             self.pos[k] = _fmt(end[k], self.d)
 
-    def arc(self, start, end, plane: str, c1: float, c2: float, cw: bool,
-            feed_word: str) -> None:
+    def arc(self, start, end, plane: str, c1: float, c2: float, cw: bool) -> None:
         a1, a2, _ = PLANES[PLANE_NAMES.index(plane)]
         words = self._head("G2" if cw else "G3", plane) + self._axes(end)
         if self.arc_absolute:
@@ -241,15 +254,15 @@ class _Emitter:
         else:
             words += [_IJK[a1] + _fmt(c1 - start[a1], self.d),
                       _IJK[a2] + _fmt(c2 - start[a2], self.d)]
-        self.lines.append(" ".join(words) + feed_word)
+        self._emit(words)
 
-    def cubic(self, start, end, ctrl, feed_word: str) -> None:
+    def cubic(self, start, end, ctrl) -> None:
         words = self._head("G5", "XY")
         words += [f"X{_fmt(end[0], self.d)}", f"Y{_fmt(end[1], self.d)}",
                   f"I{_fmt(ctrl[0] - start[0], self.d)}", f"J{_fmt(ctrl[1] - start[1], self.d)}",
                   f"P{_fmt(ctrl[2] - end[0], self.d)}", f"Q{_fmt(ctrl[3] - end[1], self.d)}"]
         self.pos[0], self.pos[1] = _fmt(end[0], self.d), _fmt(end[1], self.d)
-        self.lines.append(" ".join(words) + feed_word)
+        self._emit(words)
 
 
 def _needs_motion(blocks: list[_Block], k: int) -> bool:
@@ -289,26 +302,22 @@ def _fit_run(st: _State, run: list[_Block], tol: float, mode: str,
     P, idx, kinds, ends, par = fit_points(np.array(pts, dtype=float), s)
     if len(kinds) >= len(run):
         return None
-    fw = f" F{run[0].text['F']}" if "F" in run[0].text else ""
     em = _Emitter(st, d)
+    em.feed = f" F{run[0].text['F']}" if "F" in run[0].text else ""
     prev = 0
     for k, e, p in zip(kinds.tolist(), ends.tolist(), par):
         start, end = P[prev], P[e]
         if k == 0 and e == prev + 1 and idx[e] == idx[prev] + 1:
             em.verbatim(run[idx[e] - 1], end)
-            fw = ""
-            prev = e
-            continue
-        if k == 0:
-            em.line(end, fw)
+        elif k == 0:
+            em.line(end)
         elif k == 1:
             em.arc(start, end, PLANE_NAMES[int(p[0])], float(p[1]), float(p[2]),
-                   bool(p[3] > 0.5), fw)
+                   bool(p[3] > 0.5))
         else:
-            em.cubic(start, end, p[:4], fw)
-        fw = ""
+            em.cubic(start, end, p[:4])
         prev = e
-    return em.lines
+    return em.finish()
 
 
 def fit_program(text: str, tolerance: float, mode: str = "arcs", *,

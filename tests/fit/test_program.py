@@ -127,3 +127,12 @@ def test_crlf_programs_keep_their_line_ends():
     out = fit_program(src, 0.005)
     assert out.count("\n") == out.count("\r\n") and out.endswith("\r\n")
     assert len(out) < len(src) / 4
+
+
+def test_a_run_that_does_not_move_keeps_its_feed_and_motion_mode():
+    src = ("G21 G90 G17\nG0 X1 Y1 Z0\nG1 X1 Y1 F300\nX1 Y1\nX2 Y2 (move on)\nM2\n")
+    out = fit_program(src, 0.01)
+    lines = out.splitlines()
+    assert "F300" in out
+    k = lines.index("X2 Y2 (move on)")
+    assert any(l.startswith("G1") for l in lines[2:k]) or "G1" in lines[k]
