@@ -63,18 +63,21 @@ def test_reversing_move_in_a_tight_concave_corner_is_a_gouge():
 
 @pytest.mark.parametrize("side", ["left", "right"])
 @pytest.mark.parametrize("seed", [0, 1])
-def test_compensation_matches_linuxcnc_rs274(rs274, side, seed):
+@pytest.mark.parametrize("where", ["inside", "outside"])
+def test_compensation_matches_linuxcnc_rs274(rs274, side, seed, where):
     from millpath.verify.rs274 import run_rs274
     poly = _wavy(seed=seed)
-    if side == "right":
+    if (side == "right") == (where == "inside"):
         poly = poly[::-1]
     pts = list(poly) + [poly[0], poly[1]]
-    start = (0.0, 0.0)
+    start = (0.0, 0.0) if where == "inside" else (100.0, 0.0)
     el = compensate(start, pts, 4.0, side)
     res = run_rs274(_program(start, pts, side), {1: Tool(1, "flat", 8.0)})
     assert res.ok, res.error
     moves = [m for m in res.motions if m.kind in ("feed", "arc")][:-1]   # drop lead-out
     assert [m.kind == "arc" for m in moves] == [e.kind == "arc" for e in el]
+    if where == "outside":
+        assert sum(e.kind == "arc" for e in el) >= 20      # convex corners get arcs
     got = np.array([m.end[:2] for m in moves])
     assert np.abs(got - _elements_to_points(start, el)).max() <= 1.5e-4
     for m, e in zip(moves, el):
