@@ -87,9 +87,22 @@ def toolpath_motions(tp: Toolpath) -> tuple[list[Motion], list[int]]:
     first = tp.moves[0]
     pos: Vec3 = (first.end[0], first.end[1],
                  max(first.end[2], first.r_plane) if first.kind == "drill" else first.end[2])
+    op_tool = [op.tool for op in tp.ops]
+    append_m = motions.append
+    append_s = src.append
     for i, m in enumerate(tp.moves):
-        tool = tp.ops[m.op].tool
+        tool = op_tool[m.op]
         k = m.kind
+        if k == "line":                                   # fast paths: most moves
+            append_m(Motion("feed", i, pos, m.end, m.feed, (0.0, 0.0, 0.0), tool))
+            append_s(i)
+            pos = m.end
+            continue
+        if k == "rapid":
+            append_m(Motion("traverse", i, pos, m.end, 0.0, (0.0, 0.0, 0.0), tool))
+            append_s(i)
+            pos = m.end
+            continue
         if k == "comp":
             raise ValueError(
                 f"move {i} is a cutter compensation change ({m.comp}); a Toolpath with "
@@ -99,27 +112,22 @@ def toolpath_motions(tp: Toolpath) -> tuple[list[Motion], list[int]]:
             # G98 returns to the Z the move starts at: for a series of holes posted as
             # one cycle that is max(Z before the series, R), the same for every hole
             ms = _drill_motions(m, pos, pos[2], tool, i, tp.units)
+        elif k == "arc":
+            assert m.center is not None
+            a1, a2, an = PLANE_AXES[m.plane]
+            c = list(m.center)
+            c[an] = pos[an]
+            rot = -m.turns if m.clockwise else m.turns
+            ms = [Motion("arc", i, pos, m.end, feed=m.feed, tool=tool, plane=m.plane,
+                         center=tuple(c), rotation=rot)]
+        elif k == "cubic":
+            ms = [Motion("cubic", i, pos, m.end, feed=m.feed, tool=tool,
+                         controls=(m.c1, m.c2))]
         else:
-            if k == "rapid":
-                ms = [Motion("traverse", i, pos, m.end, tool=tool)]
-            elif k == "line":
-                ms = [Motion("feed", i, pos, m.end, feed=m.feed, tool=tool)]
-            elif k == "arc":
-                assert m.center is not None
-                a1, a2, an = PLANE_AXES[m.plane]
-                c = list(m.center)
-                c[an] = pos[an]
-                rot = -m.turns if m.clockwise else m.turns
-                ms = [Motion("arc", i, pos, m.end, feed=m.feed, tool=tool, plane=m.plane,
-                             center=tuple(c), rotation=rot)]
-            elif k == "cubic":
-                ms = [Motion("cubic", i, pos, m.end, feed=m.feed, tool=tool,
-                             controls=(m.c1, m.c2))]
-            else:
-                raise ValueError(f"move {i}: unknown move kind {k!r}")
+            raise ValueError(f"move {i}: unknown move kind {k!r}")
         for mo in ms:
-            motions.append(mo)
-            src.append(i)
+            append_m(mo)
+            append_s(i)
         if ms:
             pos = ms[-1].end
     return motions, src
