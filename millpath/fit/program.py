@@ -265,25 +265,10 @@ class _Emitter:
         self._emit(words)
 
 
-def _needs_motion(blocks: list[_Block], k: int) -> bool:
-    """Does the block after a run (index ``k``) rely on the modal motion mode?"""
-    for b in blocks[k:]:
-        if b.empty and not b.comment:
-            continue
-        if b.opaque:
-            return True
-        if any(g in _MOTION_G for g in b.g):
-            return False
-        if any(a in b.words for a in "XYZABCUVW"):
-            return True
-        if "M" in b.words and b.words["M"] in (2.0, 30.0):
-            return False
-    return False
-
-
 def _fit_run(st: _State, run: list[_Block], tol: float, mode: str,
-             min_radius: float) -> list[str] | None:
-    """Rewritten lines for a run (None: keep it as written)."""
+             min_radius: float) -> "_Emitter | None":
+    """The emitter holding a run's rewritten blocks (None: keep the run as written).
+    ``st``: the state before the run, its motion mode the one the output is in."""
     base = 5 if st.units != "mm" else 4
     d = base
     for b in run:
@@ -317,7 +302,8 @@ def _fit_run(st: _State, run: list[_Block], tol: float, mode: str,
         else:
             em.cubic(start, end, p[:4])
         prev = e
-    return em.finish()
+    em.finish()
+    return em
 
 
 def fit_program(text: str, tolerance: float, mode: str = "arcs", *,
@@ -339,6 +325,7 @@ def fit_program(text: str, tolerance: float, mode: str = "arcs", *,
     blocks = [_Block(l) for l in src]
     st = _State()
     out: list[str] = []
+    out_motion: float | None = None      # output's motion mode where it differs from st's
     i = 0
     n = len(blocks)
     while i < n:
@@ -353,41 +340,40 @@ def fit_program(text: str, tolerance: float, mode: str = "arcs", *,
                 _apply(st, blocks[j])
                 j += 1
             run = blocks[i:j]
-            new = (_fit_run(start_state, run, tolerance, mode, min_radius) if len(run) >= 2
-                   else None)
-            if new is None:
-                out.extend(rb.raw for rb in run)
+            if out_motion is not None:
+                start_state.motion = out_motion
+            em = (_fit_run(start_state, run, tolerance, mode, min_radius) if len(run) >= 2
+                  else None)
+            if em is None:
+                if out_motion is not None and not run[0].g:
+                    out.append("G1 " + run[0].raw.strip())
+                    out.extend(rb.raw for rb in run[1:])
+                else:
+                    out.extend(rb.raw for rb in run)
+                out_motion = None
             else:
-                out.extend(new)
-                restore = []
-                plane_now = _run_plane(new, start_state.plane)
-                if plane_now != st.plane:
-                    restore.append(_PLANE_CODE[st.plane])
-                if _run_motion(new, start_state.motion) != 1.0 and _needs_motion(blocks, j):
-                    restore.append("G1")
-                if restore:
-                    out.append(" ".join(restore))
+                out.extend(em.lines)
+                if em.plane != st.plane:
+                    out.append(_PLANE_CODE[st.plane])
+                out_motion = em.motion if em.motion != st.motion else None
             i = j
             continue
+        if out_motion is not None:
+            # the output is still in the G2/G3/G5 mode of the last rewritten run
+            if any(g in _MOTION_G for g in b.g):
+                out_motion = None
+            elif b.opaque:
+                out.append("G1")
+                out_motion = None
+            elif any(a in b.words for a in "XYZABCUVW"):
+                out.append("G1 " + b.raw.strip())
+                out_motion = None
+                _apply(st, b)
+                i += 1
+                continue
         out.append(b.raw)
         _apply(st, b)
         i += 1
     nl = "\r\n" if "\r\n" in text else "\n"
     return nl.join(out) + (nl if text.endswith("\n") else "")
 
-
-def _run_plane(lines: list[str], plane: str) -> str:
-    for l in lines:
-        for code, name in (("G17", "XY"), ("G18", "XZ"), ("G19", "YZ")):
-            if re.search(rf"\b{code}\b", l):
-                plane = name
-    return plane
-
-
-def _run_motion(lines: list[str], motion: float | None) -> float | None:
-    for l in lines:
-        for m in re.finditer(r"\bG([0-9.]+)", l):
-            v = float(m.group(1))
-            if v in (1.0, 2.0, 3.0, 5.0):
-                motion = v
-    return motion

@@ -71,11 +71,14 @@ def test_vertical_profile_gets_g18_and_the_plane_and_g1_come_back():
     out = fit_program(src, 0.005)
     lines = out.splitlines()
     assert any(l.startswith("G18 G3") or l.startswith("G18 G2") for l in lines)
-    k = lines.index("X-12 Z0 A1")
-    assert lines[k - 1] == "G17 G1"
+    # the block after the run relied on G17 and G1: the plane comes back on a line of
+    # its own (no motion), G1 as a prefix of the block (no zero-length move)
+    k = lines.index("G1 X-12 Z0 A1")
+    assert lines[k - 1] == "G17"
 
 
 def test_g1_restore_is_left_out_when_the_next_block_sets_motion():
+    # (and no lone G1 block: rs274 turns those into zero-length feeds)
     src = program(["G0 X10 Y0 Z2", "G1 Z-1 F200"], circle_blocks())
     lines = fit_program(src, 0.005).splitlines()
     k = lines.index("G0 Z5")
@@ -134,5 +137,19 @@ def test_a_run_that_does_not_move_keeps_its_feed_and_motion_mode():
     out = fit_program(src, 0.01)
     lines = out.splitlines()
     assert "F300" in out
-    k = lines.index("X2 Y2 (move on)")
-    assert any(l.startswith("G1") for l in lines[2:k]) or "G1" in lines[k]
+    assert "G1 X2 Y2 (move on)" in lines or "X2 Y2 (move on)" in lines
+
+
+def test_next_run_and_opaque_blocks_after_an_arc_run_get_g1_back():
+    blocks = circle_blocks(sweep=math.pi, n=90)
+    tail = ["X-10 Y-1 F500"] + [f"X{-10 + 0.1 * k:.4f} Y{-1 - 0.1 * k:.4f}" for k in range(1, 5)]
+    src = program(["G0 X10 Y0 Z2", "G1 Z-1 F200"], blocks, tail, ["X[-9] Y-2"])
+    lines = fit_program(src, 0.005).splitlines()
+    assert any(l.startswith("G3") for l in lines)
+    after = lines[max(i for i, l in enumerate(lines) if l.startswith("G3")) + 1]
+    assert after.startswith("G1 ")
+    # an opaque block (expression) right after an arc run: a G1 block of its own
+    src = program(["G0 X10 Y0 Z2", "G1 Z-1 F200"], blocks, ["X[-9] Y-2"])
+    lines = fit_program(src, 0.005).splitlines()
+    k = lines.index("X[-9] Y-2")
+    assert lines[k - 1] == "G1" and lines[k - 2].startswith("G3")
