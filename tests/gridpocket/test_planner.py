@@ -132,7 +132,7 @@ def test_feed_moves_keep_the_tool_inside_the_walls(tmp_path, gp):
 @pytest.mark.parametrize("tool", ["flat", "bull"])
 def test_tool_mode_never_gouges_a_steep_bottom_and_surface_mode_does(tmp_path, gp, tool):
     extra = "corner_radius = 0.05\n" if tool == "bull" else ""
-    ops = "tool = 1\n" + L_POCKET + STEEP + "feed = 10\ngrid = [0.125, 0.0625]\nmotion = \"arc\"\n"
+    ops = "tool = 1\n" + L_POCKET + STEEP + "feed = 10\ngrid = [0.125, 0.125]\nmotion = \"arc\"\n"
     header_tool = tool
     p = gp.write_job(tmp_path, ops + 'z_mode = "tool"\n', tool=header_tool)
     if extra:
@@ -185,3 +185,51 @@ def test_bezier_mode_writes_g5_on_a_flat_concave_pocket(tmp_path, gp):
                   "depths = [-0.15]\n")
     job, res = gp.plan_file(p)
     assert res.toolpath.counts()["cubic"] >= 1
+
+
+def test_a_narrow_neck_splits_the_pocket_into_two_regions(tmp_path, gp):
+    dumbbell = ('polygon = [[0, 0], [1, 0], [1, 0.4], [1.5, 0.4], [1.5, 0], [2.5, 0], '
+                '[2.5, 1], [1.5, 1], [1.5, 0.6], [1, 0.6], [1, 1], [0, 1]]\n')
+    p = gp.write_job(tmp_path, "tool = 1\n" + dumbbell + STEEP + "feed = 10\n"
+                     "grid = [0.125, 0.125]\nmotion = \"arc\"\n")
+    job, res = gp.plan_file(p)
+    tp = res.toolpath
+    wall = [m for m in tp.moves if tp.ops[m.op].info["phase"] == "wall"]
+    # the neck (0.2 wide) is narrower than the tool: two wall laps, joined by a move
+    # above the stock top
+    feeds = [m for m in wall if m.kind != "rapid"]
+    assert min(m.end[0] for m in feeds) < 0.2 and max(m.end[0] for m in feeds) > 2.3
+    assert any(m.kind == "rapid" and m.end[2] > 0 for m in wall[1:])
+    poly = res.design.polygon
+    P = gp.path_points(tp, 0.01)
+    cut = P[P[:, 2] < 0]
+    d = shapely.distance(poly.exterior, shapely.points(cut[:, :2]))
+    assert shapely.contains_xy(poly, cut[:, 0], cut[:, 1]).all() and d.min() >= 0.125 - 2.1e-4
+    assert 0.7 < P[P[:, 2] < 0][:, 0].max() and P[P[:, 2] < 0][:, 0].min() < 1.8
+
+
+def test_a_millimetre_job_uses_millimetre_defaults(tmp_path, gp):
+    p = tmp_path / "job.toml"
+    p.write_text("""units = "mm"
+[stock]
+box = [-5, -5, -30, 85, 55, 0]
+[[tools]]
+number = 4
+type = "ball"
+diameter = 6
+[[operations]]
+type = "grid-pocket"
+tool = 4
+polygon = [[0, 0], [80, 0], [80, 50], [0, 50]]
+bottom = { bezier = [[-8, -12, -8], [-10, -14, -10], [-8, -12, -8]] }
+feed = 600
+step = 5
+motion = "arc"
+""")
+    job, res = gp.plan_file(p)
+    r = res.report["pocket"]
+    assert r["tolerance"] == 0.005 and r["grid"]["dx"] == 3.0
+    assert [l["floor"] for l in r["layers"]][:1] == [-5.0]
+    tp = res.toolpath
+    assert max(m.end[2] for m in tp.moves) == pytest.approx(5.0)      # safe_z = top + 5 mm
+    assert tp.units == "mm" and tp.counts()["arc"] > 0
