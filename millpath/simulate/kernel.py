@@ -272,7 +272,7 @@ def _sweep_band(H, bmax, B, jlo, jhi, zfloor, gx, gy, dx, dy,
     Lx = x1 - x0
     Ly = y1 - y0
     L = math.sqrt(Lx * Lx + Ly * Ly)
-    if L < 1e-12:
+    if L <= 1e-8 * abs(z1 - z0) + 1e-12:     # vertical (or so steep that m u loses digits)
         L = 0.0
         ux = 0.0
         uy = 0.0

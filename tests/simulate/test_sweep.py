@@ -140,3 +140,18 @@ def test_drill_below_r_plane_first_rises_to_r():
     tp.drill(5, 5, -8, 2, 100)
     ms, _ = toolpath_motions(tp)
     assert ms[1].end == (0, 0, 2) and ms[2].end == (5, 5, 2)
+
+
+def test_almost_vertical_chord_is_swept_without_losing_digits():
+    tool = Tool(2, "ball", 6.0)
+    tp = Toolpath()
+    tp.begin(Operation("t", "t", 2))
+    tp.rapid(10.0, 10.0, 5.0)
+    tp.line(10.0 + 1e-11, 10.0, -4.0, 100)
+    r = simulate_toolpath(tp, {2: tool}, Stock(0, 0, -10, 20, 20, 0), resolution=0.1)
+    z = r.zmap
+    X, Y = np.meshgrid(z.xs(), z.ys())
+    d = np.hypot(X - 10.0, Y - 10.0)
+    inside = d <= 2.9
+    want = -4.0 + 3.0 - np.sqrt(9.0 - d[inside] ** 2)
+    assert np.abs(z.heights[inside] - want).max() < 1e-9
