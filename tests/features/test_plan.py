@@ -299,3 +299,16 @@ def test_planar_faces_are_face_milled(tmp_path, width, centre_y, rs274):
     assert sim.removed_volume == pytest.approx(expected, rel=0.01)
     assert sim.max_gouge <= 1e-6 and sim.rapids_through_material == 0
     assert sim.max_left <= 0.05
+
+
+def test_fewer_tools_reuses_tools_already_in_use():
+    base = run_plan("slots_pockets.stp")
+    fewer = run_plan("slots_pockets.stp", fewer_tools=True)
+    used = lambda r: {op.tool for op in r.toolpath.ops}      # noqa: E731
+    assert len(used(fewer)) < len(used(base))
+    assert "replaced by tools already in use" in " ".join(fewer.report["features"]["notes"])
+    # same features, same strategies, no new compromise
+    strat = lambda r: sorted((p["id"], p["strategy"]) for p in r.report["features"]["planned"])  # noqa: E731,E501
+    assert strat(fewer) == strat(base)
+    assert not any(p.get("note", "").startswith("corner radius")     # pocket compromise
+                   for p in fewer.report["features"]["planned"])

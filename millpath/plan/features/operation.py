@@ -14,7 +14,8 @@ Job keys (lengths in job units):
   1 mm / 0.04 in above the top.
 - ``max_rpm``: spindle limit (default 24000); ``speed_scale`` and ``feed_scale``:
   factors on the table's cutting speeds and chip loads (default 1);
-  ``coolant``: flood, mist or off;
+  ``coolant``: flood, mist or off; ``fewer_tools``: drop a milling tool when tools
+  already in use can do its features the same way (fewer tool changes, maybe slower);
   ``material``: a material class overriding the file's (see
   :data:`millpath.plan.features.cutting.MATERIALS`).
 
@@ -72,6 +73,7 @@ PARAMS: dict[str, Param] = {
     "speed_scale": Param("float", 1.0, positive=True, doc="factor on table cutting speeds"),
     "feed_scale": Param("float", 1.0, positive=True, doc="factor on table chip loads"),
     "coolant": Param("str", "flood", choices=("flood", "mist", "off")),
+    "fewer_tools": Param("bool", False, doc="replace milling tools by ones already in use"),
     "material": Param("str", "", check=lambda v: None if not v or v in MATERIALS else
                       f"unknown material class (known: {', '.join(MATERIALS)})"),
 }
@@ -217,6 +219,10 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         else:
             tasks.append(_Task(s, strat, tool, note))
 
+    merged = _consolidate(tasks, tol) if params["fewer_tools"] else []
+    if merged:
+        notes.append("tools used for few features were replaced by tools already in use: "
+                     + ", ".join(f"T{a} -> T{b}" for a, b in merged))
     groups = _groups(tasks)
     order = sorted(groups, key=lambda n: _group_key(groups[n], n))
     # a flat-bottom hole whose end mill comes before its drill is milled in full
@@ -289,6 +295,54 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     }}
     return PlanResult(toolpath=tp, design=design, report=report,
                       stock=file_stock if ctx.stock is None else None)
+
+
+def _reselect(t: _Task, tools: list[Tool], tol: float) -> tuple[Tool, str] | None:
+    """Another tool from ``tools`` for task ``t`` with the same strategy and no new
+    compromise (None if there is none)."""
+    s = t.shape
+    if t.strategy in ("helical", "flatten", "plunge"):
+        strat, tool, note = hole_tool(s, tools, tol)
+        ok = strat == ("helical" if t.strategy == "flatten" else t.strategy)
+    elif t.strategy == "slot":
+        strat, tool, note = slot_tool(s, tools, tol)
+        ok = strat == "slot"
+    elif t.strategy == "face":
+        strat, tool, note = face_tool(s, tools, tol)
+        ok = strat == "face"
+    elif t.strategy in ("pocket", "circular"):
+        strat, tool, note = pocket_tool(s, tools, tol)
+        ok = strat == t.strategy and (not note or note.split(":")[0] == t.note.split(":")[0])
+    else:
+        return None
+    if not ok or tool is None:
+        return None
+    if t.strategy in ("pocket", "circular") and note and not t.note:
+        return None
+    return tool, note
+
+
+def _consolidate(tasks: list[_Task], tol: float) -> list[tuple[int, int]]:
+    """Fewer tool changes: a milling tool whose every task another milling tool already
+    in use can do the same way is dropped (least used first). Drills stay (a hole with
+    a drill of its diameter is drilled). Returns the (dropped, replacement) pairs."""
+    merged: list[tuple[int, int]] = []
+    while True:
+        use: dict[int, list[_Task]] = {}
+        for t in tasks:
+            use.setdefault(t.tool.number, []).append(t)
+        mills = {n: ts[0].tool for n, ts in use.items() if ts[0].tool.type != "drill"}
+        for n in sorted(mills, key=lambda m: (len(use[m]), mills[m].diameter)):
+            others = [tool for m, tool in mills.items() if m != n]
+            picks = [_reselect(t, others, tol) for t in use[n]]
+            if others and all(p is not None for p in picks):
+                for t, (tool, note) in zip(use[n], picks):
+                    t.tool = tool
+                    t.note = note
+                merged.append((n, picks[0][0].number))
+                break
+        else:
+            return merged
 
 
 def _groups(tasks: list[_Task]) -> dict[int, list[_Task]]:
