@@ -52,15 +52,17 @@ def command(part: Path, as_json: bool) -> None:
         click.echo(json.dumps(doc, indent=2))
         return
     from rich.console import Console
+    from rich.markup import escape as esc
     from rich.table import Table
 
     con = Console(width=max(Console().width, 120))
     u = doc["units"]
-    con.print(f"[bold]{doc['file']}[/bold]  schema {', '.join(doc['schema']) or '?'}")
-    con.print(f"product: {doc['product'] or '-'}")
+    con.print(f"[bold]{esc(doc['file'])}[/bold]  schema "
+              f"{esc(', '.join(doc['schema'])) or '?'}")
+    con.print(f"product: {esc(doc['product']) or '-'}")
     con.print(f"units: length {u['length']} ({_fmt(u['length_mm'])} mm), angle {u['angle']} "
               f"(measures shown in {u['length']} and degrees)")
-    con.print(f"material: {doc['material'] or '-'}")
+    con.print(f"material: {esc(doc['material']) or '-'}")
     st = doc["stock"]
     if st:
         dims = ", ".join(f"{k} {_fmt(v)}" for k, v in st.items()
@@ -86,10 +88,10 @@ def command(part: Path, as_json: bool) -> None:
             comps.append(f"{c['type']}{desc}" + (f": {vals}" if vals else ""))
         if f["children"]:
             comps.append("sub-features " + ", ".join(f"#{i}" for i in f["children"]))
-        t.add_row(f"#{f['id']}", f["type"], f["name"] or f["description"], place,
-                  params or "-", "\n".join(comps) or "-")
+        t.add_row(f"#{f['id']}", f["type"], esc(f["name"] or f["description"]), place,
+                  esc(params) or "-", esc("\n".join(comps)) or "-")
     con.print(t)
     if doc["unmachinable"]:
         con.print("[bold]not machinable by the features planner:[/bold]")
         for x in doc["unmachinable"]:
-            con.print(f"  #{x['id']} {x['type']}: {x['reason']}")
+            con.print(f"  #{x['id']} {x['type']}: {esc(x['reason'])}")

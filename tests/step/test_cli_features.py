@@ -57,3 +57,14 @@ def test_truncated_file_exits_1(tmp_path):
     assert r.exit_code == 1
     line = r.output.strip()
     assert line.startswith(f"millpath: error: {bad}:") and "#2: truncated file" in line
+
+
+def test_names_with_brackets_are_printed_verbatim(tmp_path):
+    from millpath.part.step.build import Ap224Builder
+    b = Ap224Builder("[BRACKETS]", units="mm", material="steel [S235] /bold")
+    b.block(10.0, 10.0, 5.0)
+    b.hole((5.0, 5.0, 5.0), 3.0, 2.0, bottom="flat", name="[red]hole")
+    (tmp_path / "b.stp").write_text(b.text())
+    r = CliRunner().invoke(cli, ["features", str(tmp_path / "b.stp")])
+    assert r.exit_code == 0, r.output
+    assert "material: steel [S235] /bold" in r.output and "[red]hole" in r.output
