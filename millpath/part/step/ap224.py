@@ -499,7 +499,7 @@ class _Reader:
 def _snap(f: float) -> float:
     """Snap a conversion factor to the exact value it approximates (degree, inch, foot)."""
     for exact in (1.0, 25.4, 304.8, 180.0 / math.pi):
-        if abs(f - exact) <= 1e-9 * exact:
+        if abs(f - exact) <= 1e-7 * exact:
             return exact
     return f
 
