@@ -362,5 +362,5 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         "entry": {"start": [float(S[0]), float(S[1])], "contour_point": [float(q[0][0]), float(q[0][1])]},
     })
     floor = -math.inf if through else bottom
-    design = CavityDesign(region, top, floor)
+    design = CavityDesign(true, top, floor)
     return PlanResult(tp, design=design, report={"curve": report})
