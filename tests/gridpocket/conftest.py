@@ -30,6 +30,8 @@ stickout = 1.5
 
 def write_job(tmp_path: Path, op: str, tool: str = "flat") -> Path:
     p = tmp_path / "job.toml"
+    if "spindle" not in op:
+        op += "spindle = 5000\n"
     p.write_text(HEADER.format(tool=tool) + "[[operations]]\ntype = \"grid-pocket\"\n" + op)
     return p
 

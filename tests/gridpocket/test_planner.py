@@ -37,6 +37,7 @@ def test_registry_finds_the_operation():
     (L_POCKET + 'bottom = { bezier = [[0, 0], [0, 0]], points = "a.csv" }\nfeed = 10\n',
      "operations[0].bottom: give exactly one", JobError),
     (L_POCKET + STEEP + "feed = 10\nmotion = \"spline\"\n", "operations[0].motion", JobError),
+    (L_POCKET + STEEP + "feed = 10\nspindle = 0\n", "operations[0].spindle", JobError),
     (L_POCKET + STEEP + "feed = 10\ndepths = [-0.1, -0.1]\n", "operations[0].depths", JobError),
 ])
 def test_bad_keys_name_the_job_file_and_key(tmp_path, gp, op, where, exc):
@@ -223,6 +224,7 @@ tool = 4
 polygon = [[0, 0], [80, 0], [80, 50], [0, 50]]
 bottom = { bezier = [[-8, -12, -8], [-10, -14, -10], [-8, -12, -8]] }
 feed = 600
+spindle = 8000
 step = 5
 motion = "arc"
 """)

@@ -17,7 +17,7 @@ Keys (job units: mm or inch; feeds in units per minute; Z absolute, tool tip):
   (default 0.0002 in / 0.005 mm).
 - ``zigzag``: X and Y clean-up runs (default true).
 - ``feed``, ``finish_feed`` (default feed), ``plunge_feed`` (default feed / 2),
-  ``spindle`` (rpm), ``safe_z`` (default stock top + 0.2 in / 5 mm).
+  ``spindle`` (rpm, required: a pocket is never cut with the spindle off), ``safe_z`` (default stock top + 0.2 in / 5 mm).
 - ``z_mode``: ``tool`` (drop the real tool onto the bottom: no gouge) or ``surface``
   (the tip on the surface under the tool centre, as in the thesis).
 """
@@ -104,7 +104,7 @@ PARAMS: dict[str, Param] = {
     "feed": Param("float", positive=True, doc="roughing feed"),
     "finish_feed": Param("float", None, positive=True),
     "plunge_feed": Param("float", None, positive=True),
-    "spindle": Param("float", 0.0, nonneg=True, doc="rpm"),
+    "spindle": Param("float", positive=True, doc="rpm, clockwise (M3); required"),
     "safe_z": Param("float", None, doc="retract height"),
     "z_mode": Param("str", "tool", choices=("tool", "surface")),
 }
