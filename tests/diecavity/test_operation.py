@@ -261,3 +261,17 @@ def test_inch_job_control_and_cam_interpret_alike(rs274):
     assert len(a) == len(b) > 500
     # the post writes 5 decimals in inch: the CAM side carries up to 0.000005
     assert max(float(np.abs(np.subtract(x.end, y.end)).max()) for x, y in zip(a, b)) <= 1e-5
+
+
+def test_millpath_run_writes_the_curve_analysis(tmp_path, rs274):
+    import json
+    from millpath.pipeline import run_job
+    run_job(EXAMPLES / "die-blanking" / "job.toml", tmp_path / "out")
+    rep = json.loads((tmp_path / "out" / "report.json").read_text())
+    curve = rep["curve"]
+    assert {"segments", "chords", "uniform_chords", "unreachable_corners"} <= set(curve)
+    assert all({"chords", "steps", "deviations", "uniform_chords"} <= set(s)
+               for s in curve["segments"])
+    assert rep["verification"]["max_gouge"] == 0
+    assert rep["verification"]["rapids_through_material"] == 0
+    assert "G41 D1" in (tmp_path / "out" / "program.ngc").read_text()
