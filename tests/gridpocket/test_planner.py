@@ -235,3 +235,26 @@ motion = "arc"
     tp = res.toolpath
     assert max(m.end[2] for m in tp.moves) == pytest.approx(5.0)      # safe_z = top + 5 mm
     assert tp.units == "mm" and tp.counts()["arc"] > 0
+
+
+@pytest.mark.parametrize("mode,kind", [("arc", "arc"), ("bezier", "cubic")])
+def test_flat_concave_pocket_wall_corners_as_xy_arcs_or_g5_accepted_by_rs274(
+        tmp_path, gp, rs274, mode, kind):
+    from millpath.interpret import interpret
+    from millpath.post.linuxcnc import post_with_lines
+    from millpath.verify.roundtrip import compare_toolpath
+    from millpath.verify.rs274 import run_rs274
+    p = gp.write_job(tmp_path, "tool = 1\n" + L_POCKET + 'bottom = { bezier = [[-0.3, -0.3], '
+                     f'[-0.3, -0.3]] }}\nfeed = 10\nmotion = "{mode}"\nzigzag = false\n'
+                     "grid = [0.15, 0.15]\n")
+    job, res = gp.plan_file(p)
+    tp = res.toolpath
+    wall_curves = [m for m in tp.moves if m.kind == kind and m.plane == "XY"
+                   and tp.ops[m.op].info["phase"] == "wall"]
+    assert wall_curves, f"no XY {kind} on the wall pass"
+    program, lines = post_with_lines(tp, job.tools)
+    assert ("G5 " in program) == (kind == "cubic")
+    assert compare_toolpath(tp, lines, interpret(program, job.tools, machine_units="inch"),
+                            2e-5) == []
+    r = run_rs274(program, job.tools, table_units="inch")
+    assert r.ok, f"rs274: line {r.error_line}: {r.error}"
