@@ -258,3 +258,12 @@ def test_flat_concave_pocket_wall_corners_as_xy_arcs_or_g5_accepted_by_rs274(
                             2e-5) == []
     r = run_rs274(program, job.tools, table_units="inch")
     assert r.ok, f"rs274: line {r.error_line}: {r.error}"
+
+
+def test_bezier_rows_run_along_x_from_the_lowest_y_up(tmp_path, gp):
+    p = gp.write_job(tmp_path, "tool = 1\n" + L_POCKET +
+                     'bottom = { bezier = [[-0.1, -0.1, -0.1], [-0.5, -0.5, -0.5]] }\n'
+                     "feed = 10\ngrid = [0.15, 0.15]\nzigzag = false\n")
+    job, res = gp.plan_file(p)
+    h = res.design.surface.height(np.array([1.0, 1.0, 0.1]), np.array([0.0, 2.0, 1.0]))
+    assert h == pytest.approx([-0.1, -0.5, -0.3])

@@ -5,10 +5,13 @@ form ``nx`` columns of roughly equal x by ``ny`` rows of roughly equal y (in any
 "near-regular" means each sample may sit off its ideal node by less than a tenth of
 the node spacing. Coordinates are in the job's units.
 
-Between samples the surface is interpolated bilinearly (``method="linear"``) or with a
-bicubic spline (``"cubic"``). On a near-regular grid each grid cell is treated as a
-bilinear quadrilateral through its four real samples, so the surface passes exactly
-through every measured point. Outside the grid the nearest edge value is used.
+Between samples the surface is interpolated bilinearly (``method="linear"``) or with an
+interpolating bicubic spline (``"cubic"``). Linear: on a near-regular grid each grid
+cell is a bilinear quadrilateral through its four real samples, so the surface passes
+exactly through every measured point. Cubic: the spline is built on the mean X of each
+column and mean Y of each row (exact at the samples of a regular grid; on a
+near-regular one, off by the samples' displacement times the local slope). Outside
+the grid the nearest edge value is used.
 """
 
 from __future__ import annotations
