@@ -15,7 +15,7 @@ from math import hypot
 from millpath.interpret.errors import GCodeError
 from millpath.interpret.arcs import RADIUS_TOLERANCE, SPIRAL_RELATIVE, SPIRAL_TOLERANCE
 from millpath.interpret.lexer import Block
-from millpath.interpret.store import PLANE_CODE
+from millpath.interpret.store import PACK, PLANE_CODE
 
 _NUM = r"([-+]?+(?:\d++\.?+\d*+|\.\d++))"
 # possessive quantifiers (Python 3.11) keep the regex engine from backtracking
@@ -39,104 +39,111 @@ class FastPath:
         first line the general reader must handle (or ``len(lines)``)."""
         match = self.match
         m = self.m
-        store = m.store
-        fext = store.f.extend
-        iext = store.i.extend
         one = self.groups
         end_k = len(lines)
         try:
-            return self._loop(lines, k, end_k, match, m, fext, iext, one)
+            return self._loop(lines, k, end_k, match, m, one)
         except GCodeError as e:
             e.line = self.k + 1
             raise
 
-    def _loop(self, lines, k, end_k, match, m, fext, iext, one) -> int:
-        tols = (RADIUS_TOLERANCE[m.units], SPIRAL_TOLERANCE[m.units])
-        units = m.units
-        while k < end_k:
-            mt = match(lines[k])
-            if mt is None:
-                return k
-            g, x, y, z, i, j, kk, r, f = mt.groups()
-            if g is None:
-                if x is None and y is None and z is None:
+    def _loop(self, lines, k, end_k, match, m, one) -> int:
+        buf = m.store.buf
+        pack = PACK
+        # Machine state lives in locals inside the loop; it is written back before any
+        # call into the machine (``one``) and on leaving, and read again after. Arcs
+        # outside G17 go through the machine's own code.
+        def load():
+            simple = (not m.comp_side and m.dist_abs and m.feed_mode == 0)
+            arcs_ok = (simple and not m.ijk_abs and not m.arc_not_allowed
+                       and m.plane == "XY")
+            units = m.units
+            c, o = m.cur, m.out
+            return (c[0], c[1], c[2], o[0], o[1], o[2], m.feed_rate, m.motion_mode, simple,
+                    arcs_ok, PLANE_CODE[m.plane], m._state_idx, RADIUS_TOLERANCE[units],
+                    SPIRAL_TOLERANCE[units])
+
+        (cx, cy, cz, ox, oy, oz, feed, mode, simple, arcs_ok, pcode, state, rtol,
+         stol) = load()
+        moved = False
+        straight = False
+        try:
+            while k < end_k:
+                mt = match(lines[k])
+                if mt is None:
+                    return k
+                g, x, y, z, i, j, kk, r, f = mt.groups()
+                if g is None:
+                    code = mode if (x is not None or y is not None or z is not None) else -1
+                else:
+                    code = (ord(g) - 48) * 10
+                if (not simple or code < 0 or code > 30
+                        or (code >= 20 and (r is not None or not arcs_ok))):
+                    m.cur, m.out = [cx, cy, cz], [ox, oy, oz]
+                    m.feed_rate, m.motion_mode = feed, mode
+                    if moved:
+                        m.cycle_il_flag = False
+                        moved = False
+                    if straight:
+                        m.arc_not_allowed = False
+                        straight = False
                     self.k = k
-                    if not one(g, x, y, z, i, j, kk, r, f, k + 1):
+                    ok = one(g, x, y, z, i, j, kk, r, f, k + 1)
+                    (cx, cy, cz, ox, oy, oz, feed, mode, simple, arcs_ok, pcode, state, rtol,
+                     stol) = load()
+                    if not ok:
                         return k
                     k += 1
                     continue
-                code = m.motion_mode
-            else:
-                code = (ord(g) - 48) * 10
-            if m.comp_side or not m.dist_abs or m.feed_mode != 0 or code > 30 \
-                    or (code >= 20 and (r is not None or m.ijk_abs or m.arc_not_allowed)):
-                self.k = k
-                if not one(g, x, y, z, i, j, kk, r, f, k + 1):
-                    return k
-                k += 1
-                continue
-            if f is not None:
-                if f[0] == "-":
-                    return k
-                m.feed_rate = float(f)
-            cur = m.cur
-            end = [cur[0] if x is None else float(x), cur[1] if y is None else float(y),
-                   cur[2] if z is None else float(z)]
-            o = m.out
-            if code <= 10:
-                # G0/G1 without compensation: LinuxCNC's convert_straight, inlined
-                if i is not None or j is not None or kk is not None or r is not None:
-                    return k
-                if code == 10:
-                    feed = m.feed_rate
-                    if feed == 0.0:
+                if f is not None:
+                    if f[0] == "-":
                         return k
-                    fext((o[0], o[1], o[2], end[0], end[1], end[2], feed, 0.0, 0.0, 0.0))
-                    iext((1, k + 1, 0, PLANE_CODE[m.plane], m._state_idx))
+                    feed = float(f)
+                ex = cx if x is None else float(x)
+                ey = cy if y is None else float(y)
+                ez = cz if z is None else float(z)
+                if code <= 10:
+                    # G0/G1 without compensation: LinuxCNC's convert_straight, inlined
+                    if i is not None or j is not None or kk is not None or r is not None:
+                        return k
+                    if code == 10:
+                        if feed == 0.0:
+                            return k
+                        buf += pack(ox, oy, oz, ex, ey, ez, feed, 0.0, 0.0, 0.0,
+                                    1, k + 1, 0, pcode, state)
+                    else:
+                        buf += pack(ox, oy, oz, ex, ey, ez, 0.0, 0.0, 0.0, 0.0,
+                                    0, k + 1, 0, pcode, state)
+                    straight = True
                 else:
-                    fext((o[0], o[1], o[2], end[0], end[1], end[2], 0.0, 0.0, 0.0, 0.0))
-                    iext((0, k + 1, 0, PLANE_CODE[m.plane], m._state_idx))
+                    # G2/G3 in G17 with incremental I/J: convert_arc2, inlined
+                    if kk is not None or (i is None and j is None) or feed == 0.0:
+                        return k
+                    c1 = cx if i is None else cx + float(i)
+                    c2 = cy if j is None else cy + float(j)
+                    r1 = hypot(c1 - cx, c2 - cy)
+                    r2 = hypot(c1 - ex, c2 - ey)
+                    if r1 < rtol or r2 < rtol:
+                        return k
+                    err = abs(r1 - r2)
+                    if err > stol and err > SPIRAL_RELATIVE * max(r1, r2):
+                        return k
+                    buf += pack(ox, oy, oz, ex, ey, ez, feed, c1, c2, cz,
+                                2, k + 1, -1 if code == 20 else 1, pcode, state)
+                ox = cx = ex
+                oy = cy = ey
+                oz = cz = ez
+                mode = code
+                moved = True
+                k += 1
+            return k
+        finally:
+            m.cur, m.out = [cx, cy, cz], [ox, oy, oz]
+            m.feed_rate, m.motion_mode = feed, mode
+            if moved:
+                m.cycle_il_flag = False
+            if straight:
                 m.arc_not_allowed = False
-            else:
-                # G2/G3 with incremental I/J/K, no compensation: convert_arc2, inlined
-                plane = m.plane
-                if plane == "XY":
-                    o1, o2, bad = i, j, kk
-                elif plane == "XZ":
-                    o1, o2, bad = kk, i, j
-                else:
-                    o1, o2, bad = j, kk, i
-                feed = m.feed_rate
-                if bad is not None or (o1 is None and o2 is None) or feed == 0.0:
-                    return k
-                a1, a2, an = m.axes
-                s1 = cur[a1]
-                s2 = cur[a2]
-                c1 = s1 if o1 is None else s1 + float(o1)
-                c2 = s2 if o2 is None else s2 + float(o2)
-                r1 = hypot(c1 - s1, c2 - s2)
-                r2 = hypot(c1 - end[a1], c2 - end[a2])
-                if units != m.units:
-                    units = m.units
-                    tols = (RADIUS_TOLERANCE[units], SPIRAL_TOLERANCE[units])
-                if r1 < tols[0] or r2 < tols[0]:
-                    return k
-                err = abs(r1 - r2)
-                if err > tols[1] and err > SPIRAL_RELATIVE * max(r1, r2):
-                    return k
-                center = [0.0, 0.0, 0.0]
-                center[a1] = c1
-                center[a2] = c2
-                center[an] = cur[an]
-                fext((o[0], o[1], o[2], end[0], end[1], end[2], feed,
-                      center[0], center[1], center[2]))
-                iext((2, k + 1, -1 if code == 20 else 1, PLANE_CODE[plane], m._state_idx))
-            m.out = end
-            m.cur = end
-            m.motion_mode = code
-            m.cycle_il_flag = False
-            k += 1
-        return k
 
     def try_line(self, raw: str, n: int) -> bool:
         """Execute ``raw`` if it has the simple shape; False to use the general reader."""
@@ -180,8 +187,8 @@ class FastPath:
             o = m.out
             store = m.store
             feed = m.feed_rate if code == 10 else 0.0
-            store.f.extend((o[0], o[1], o[2], end[0], end[1], end[2], feed, 0.0, 0.0, 0.0))
-            store.i.extend((1 if code == 10 else 0, n, 0, PLANE_CODE[m.plane], m._state_idx))
+            store.buf += PACK(o[0], o[1], o[2], end[0], end[1], end[2], feed, 0.0, 0.0, 0.0,
+                              1 if code == 10 else 0, n, 0, PLANE_CODE[m.plane], m._state_idx)
             m.out = end
             m.cur = end
             m.motion_mode = code
@@ -223,9 +230,9 @@ class FastPath:
             center[an] = cur[an]
             o = m.out
             store = m.store
-            store.f.extend((o[0], o[1], o[2], end[0], end[1], end[2], m.feed_rate,
-                            center[0], center[1], center[2]))
-            store.i.extend((2, n, -1 if code == 20 else 1, PLANE_CODE[plane], m._state_idx))
+            store.buf += PACK(o[0], o[1], o[2], end[0], end[1], end[2], m.feed_rate,
+                              center[0], center[1], center[2], 2, n, -1 if code == 20 else 1,
+                              PLANE_CODE[plane], m._state_idx)
             m.out = end
             m.cur = end
             m.motion_mode = code
@@ -256,10 +263,10 @@ class FastPath:
         blk.line = n
         blk.words = w
         store = m.store
-        mark = len(store.i)
+        mark = len(store)
         try:
             m.motion(code, blk)
         except GCodeError:
-            store.truncate(mark // 5)
+            store.truncate(mark)
             raise
         return True

@@ -16,7 +16,7 @@ from millpath.interpret.comp import CompMixin
 from millpath.interpret.cycles import CycleMixin, CYCLES
 from millpath.interpret.errors import GCodeError
 from millpath.interpret.lexer import AXES, Block
-from millpath.interpret.store import KIND_CODE, MotionList, PLANE_CODE
+from millpath.interpret.store import KIND_CODE, PACK, MotionList, PLANE_CODE
 
 PLANE_AXES = {"XY": (0, 1, 2), "XZ": (2, 0, 1), "YZ": (1, 2, 0)}
 PLANE_OF_G = {170: "XY", 180: "XZ", 190: "YZ"}
@@ -96,18 +96,19 @@ class Machine(CompMixin, CycleMixin):
         o = self.out
         st = self._state_idx if state is None else state
         if center is None:
-            self.store.f.extend((o[0], o[1], o[2], end[0], end[1], end[2], feed, 0.0, 0.0, 0.0))
+            self.store.buf += PACK(o[0], o[1], o[2], end[0], end[1], end[2], feed, 0.0, 0.0,
+                                   0.0, kind, line, rot, PLANE_CODE[self.plane], st)
         else:
-            self.store.f.extend((o[0], o[1], o[2], end[0], end[1], end[2], feed,
-                                 center[0], center[1], center[2]))
-        self.store.i.extend((kind, line, rot, PLANE_CODE[self.plane], st))
+            self.store.buf += PACK(o[0], o[1], o[2], end[0], end[1], end[2], feed, center[0],
+                                   center[1], center[2], kind, line, rot,
+                                   PLANE_CODE[self.plane], st)
         self.out = [end[0], end[1], end[2]]
 
     def emit_dwell(self, line: int, seconds: float, state: int | None = None) -> None:
         o = self.out
-        self.store.f.extend((o[0], o[1], o[2], o[0], o[1], o[2], 0.0, seconds, 0.0, 0.0))
-        self.store.i.extend((T_DWELL, line, 0, PLANE_CODE[self.plane],
-                             self._state_idx if state is None else state))
+        self.store.buf += PACK(o[0], o[1], o[2], o[0], o[1], o[2], 0.0, seconds, 0.0, 0.0,
+                               T_DWELL, line, 0, PLANE_CODE[self.plane],
+                               self._state_idx if state is None else state)
 
     def sync_out(self) -> None:
         """The current point moved without motion (offsets changed)."""
@@ -384,7 +385,7 @@ class Machine(CompMixin, CycleMixin):
                    self.tlo[2] + self.user_to_prog(d[3])]
         if self._moved_since(self.tlo_mark):
             self.tlo_effect = [0.0, 0.0, 0.0]
-        self.tlo_mark = len(self.store.i)
+        self.tlo_mark = len(self.store)
         for k in range(3):
             self.cur[k] += self.tlo[k] - new[k]
             self.tlo_effect[k] += self.tlo[k] - new[k]
@@ -393,9 +394,9 @@ class Machine(CompMixin, CycleMixin):
         self.touch_state()
 
     def _moved_since(self, mark: int) -> bool:
-        """Whether a move (not a dwell) was emitted after ``mark`` (an index into store.i)."""
-        i = self.store.i
-        return any(i[j] != T_DWELL for j in range(mark, len(i), 5))
+        """Whether a move (not a dwell) was emitted after motion number ``mark``."""
+        st = self.store
+        return any(st.kind_at(j) != T_DWELL for j in range(mark, len(st)))
 
     def resync_after_tool_change(self) -> None:
         """rs274 re-reads the position from its canon layer after M6/M61, which has not
@@ -406,7 +407,7 @@ class Machine(CompMixin, CycleMixin):
                 self.cur[k] -= self.tlo_effect[k]
             self.sync_out()
         self.tlo_effect = [0.0, 0.0, 0.0]
-        self.tlo_mark = len(self.store.i)
+        self.tlo_mark = len(self.store)
 
     def work_offset_params(self, index: int) -> list[float]:
         base = 5201 + 20 * index

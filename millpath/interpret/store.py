@@ -1,14 +1,15 @@
 """Compact storage of interpreted motion: flat arrays, Motion objects on demand.
 
 A program of a million moves would need a million Python objects as a plain list;
-``MotionList`` keeps numbers in ``array`` buffers (about 110 bytes a move) and builds
+``MotionList`` packs each move into a 100-byte record of one ``bytearray`` (start, end,
+feed, center as doubles; kind, line, rotation, plane, state as int32) and builds
 :class:`Motion` objects only when indexed or iterated. It is a read-only sequence:
 ``len``, indexing, slicing, iteration, ``==`` with a list of Motions.
 """
 
 from __future__ import annotations
 
-from array import array
+import struct
 from collections.abc import Sequence
 
 import numpy as np
@@ -19,25 +20,32 @@ KINDS = ("traverse", "feed", "arc", "cubic", "dwell")
 KIND_CODE = {k: i for i, k in enumerate(KINDS)}
 PLANES = ("XY", "XZ", "YZ")
 PLANE_CODE = {p: i for i, p in enumerate(PLANES)}
-FSTRIDE = 10     # start xyz, end xyz, feed, center xyz (dwell: seconds in center[0])
-ISTRIDE = 5      # kind, line, rotation, plane, state index
+#: start xyz, end xyz, feed, center xyz (dwell: seconds in center[0]); kind, line,
+#: rotation, plane, index into ``states``
+RECORD = struct.Struct("<10d5i")
+RSIZE = RECORD.size
+PACK = RECORD.pack
+DTYPE = np.dtype([("f", "<f8", (10,)), ("i", "<i4", (5,))])
 
 
 class MotionList(Sequence):
     """Motion records in flat arrays; see the module docstring."""
 
     def __init__(self) -> None:
-        self.f = array("d")
-        self.i = array("i")
+        self.buf = bytearray()
         self.states: list[tuple] = []      # (tool_offset, tool, spindle, feed_mode)
         self.controls: dict[int, tuple] = {}
 
     def __len__(self) -> int:
-        return len(self.i) // ISTRIDE
+        return len(self.buf) // RSIZE
+
+    def kind_at(self, n: int) -> int:
+        return struct.unpack_from("<i", self.buf, n * RSIZE + 80)[0]
 
     def _make(self, n: int) -> Motion:
-        f = self.f[n * FSTRIDE:(n + 1) * FSTRIDE]
-        k, line, rot, plane, st = self.i[n * ISTRIDE:(n + 1) * ISTRIDE]
+        r = RECORD.unpack_from(self.buf, n * RSIZE)
+        f = r
+        k, line, rot, plane, st = r[10:]
         tlo, tool, spindle, fmode = self.states[st]
         kind = KINDS[k]
         m = Motion(kind, line, (f[0], f[1], f[2]), (f[3], f[4], f[5]), f[6], tlo, tool,
@@ -74,17 +82,15 @@ class MotionList(Sequence):
 
     def truncate(self, n: int) -> None:
         """Keep the first ``n`` motions."""
-        del self.f[n * FSTRIDE:]
-        del self.i[n * ISTRIDE:]
+        del self.buf[n * RSIZE:]
 
     def arrays(self) -> dict[str, np.ndarray]:
-        """Numpy views: ``start``, ``end``, ``center`` (n, 3); ``feed`` (n,); ``kind``,
+        """Numpy arrays (a copy): ``start``, ``end``, ``center`` (n, 3); ``feed`` (n,); ``kind``,
         ``line``, ``rotation``, ``plane``, ``state`` (n,) integer codes (see KINDS,
         PLANES and ``states``)."""
-        f = np.frombuffer(self.f, dtype=np.float64).reshape(-1, FSTRIDE) if len(self.f) \
-            else np.zeros((0, FSTRIDE))
-        i = np.frombuffer(self.i, dtype=np.int32).reshape(-1, ISTRIDE) if len(self.i) \
-            else np.zeros((0, ISTRIDE), dtype=np.int32)
+        rec = np.frombuffer(bytes(self.buf), dtype=DTYPE)
+        f = rec["f"]
+        i = rec["i"]
         return {"start": f[:, 0:3], "end": f[:, 3:6], "feed": f[:, 6], "center": f[:, 7:10],
                 "kind": i[:, 0], "line": i[:, 1], "rotation": i[:, 2], "plane": i[:, 3],
                 "state": i[:, 4]}
