@@ -48,34 +48,52 @@ def _profile(ttype: int, R: float, rc: float, k: float, d: float) -> float:
 
 
 @njit(cache=True)
-def _bull_u(R: float, rc: float, h2: float, m: float, ulo: float, uhi: float) -> float:
-    """Minimiser of z* + m u + f(sqrt(h2 + u^2)) on [ulo, uhi] for a bull-nose profile."""
+def _bull_slope(R, rc, h2, m, u):
+    """g'(u) and g''(u) of g(u) = m u + f(sqrt(h2 + u^2)) for a bull-nose profile."""
     a = R - rc
+    d = math.sqrt(h2 + u * u)
+    if d <= a or d == 0.0:
+        return m, 0.0
+    e = d - a
+    q = rc * rc - e * e
+    if q <= 1e-300:
+        return (1e300 if u > 0.0 else -1e300), 1e300     # vertical tangent at d = R
+    sq = math.sqrt(q)
+    fp = e / sq
+    fpp = rc * rc / (q * sq)
+    c = u / d
+    return m + fp * c, fpp * c * c + fp * h2 / (d * d * d)
 
-    def slope_sign(u):
-        d = math.sqrt(h2 + u * u)
-        if d <= a or d == 0.0:
-            return m
-        e = d - a
-        q = rc * rc - e * e
-        if q <= 0.0:
-            return u          # vertical tangent: sign of f'(d) u / d is the sign of u
-        return m + e / math.sqrt(q) * u / d
 
-    if slope_sign(ulo) >= 0.0:
+@njit(cache=True)
+def _bull_u(R, rc, h2, m, ulo, uhi):
+    """Minimiser of z* + m u + f(sqrt(h2 + u^2)) on [ulo, uhi] for a bull-nose profile
+    (convex: Newton's method on the derivative, kept inside a shrinking bracket)."""
+    g1, _ = _bull_slope(R, rc, h2, m, ulo)
+    if g1 >= 0.0:
         return ulo
-    if slope_sign(uhi) <= 0.0:
+    g1, _ = _bull_slope(R, rc, h2, m, uhi)
+    if g1 <= 0.0:
         return uhi
     lo, hi = ulo, uhi
-    for _ in range(48):
-        mid = 0.5 * (lo + hi)
-        if slope_sign(mid) > 0.0:
-            hi = mid
+    u = 0.5 * (lo + hi)
+    tol = 1e-12 * (1.0 + abs(ulo) + abs(uhi))
+    for _ in range(100):
+        g1, g2 = _bull_slope(R, rc, h2, m, u)
+        if g1 > 0.0:
+            hi = u
         else:
-            lo = mid
-        if hi - lo < 1e-12 * (1.0 + abs(hi)):
+            lo = u
+        if hi - lo < tol or g1 == 0.0:
             break
-    return 0.5 * (lo + hi)
+        un = u - g1 / g2 if g2 > 0.0 else 0.5 * (lo + hi)
+        if not (lo < un < hi):
+            un = 0.5 * (lo + hi)
+        if abs(un - u) < tol:
+            u = un
+            break
+        u = un
+    return u
 
 
 @njit(cache=True, inline="always")
