@@ -312,3 +312,42 @@ def test_fewer_tools_reuses_tools_already_in_use():
     assert strat(fewer) == strat(base)
     assert not any(p.get("note", "").startswith("corner radius")     # pocket compromise
                    for p in fewer.report["features"]["planned"])
+
+
+@pytest.mark.parametrize("profile, dims", [
+    ("rectangular", {"length": 40.0, "width": 26.0, "corner_radius": 6.0}),
+    ("circular", {"diameter": 30.0}),
+])
+def test_pocket_floor_fillets_take_a_bull_nose_of_that_radius(tmp_path, profile, dims):
+    from millpath.part.step.build import Ap224Builder
+    from millpath.simulate import simulate_toolpath
+    b = Ap224Builder("FILLET", units="mm", material="aluminium")
+    b.block(60.0, 40.0, 20.0)
+    b.pocket((30.0, 20.0, 20.0), 6.0, profile, floor_radius=1.0, **dims)
+    (tmp_path / "p.stp").write_text(b.text())
+    ctx = PlanContext(units="mm", stock=None, machine=Machine(), tools=TOOLS_MM,
+                      base_dir=tmp_path)
+    r = plan(ctx, validate({"step": "p.stp"}, PARAMS, "op", None, tmp_path))
+    (rec,) = r.report["features"]["planned"]
+    assert rec["tool"] == 7                              # bull nose D12 r1
+    z = r.design.height(np.array([30.0, 30.0]), np.array([20.0, 20.0 + (13.0 if profile ==
+                                                          "rectangular" else 15.0) - 0.5]))
+    assert z[0] == pytest.approx(14.0) and z[1] == pytest.approx(14.0 + 1 - np.sqrt(0.75))
+    sim = simulate_toolpath(r.toolpath, TOOLS_MM, r.stock, resolution=0.2, design=r.design)
+    expected = r.design.volume_on_grid(sim.zmap.xs(), sim.zmap.ys(), sim.zmap.cell_area,
+                                       sim.zmap.zmin)
+    assert sim.removed_volume == pytest.approx(expected, rel=0.01)
+    assert sim.max_gouge <= 1e-6 and sim.max_left <= 0.05
+
+
+def test_pocket_floor_fillet_without_a_matching_bull_nose_is_reported(tmp_path):
+    from millpath.part.step.build import Ap224Builder
+    b = Ap224Builder("FILLET2", units="mm")
+    b.block(60.0, 40.0, 20.0)
+    b.pocket((30.0, 20.0, 20.0), 6.0, "circular", floor_radius=2.0, diameter=30.0)
+    (tmp_path / "p.stp").write_text(b.text())
+    ctx = PlanContext(units="mm", stock=None, machine=Machine(), tools=TOOLS_MM,
+                      base_dir=tmp_path)
+    r = plan(ctx, validate({"step": "p.stp"}, PARAMS, "op", None, tmp_path))
+    (u,) = r.report["features"]["unmachinable"]
+    assert "bull nose end mill with corner radius 2" in u["reason"]

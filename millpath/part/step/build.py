@@ -215,10 +215,12 @@ class Ap224Builder:
         return f
 
     def pocket(self, center, depth: float, profile: str, bottom: str = "planar",
-               name: str = "", angle_ref=(1.0, 0.0, 0.0), **dims: float) -> Ref:
+               name: str = "", angle_ref=(1.0, 0.0, 0.0), floor_radius: float = 0.0,
+               **dims: float) -> Ref:
         """A POCKET centred at ``center`` (top face); ``profile`` rectangular (``length``,
         ``width``, ``corner_radius``), circular (``diameter``) or ngon
-        (``circumscribed_diameter``, ``number_of_sides``, ``corner_radius``)."""
+        (``circumscribed_diameter``, ``number_of_sides``, ``corner_radius``);
+        ``floor_radius``: the fillet between walls and a planar floor."""
         pl = self.placement(center, (0.0, 0.0, -1.0), angle_ref)
         desc = {"rectangular": "closed rectangular", "circular": "circular cutout"}.get(
             profile, "complex")
@@ -236,7 +238,8 @@ class Ap224Builder:
                         ("pocket depth", "path feature component usage"),
                         [pl, self.length("distance", depth)], direction=(0.0, 0.0, -1.0))
         self._component(f, "POCKET_BOTTOM", bottom, "bottom condition occurrence",
-                        ("pocket depth end", "pocket bottom usage"), [],
+                        ("pocket depth end", "pocket bottom usage"),
+                        [self.length("radius", floor_radius)] if floor_radius > 0 else [],
                         rel="FEATURE_COMPONENT_RELATIONSHIP")
         return f
 

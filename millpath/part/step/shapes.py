@@ -85,6 +85,7 @@ class PocketShape:
     diameter: float = 0.0                # circular; circumscribed for an n-gon
     sides: int = 0
     corner_radius: float = 0.0
+    floor_radius: float = 0.0            # fillet between walls and floor
     kind: str = "pocket"
 
     def outline(self, segments_per_quarter: int = 16):
@@ -252,8 +253,9 @@ def _pocket(f: Feature, o, ref, frame: Placement) -> PocketShape:
     bottom = (b.description or "planar") if b is not None else "planar"
     if bottom not in ("planar", "through"):
         raise _Missing(f"pocket bottom {bottom!r} is not planned")
-    if b is not None and b.params.get("radius", 0.0) > 1e-9:
-        raise _Missing("pocket floor fillet radius is not planned")
+    floor_radius = float(b.params.get("radius", 0.0)) if b is not None else 0.0
+    if floor_radius > 1e-9 and bottom == "through":
+        raise _Missing("a through pocket has no floor fillet")
     prof = f.component("RECTANGULAR_CLOSED_PROFILE", "CIRCULAR_CLOSED_PROFILE",
                        "NGON_CLOSED_PROFILE")
     if prof is None:
@@ -263,7 +265,8 @@ def _pocket(f: Feature, o, ref, frame: Placement) -> PocketShape:
     if prof.placement is not None:
         r = frame.matrix().T @ np.asarray(prof.placement.ref)
     angle = math.degrees(math.atan2(r[1], r[0]))
-    p = PocketShape(f.id, (float(o[0]), float(o[1])), angle, "", depth, float(o[2]), bottom)
+    p = PocketShape(f.id, (float(o[0]), float(o[1])), angle, "", depth, float(o[2]), bottom,
+                    floor_radius=floor_radius)
     if prof.type == "RECTANGULAR_CLOSED_PROFILE":
         p.profile = "rectangular"
         p.length = _need(prof.params, "length", what="rectangular profile")

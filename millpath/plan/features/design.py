@@ -94,7 +94,19 @@ class FeatureDesign:
             inside = shapely.intersects_xy(poly, xb[box], yb[box])   # boundary included
             floor = -np.inf if getattr(s, "bottom", "") == "through" else s.z_top - s.depth
             sub = out[box]
-            sub[inside] = np.minimum(sub[inside], floor)
+            fr = getattr(s, "floor_radius", 0.0)
+            if fr > 0 and inside.any():
+                # floor fillet: rises along a quarter circle within fr of the wall
+                px, py = xb[box][inside], yb[box][inside]
+                if getattr(s, "profile", "") == "circular":     # exact for circles
+                    dist = s.diameter / 2.0 - np.hypot(px - s.center[0], py - s.center[1])
+                else:
+                    dist = shapely.distance(poly.boundary, shapely.points(px, py))
+                d = np.clip(fr - dist, 0.0, fr)
+                z = np.minimum(floor + fr - np.sqrt(np.maximum(fr * fr - d * d, 0.0)), s.z_top)
+                sub[inside] = np.minimum(sub[inside], z)
+            else:
+                sub[inside] = np.minimum(sub[inside], floor)
             out[box] = sub
         return out
 

@@ -11,7 +11,8 @@
 - Faces: the largest flat end mill.
 - Pockets: the largest flat end mill whose radius is no larger than the corner radius
   and that fits the pocket; without one, the smallest that fits (corners are left
-  with the tool's radius and reported).
+  with the tool's radius and reported). A floor fillet takes a bull nose end mill of
+  that corner radius instead.
 
 Among equals, tools whose flute length reaches the feature's depth come first.
 """
@@ -90,17 +91,26 @@ def slot_tool(s: SlotShape, tools: list[Tool], tol: float) -> tuple[str, Tool | 
 
 
 def pocket_tool(p: PocketShape, tools: list[Tool], tol: float) -> tuple[str, Tool | None, str]:
+    if p.floor_radius > 0:       # a bull nose whose corner radius is the floor fillet
+        tools = [t for t in tools if t.type == "bull"
+                 and abs(t.corner_radius - p.floor_radius) <= tol]
+        if not tools:
+            return "", None, (f"no bull nose end mill with corner radius {p.floor_radius:g} "
+                              f"for the floor fillet")
+        kind = "bull"
+    else:
+        kind = "flat"
     if p.profile == "circular":
-        flats = [t for t in tools if t.type == "flat" and t.diameter <= 0.9 * p.diameter]
+        flats = [t for t in tools if t.type == kind and t.diameter <= 0.9 * p.diameter]
         t = _largest(flats, p.depth)
         return ("circular", t, "") if t else ("", None, "no end mill smaller than the pocket")
     if p.profile == "rectangular":
         room = min(p.length, p.width)
     else:
         room = p.diameter * math.cos(math.pi / p.sides)       # inscribed diameter
-    fits = [t for t in tools if t.type == "flat" and t.diameter < room - tol]
+    fits = [t for t in tools if t.type == kind and t.diameter < room - tol]
     if not fits:
-        return "", None, f"no flat end mill fits the pocket ({room:g} wide)"
+        return "", None, f"no {kind} end mill fits the pocket ({room:g} wide)"
     corner = [t for t in fits if t.radius <= p.corner_radius + tol]
     if corner:
         return "pocket", _largest(corner, p.depth), ""
