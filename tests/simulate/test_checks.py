@@ -230,3 +230,27 @@ def test_moves_with_an_empty_spindle_cut_nothing():
     r = simulate_motions(ms, {1: TOOL}, STOCK, resolution=0.1)
     assert r.removed_volume == pytest.approx(math.pi * 9, rel=0.01)
     assert r.rapids_through_material == 0
+
+
+def test_through_opening_cut_below_the_stock_is_neither_gouge_nor_left():
+    # a 10 x 10 through opening; the tool goes 1 mm below the stock bottom inside it
+    o = 0.017
+    design = BoxDesign(0.0, [(15 + o, 15 + o, 25 + o, 25 + o, -np.inf)])
+    tp = _tp()
+    _raster(tp, 18 + o, 18 + o, 22 + o, 22 + o, -11.0, 2.0)
+    for x, y in ((18, 18), (22, 18), (22, 22), (18, 22), (18, 18)):
+        tp.line(x + o, y + o, -11.0, 500)
+    r = simulate_toolpath(tp, {1: TOOL}, STOCK, resolution=0.1, design=design)
+    assert r.max_gouge == pytest.approx(0.0, abs=1e-9)
+    assert r.max_left == pytest.approx(10.0, abs=1e-9)       # the opening's corners
+    assert r.zmap.heights.min() == STOCK.zmin
+
+
+def test_height_field_design_uses_nearest_sample_next_to_a_hole():
+    x = np.array([0.0, 1.0, 2.0])
+    y = np.array([0.0, 1.0])
+    z = np.array([[1.0, 2.0, -np.inf], [1.0, 2.0, -np.inf]])
+    d = HeightFieldDesign(x, y, z)
+    h = d.height(np.array([0.5, 1.2, 1.8]), np.array([0.5, 0.5, 0.5]))
+    assert h[0] == pytest.approx(1.5)
+    assert h[1] == 2.0 and np.isneginf(h[2])
