@@ -34,20 +34,21 @@ class FastPath:
         self.blk = Block(0, "")
         self.k = 0
 
-    def run(self, lines: list[str], k: int) -> int:
-        """Execute ``lines[k:]`` while they have the simple shape; return the index of the
-        first line the general reader must handle (or ``len(lines)``)."""
+    def run(self, lines: list[str], k: int, base: int = 0) -> int:
+        """Execute ``lines[k:]`` (line ``k`` is source line ``base + k + 1``) while they
+        have the simple shape; return the index of the first line the general reader must
+        handle (or ``len(lines)``)."""
         match = self.match
         m = self.m
         one = self.groups
         end_k = len(lines)
         try:
-            return self._loop(lines, k, end_k, match, m, one)
+            return self._loop(lines, k, end_k, match, m, one, base)
         except GCodeError as e:
-            e.line = self.k + 1
+            e.line = base + self.k + 1
             raise
 
-    def _loop(self, lines, k, end_k, match, m, one) -> int:
+    def _loop(self, lines, k, end_k, match, m, one, base) -> int:
         buf = m.store.buf
         pack = PACK
         # Machine state lives in locals inside the loop; it is written back before any
@@ -88,7 +89,7 @@ class FastPath:
                         m.arc_not_allowed = False
                         straight = False
                     self.k = k
-                    ok = one(g, x, y, z, i, j, kk, r, f, k + 1)
+                    ok = one(g, x, y, z, i, j, kk, r, f, base + k + 1)
                     (cx, cy, cz, ox, oy, oz, feed, mode, simple, arcs_ok, pcode, state, rtol,
                      stol) = load()
                     if not ok:
@@ -110,10 +111,10 @@ class FastPath:
                         if feed == 0.0:
                             return k
                         buf += pack(ox, oy, oz, ex, ey, ez, feed, 0.0, 0.0, 0.0,
-                                    1, k + 1, 0, pcode, state)
+                                    1, base + k + 1, 0, pcode, state)
                     else:
                         buf += pack(ox, oy, oz, ex, ey, ez, 0.0, 0.0, 0.0, 0.0,
-                                    0, k + 1, 0, pcode, state)
+                                    0, base + k + 1, 0, pcode, state)
                     straight = True
                 else:
                     # G2/G3 in G17 with incremental I/J: convert_arc2, inlined
@@ -129,7 +130,7 @@ class FastPath:
                     if err > stol and err > SPIRAL_RELATIVE * max(r1, r2):
                         return k
                     buf += pack(ox, oy, oz, ex, ey, ez, feed, c1, c2, cz,
-                                2, k + 1, -1 if code == 20 else 1, pcode, state)
+                                2, base + k + 1, -1 if code == 20 else 1, pcode, state)
                 ox = cx = ex
                 oy = cy = ey
                 oz = cz = ez

@@ -3,10 +3,12 @@
 A program ends at M2/M30, or at a second ``%`` line when the first line is ``%``; a
 file that just stops is an error on its last line, as in rs274 ("File ended with no
 percent sign or program end"). On an error the motion list holds the motion before the
-failing block.
+failing block. Long programs are split into lines a chunk (about 4 MB) at a time.
 """
 
 from __future__ import annotations
+
+from typing import Iterator
 
 from millpath.interpret.errors import GCodeError
 from millpath.interpret.fastpath import FastPath
@@ -15,54 +17,69 @@ from millpath.interpret.machine import Machine
 from millpath.interpret.store import MotionList
 from millpath.interpret.tools import load_tools
 
+CHUNK = 1 << 22
+
+
+def _chunks(text: str) -> Iterator[list[str]]:
+    """The program's lines (as ``str.splitlines``), a few MB at a time."""
+    pos = 0
+    n = len(text)
+    while pos < n:
+        cut = text.find("\n", min(pos + CHUNK, n))
+        end = n if cut < 0 else cut + 1
+        yield text[pos:end].splitlines()
+        pos = end
+
 
 def run_program(text: str, tools, machine_units: str
                 ) -> tuple[str, MotionList, tuple[int, str] | None]:
     """Interpret ``text``; returns (units at the end, motions, (line, message) or None)."""
     machine = Machine(load_tools(tools), machine_units)
-    lines = text.splitlines()
     percent = None
     fast = FastPath(machine)
     n = 0
-    k = 0
-    total = len(lines)
+    base = 0                      # line number of the chunk's line 0, minus one
     try:
-        while k < total:
-            if percent is not None:
-                k = fast.run(lines, k)
-                if k >= total:
-                    break
-            raw = lines[k]
-            k += 1
-            n = k
-            if percent is None:
-                s = raw.strip()
-                if s:
-                    percent = s.startswith("%")
-                    if percent:
+        for lines in _chunks(text):
+            k = 0
+            total = len(lines)
+            while k < total:
+                if percent is not None:
+                    k = fast.run(lines, k, base)
+                    if k >= total:
+                        break
+                raw = lines[k]
+                k += 1
+                n = base + k
+                if percent is None:
+                    s = raw.strip()
+                    if s:
+                        percent = s.startswith("%")
+                        if percent:
+                            continue
+                elif percent and raw.strip().startswith("%"):
+                    machine.flush_comp(n)
+                    return machine.units, machine.store, None
+                mark = len(machine.store)
+                try:
+                    blk = read_block(raw, n, machine.params, machine.named)
+                    if blk.empty:
                         continue
-            elif percent and raw.strip().startswith("%"):
-                machine.flush_comp(n)
-                return machine.units, machine.store, None
-            mark = len(machine.store)
-            try:
-                blk = read_block(raw, n, machine.params, machine.named)
-                if blk.empty:
-                    continue
-                machine.execute(blk)
-            except GCodeError:
-                machine.store.truncate(mark)
-                raise
-            for idx, val in blk.settings:
-                if isinstance(idx, str):
-                    machine.named[idx] = val
-                else:
-                    machine.params[idx] = val
-            if machine.ended:
-                return machine.units, machine.store, None
+                    machine.execute(blk)
+                except GCodeError:
+                    machine.store.truncate(mark)
+                    raise
+                for idx, val in blk.settings:
+                    if isinstance(idx, str):
+                        machine.named[idx] = val
+                    else:
+                        machine.params[idx] = val
+                if machine.ended:
+                    return machine.units, machine.store, None
+            base += total
     except GCodeError as e:
         return machine.units, machine.store, (getattr(e, "line", None) or n, e.message)
-    last = max(len(lines), 1)
+    last = max(base, 1)
     msg = ("File ended with no percent sign" if percent
            else "File ended with no percent sign or program end")
     return machine.units, machine.store, (last, msg)

@@ -85,3 +85,23 @@ def test_motion_to_json_shape():
     d = ms[0].to_json()
     assert d["kind"] == "arc" and d["plane"] == "XY" and d["rotation"] == -1
     assert math.isclose(d["center"][0], 1.0)
+
+
+def test_line_numbers_stay_right_across_chunks(monkeypatch):
+    import millpath.interpret.runner as runner
+    monkeypatch.setattr(runner, "CHUNK", 40)
+    text = "G21 F100\n" + "".join(f"G1 X{i} Y{i % 7}\n" for i in range(30))
+    r = run(text + "G2 X1 Y1\nM2\n")
+    assert r.error.line == 32 and r.error.message == "R i j k words all missing for arc"
+    assert [m.line for m in r.motions] == list(range(2, 32))
+    monkeypatch.setattr(runner, "CHUNK", 1 << 22)
+    assert [m.line for m in run(text + "M2\n").motions] == list(range(2, 32))
+
+
+def test_motion_list_is_a_compact_sequence():
+    ms = interpret("G21 F100\nG0 X1\nG1 X2\nG2 X4 Y0 R1\nM2\n")
+    assert len(ms) == 3 and ms[-1].kind == "arc" and ms[1:2][0].kind == "feed"
+    assert list(ms) == [ms[0], ms[1], ms[2]]
+    a = ms.arrays()
+    assert a["end"].shape == (3, 3) and list(a["kind"]) == [0, 1, 2]
+    assert a["center"][2].tolist() == [3.0, 0.0, 0.0]
