@@ -11,8 +11,10 @@ are convex and increasing), so its minimum on the feasible interval (the cell wi
 clamped to the interval. The minimiser is closed-form for flat (interval end), ball
 (``u = -m sqrt((R^2 - h^2) / (1 + m^2))``) and drill cones (``u = -m h / sqrt(k^2 - m^2)``
 when the cone is steeper than the chord); for bull-nose cutters it is found by
-bisection on the derivative. The sweep of a chord is therefore exact at every cell
-centre; the only approximation is the chord tolerance of arcs and cubics.
+Newton's method on the derivative inside a bracket. The sweep of a chord is therefore
+exact at every cell centre (to rounding); the only approximation is the chord
+tolerance of arcs and cubics. Flat, ball and drill rows run branch-free so LLVM
+vectorises them; vertical chords and bull-nose cutters take a scalar path.
 
 Tool type codes: 0 flat, 1 ball, 2 bull, 3 drill. Heights never go below the stock
 bottom ``zfloor``. The grid is processed in bands of ``B`` rows; each thread owns whole
