@@ -106,7 +106,10 @@ class _Builder:
         self.fitter = fitter
         self.tp = Toolpath(spec.units)
         self.pos: np.ndarray | None = None
-        self.clear = 0.1 * spec.tool.diameter
+        # clearance above cleared material: a tenth of the diameter plus the highest cusp
+        # a ball or bull leaves between cell centres (half a cell diagonal from a pass)
+        half_diag = min(spec.tool.radius, math.hypot(spec.dx, spec.dy) / 2.0)
+        self.clear = 0.1 * spec.tool.diameter + spec.tool.profile_height(half_diag)
         self.stats = _Stats()
         self.phase = ""
         self.cleared = None         # XY area (shapely) already cleared to done_floor
