@@ -252,3 +252,16 @@ def test_step_and_planar_face_are_extracted():
     (face_shape,) = shapes.shapes
     assert (face_shape.start, face_shape.length, face_shape.width, face_shape.depth) == (
         (0.0, 25.0), 100.0, 50.0, 0.5)
+
+
+def test_bad_geometry_is_a_user_error_naming_the_instance():
+    b = Ap224Builder("BADPOINT", units="mm")
+    b.block(10.0, 10.0, 5.0)
+    for inst in b.sf.instances.values():
+        if inst.get("CARTESIAN_POINT") is not None:
+            inst.get("CARTESIAN_POINT")[1] = ["x", 0.0, 0.0]
+            bad = inst.id
+            break
+    with pytest.raises(MillpathError) as e:
+        read_part(parse(b.text(), "p.stp"))
+    assert e.value.entity == f"#{bad}" and "numbers" in e.value.message

@@ -316,7 +316,11 @@ class _Reader:
         p = inst.get("CARTESIAN_POINT")
         if p is None or not isinstance(p[1], list):
             raise self.sf.error(inst, "expected a CARTESIAN_POINT", Ap224Error)
-        c = [float(v) for v in p[1]] + [0.0] * (3 - len(p[1]))
+        try:
+            c = [float(v) for v in p[1]] + [0.0] * (3 - len(p[1]))
+        except (TypeError, ValueError):
+            raise self.sf.error(inst, "CARTESIAN_POINT coordinates must be numbers",
+                                Ap224Error) from None
         return tuple(0.0 if abs(v) < 1e-12 else v for v in c[:3])  # type: ignore[return-value]
 
     def direction(self, ref: Any, default: tuple) -> tuple[float, float, float]:
@@ -326,7 +330,10 @@ class _Reader:
         p = inst.get("DIRECTION")
         if p is None or not isinstance(p[1], list):
             raise self.sf.error(inst, "expected a DIRECTION", Ap224Error)
-        v = [float(x) for x in p[1]] + [0.0] * (3 - len(p[1]))
+        try:
+            v = [float(x) for x in p[1]] + [0.0] * (3 - len(p[1]))
+        except (TypeError, ValueError):
+            raise self.sf.error(inst, "DIRECTION ratios must be numbers", Ap224Error) from None
         n = math.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
         if not n > 0:
             raise self.sf.error(inst, "zero-length DIRECTION", Ap224Error)
