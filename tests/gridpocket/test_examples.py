@@ -100,3 +100,22 @@ def test_the_three_motion_modes_cut_the_same_pocket(gp):
         vols[mode] = sim.removed_volume
     assert blocks["arc"] < blocks["line"] / 2 and blocks["bezier"] < blocks["line"] / 2
     assert max(vols.values()) - min(vols.values()) < 0.005 * vols["line"]
+
+
+@pytest.mark.parametrize("seed", [3, 11, 29])
+def test_random_concave_pockets_are_cleared_without_touching_the_walls(tmp_path, gp, seed):
+    rng = np.random.default_rng(seed)
+    n = 11
+    ang = np.sort(rng.uniform(0, 2 * np.pi, n))
+    rad = rng.uniform(0.45, 1.0, n)
+    pts = np.column_stack([1.5 + 1.4 * rad * np.cos(ang), 1.0 + 0.95 * rad * np.sin(ang)])
+    poly = "polygon = [" + ", ".join(f"[{x:.4f}, {y:.4f}]" for x, y in pts) + "]\n"
+    p = gp.write_job(tmp_path, "tool = 1\n" + poly + 'bottom = { bezier = [[-0.25, -0.25], '
+                     '[-0.25, -0.25]] }\nfeed = 10\nstep = 0.15\nzigzag = false\n'
+                     'grid = [0.15, 0.15]\nmotion = "arc"\n')
+    job, res = gp.plan_file(p)
+    sim = simulate_toolpath(res.toolpath, job.tools, job.stock, resolution=0.01,
+                            design=res.design, machine=job.machine)
+    assert sim.max_gouge <= 1e-6 and sim.rapids_through_material == 0
+    left, wall_cut = gp.plan_view(sim.zmap, res.design, res.design.polygon, job.tools[1])
+    assert wall_cut == 0.0 and left <= 1e-6
