@@ -275,3 +275,32 @@ def test_millpath_run_writes_the_curve_analysis(tmp_path, rs274):
     assert rep["verification"]["max_gouge"] == 0
     assert rep["verification"]["rapids_through_material"] == 0
     assert "G41 D1" in (tmp_path / "out" / "program.ngc").read_text()
+
+
+def _square_job(tmp_path, corners, diameter=10.0):
+    pts = []
+    for a, b in zip(corners, corners[1:] + corners[:1]):
+        a, b = np.array(a, float), np.array(b, float)
+        pts += [(a + (b - a) * f).tolist() for f in (0, 1 / 3, 2 / 3, 1)]
+    text = _job_text(f"points = {pts}").replace("diameter = 10.0", f"diameter = {diameter}")
+    (tmp_path / "job.toml").write_text(text)
+    return tmp_path / "job.toml"
+
+
+def test_a_neck_narrower_than_the_tool_is_a_planning_error(tmp_path):
+    from millpath.errors import PlanningError
+    neck = [(0, 0), (40, 0), (40, 17), (60, 17), (60, 0), (100, 0), (100, 40), (60, 40),
+            (60, 23), (40, 23), (40, 40), (0, 40)]
+    with pytest.raises(PlanningError, match="2 separate parts"):
+        _plan_file(_square_job(tmp_path, neck))
+    # a 5 mm tool passes the 6 mm neck
+    res = _plan_file(_square_job(tmp_path, neck, diameter=5.0))
+    corners = res.report["curve"]["unreachable_corners"]
+    assert len(corners) == 8           # the 8 inside corners; 4 outside ones are rounded
+    assert all(c["max_uncut"] == pytest.approx(2.5 * (2 ** 0.5 - 1), abs=0.01) for c in corners)
+
+
+def test_an_outline_crossing_itself_is_a_geometry_error(tmp_path):
+    bowtie = [(0, 0), (40, 40), (40, 0), (0, 40)]
+    with pytest.raises(GeometryError, match="crosses itself"):
+        _plan_file(_square_job(tmp_path, bowtie))

@@ -67,17 +67,25 @@ PARAMS = {
 GRID = {"mm": 1e-4, "inch": 1e-5}
 
 
-def _region(pts: np.ndarray) -> tuple[Polygon, bool]:
+def _region(pts: np.ndarray, file=None) -> tuple[Polygon, bool]:
     """The cavity as a valid polygon of the linearized curve; True if the curve
-    crossed itself (the small loops are dropped: the largest part is kept)."""
+    crossed itself in negligible loops (dropped: the largest part is kept).
+    GeometryError if the loops are not negligible."""
     poly = Polygon(pts)
     if poly.is_valid:
         return poly, False
     fixed = make_valid(poly)
     parts = [g for g in getattr(fixed, "geoms", [fixed]) if isinstance(g, Polygon)]
     if not parts:
-        raise GeometryError("the outline does not enclose an area")
-    return max(parts, key=lambda g: g.area), True
+        raise GeometryError("the outline does not enclose an area", file)
+    main = max(parts, key=lambda g: g.area)
+    rest = sum(g.area for g in parts) - main.area
+    if rest > 1e-4 * main.area:
+        other = max((g for g in parts if g is not main), key=lambda g: g.area)
+        x, y = other.representative_point().coords[0]
+        raise GeometryError(f"the outline crosses itself (a loop round ({x:.3f}, {y:.3f})); "
+                            "check the points and their order", file)
+    return main, True
 
 
 def _curvature_report(curve: Curve, radius: float, samples: int = 400) -> list[dict]:
@@ -213,7 +221,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     tol = params["tolerance"]
     r = tool.radius
     lin = linearize_curve(curve, tol)
-    region, crossed = _region(lin.polyline())
+    region, crossed = _region(lin.polyline(), src)
     grid = GRID[ctx.units]
     # the contour of the valid cavity (small self-crossing loops cut off), CCW
     ring = np.asarray(orient(region, 1.0).exterior.coords)[:-1]
@@ -224,11 +232,19 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     if region_in.is_empty:
         raise PlanningError(f"the cavity is too small for tool {tool.number} "
                             f"(diameter {tool.diameter})", ctx.job_file)
+    eroded = region.buffer(-r, quad_segs=64)
+    lobes = [g for g in getattr(eroded, "geoms", [eroded]) if g.area > 1e-9]
+    if len(lobes) > 1:
+        where_ = ", ".join(f"({g.representative_point().x:.3f}, "
+                           f"{g.representative_point().y:.3f})" for g in lobes)
+        raise PlanningError(f"the cavity narrows below the diameter of tool {tool.number}, "
+                            f"which would have to cut {len(lobes)} separate parts (around "
+                            f"{where_}); use a smaller tool", ctx.job_file)
     t = np.roll(verts, -1, axis=0) - verts
     t /= np.hypot(t[:, 0], t[:, 1])[:, None]
     mids = 0.5 * (verts + np.roll(verts, -1, axis=0)) + r * np.stack([-t[:, 1], t[:, 0]], 1)
     dist = boundary_distance(region_in, mids)
-    keep = chords_on_offset(verts, r, "left", region.buffer(-r, quad_segs=64), 20 * grid)
+    keep = chords_on_offset(verts, r, "left", eroded, 20 * grid)
     try:
         reach = reachable_contour(verts, r, "left", start=int(np.argmin(dist)), keep=keep)
     except CompensationError as e:
@@ -236,6 +252,13 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         raise PlanningError(f"{e} near ({p[0]:.3f}, {p[1]:.3f})", ctx.job_file) from None
     # corners where removed chords were bridged are new points: put them on the grid
     q = np.round(reach.points / grid) * grid
+    # long chords get a middle point, a place to enter the contour (a lead-in ends 2 r
+    # along the chord it joins)
+    nxt = np.roll(q, -1, axis=0)
+    long = np.hypot(*(nxt - q).T) > 5 * r
+    if long.any():
+        mid = np.round(0.5 * (q + nxt) / grid) * grid
+        q = np.insert(q, np.flatnonzero(long) + 1, mid[long], axis=0)
     k, S, A, exit_point, overlap = _entry(q, region_in, r, grid)
     q = np.roll(q, -k, axis=0)
     prog = [A] + list(q) + [q[0]] + [np.asarray(p) for p in overlap]
@@ -248,7 +271,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     path = sample_elements(S, elements, max(tol, r / 50))
     # ... measured against the true curve, sampled 4 times finer than the chords
     per = 4 * max(sl.chords for sl in lin.segments)
-    true, _ = _region(curve.sample(per))
+    true, _ = _region(curve.sample(per), src)
     shapely.prepare(true)
     gap = boundary_distance(true, path)
     inside = shapely.contains_xy(true, path[:, 0], path[:, 1])
@@ -342,6 +365,21 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
                             "to": [float(v) for v in verts[(idx[-1] + 1) % len(verts)]],
                             "at": [float(v) for v in pv[np.argmax(uncut)]],
                             "max_uncut": float(uncut.max())})
+    # sharp corners the programmed contour keeps (trimmed by the offset) leave material
+    # in the corner too: report those leaving more than the tolerance
+    t_q = np.roll(q, -1, axis=0) - q
+    ang = np.arctan2(t_q[:, 1], t_q[:, 0])
+    turn = np.angle(np.exp(1j * (ang - np.roll(ang, 1))))         # at vertex k, left > 0
+    on_curve = {tuple(v) for v in np.round(verts / grid).astype(np.int64).tolist()}
+    sharp = [k_ for k_ in np.flatnonzero(turn > 0.05)       # bridged corners: reported above
+             if tuple(np.round(q[k_] / grid).astype(np.int64).tolist()) in on_curve]
+    if len(sharp):
+        uncut = shapely.distance(swept, shapely.points(q[sharp]))
+        for k_, u_ in zip(sharp, uncut):
+            if u_ > tol:
+                unreachable.append({"chords": 0, "from": q[k_].tolist(), "to": q[k_].tolist(),
+                                    "at": q[k_].tolist(), "max_uncut": float(u_),
+                                    "corner_deg": float(np.degrees(turn[k_]))})
     report = lin.report()
     report.update({
         "closed": curve.closed, "segments_count": len(curve.segments),
