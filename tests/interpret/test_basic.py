@@ -104,4 +104,4 @@ def test_motion_list_is_a_compact_sequence():
     assert list(ms) == [ms[0], ms[1], ms[2]]
     a = ms.arrays()
     assert a["end"].shape == (3, 3) and list(a["kind"]) == [0, 1, 2]
-    assert a["center"][2].tolist() == [3.0, 0.0, 0.0]
+    assert a["center"][2].tolist() == pytest.approx([3.0, 0.0, 0.0])
