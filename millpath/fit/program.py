@@ -12,8 +12,12 @@ tool changes, tool length offsets, probing, other axes) makes the position unkno
 the axes are given again, so no run starts from a guessed point.
 
 Written numbers use the program's own decimals where it writes more than the post
-would (4 in mm, 5 in inch), up to 6. After a rewritten run the plane and ``G1`` are
-restored when the run changed them and the following block relies on them.
+would (4 in mm, 5 in inch), up to 6; programs that never say G20 or G21 are read with
+inch settings (5 decimals, LinuxCNC's inch arc-radius limit, the smaller one). After a
+rewritten run the plane comes back on a block of its own (``G17``), and ``G1`` as a
+prefix of the first later block that relies on the motion mode (a block of its own
+before an expression or O-word block). Runs whose blocks do not move (zero length after
+rounding) disappear, but their ``F`` word stays.
 """
 
 from __future__ import annotations
