@@ -304,3 +304,31 @@ def test_an_outline_crossing_itself_is_a_geometry_error(tmp_path):
     bowtie = [(0, 0), (40, 40), (40, 0), (0, 40)]
     with pytest.raises(GeometryError, match="crosses itself"):
         _plan_file(_square_job(tmp_path, bowtie))
+
+
+def test_sharp_cornered_cavity_control_matches_cam_with_arcs_and_trims(tmp_path, rs274):
+    """Square corners: the contour is trimmed at inside corners and rounded with arcs
+    round the outside ones, by the control and by the CAM offset alike."""
+    from millpath.interpret import interpret
+    from millpath.post.linuxcnc import post
+    from millpath.verify.rs274 import run_rs274
+    neck = [(0, 0), (40, 0), (40, 17), (60, 17), (60, 0), (100, 0), (100, 40), (60, 40),
+            (60, 23), (40, 23), (40, 40), (0, 40)]
+    path = _square_job(tmp_path, neck, diameter=5.0)
+    job = load_job(path)
+    ctx = PlanContext(job.units, job.stock, job.machine, job.tools, job.base_dir, job.path)
+    moves = {}
+    for comp in ("cam", "control"):
+        params = dict(job.operations[0][1], compensation=comp)
+        res = op.plan(ctx, params)
+        prog = post(res.toolpath, job.tools)
+        r = run_rs274(prog, job.tools)
+        assert r.ok, (r.error, r.error_line)
+        z = res.report["curve"]["layers"][0]
+        moves[comp] = _finish_xy(interpret(prog, job.tools, machine_units="mm"), z)
+        if comp == "cam":
+            assert sum(m.kind == "arc" for m in res.toolpath.moves) >= 4 * 2   # per layer
+    a, b = moves["cam"], moves["control"]
+    assert [k for k, _, _ in a] == [k for k, _, _ in b]
+    assert sum(k == "arc" for k, _, _ in a) == 4
+    assert max(float(np.abs(p - q).max()) for (_, p, _), (_, q, _) in zip(a, b)) <= 1e-4
