@@ -83,7 +83,12 @@ def test_walls_are_never_cut_and_the_reachable_bottom_is_cleared(example, gp):
         if tool.type == "ball":
             bound = 1.5 * (tool.radius - (tool.radius ** 2 - half ** 2) ** 0.5)
         else:
-            bound = 0.01
+            # a flat bottom on a slope: at most the slope times half a cell diagonal
+            X, Y = np.meshgrid(np.linspace(*res.design.polygon.bounds[::2], 200),
+                               np.linspace(*res.design.polygon.bounds[1::2], 200))
+            gy, gx = np.gradient(bottom.height(X, Y), Y[:, 0], X[0])
+            slope = float(np.hypot(gx, gy).max())
+            bound = 1.2 * slope * np.hypot(dx, dy) / 2.0
         assert left < bound, f"{name}: {left} left above the bottom (bound {bound})"
     print(f"{name}: max left-over above the bottom in the reachable area {left:.6f} in, "
           f"max gouge {sim.max_gouge:.6f} in")
