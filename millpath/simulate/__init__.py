@@ -32,7 +32,8 @@ Conventions (all lengths in the program's / toolpath's units):
   holder cylinder (``Tool.holder_cylinders()``: shank from the top of the flutes, then
   the holder stack) meets material still there before the motion cuts. Both count
   motions (toolpath moves for :func:`simulate_toolpath`).
-- Tool 0 (empty spindle) cuts nothing. The tool starts above the first move's end.
+- Tool 0 (empty spindle) cuts nothing. The first move, and the first after each tool
+  change, start above their end point at the stock top or higher.
 - Cycle time: see :mod:`millpath.simulate.cycletime` (trapezoidal speed profiles, stops
   at corners sharper than ``corner_angle`` degrees, feeds capped by the machine).
 """

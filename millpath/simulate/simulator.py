@@ -16,7 +16,6 @@ bottom (or ``-inf``: through holes) count as the stock bottom.
 
 from __future__ import annotations
 
-import copy
 import math
 from dataclasses import dataclass, field
 from typing import Any
@@ -256,19 +255,12 @@ def _finish(zmap, design, motions, flags, times, resolution, lines, nseg) -> Sim
 
 
 def _lift_start(motions: list[Motion], stock: Stock) -> list[Motion]:
-    """The machine's position before the first programmed move is unknown (an
-    interpreter starts at machine zero, e.g. Z = -tool length after G43): the first
-    motion, when a traverse, starts above its end point at the stock top or higher."""
-    for k, m in enumerate(motions):
-        if m.kind == "dwell":
-            continue
-        if m.kind == "traverse":
-            z = max(m.end[2], stock.zmax, m.start[2] if m.start[:2] == m.end[:2] else -np.inf)
-            first = copy.copy(m)
-            first.start = (m.end[0], m.end[1], z)
-            motions = motions[:k] + [first] + motions[k + 1:]
-        break
-    return motions
+    """Where the tool is before the first move and after each tool change is unknown
+    (an interpreter starts at machine zero and jumps by tool length offsets): those
+    moves start above their end point at the stock top or higher (the pipeline's
+    :func:`millpath.verify.approach.approach_from_above`)."""
+    from millpath.verify.approach import approach_from_above
+    return approach_from_above(motions, stock.zmax)
 
 
 def simulate_motions(motions: list[Motion], tools: dict[int, Tool], stock: Stock, *,
@@ -276,8 +268,8 @@ def simulate_motions(motions: list[Motion], tools: dict[int, Tool], stock: Stock
                      progress: bool = False, corner_angle: float = 10.0) -> SimResult:
     """Simulate interpreted motion (tool tip = motion coordinates, program units).
 
-    The first motion, when a traverse, is taken to start above its end point at the
-    stock top (the machine's position before the program is unknown).
+    The first motion, and the first after each tool change, start above their end
+    point at the stock top (where the machine is then is unknown).
     ``tools`` maps tool numbers (``Motion.tool``) to shapes; ``machine`` defaults to
     ``Machine()`` (mm rates: pass ``Machine.default_for("inch")`` for inch programs).
     Counts are per motion: ``rapids_through_material`` traverses that removed material,
@@ -298,7 +290,8 @@ def simulate_toolpath(toolpath: Toolpath, tools: dict[int, Tool], stock: Stock, 
                       progress: bool = False, corner_angle: float = 10.0) -> SimResult:
     """Simulate a Toolpath directly (units: the toolpath's).
 
-    The tool starts above the first move's end point at the stock top or higher.
+    The tool starts above the first move's end point at the stock top or higher, and
+    likewise after each tool change.
     Canned drilling cycles are expanded as LinuxCNC runs them; ``comp`` moves raise
     ValueError (simulate the interpreted motion instead). Counts are per toolpath move
     (``rapid_lines``/``holder_lines`` hold move indices); ``per_operation`` gives each
