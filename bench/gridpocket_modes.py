@@ -6,9 +6,9 @@ and ``bezier`` mode, posted for LinuxCNC and simulated on a Z-map. Printed per m
 
 - NC blocks (program lines that are not blank or comment-only) and program bytes;
 - simulated cycle time (millpath.simulate, the job's machine);
-- maximum surface deviation: deepest gouge below the designed bottom and largest
-  material left above it where the flat end of the tool can reach (Z-map, cells of
-  ``--resolution`` in);
+- maximum surface deviation: deepest gouge below the designed bottom (Z-map, cells of
+  ``--resolution`` in, and a dense check of the tool footprint along every move) and
+  the largest material left above it where the flat end of the tool can reach;
 - planning time.
 
 Then the same pocket in line mode with ``z_mode = "surface"`` (tip on the surface under
@@ -113,15 +113,16 @@ def main() -> None:
         print(json.dumps(out, indent=2))
         return
     print(f"Case study (inch), Z-map {a.resolution} in, tolerance {base['tolerance']} in\n")
-    print("| motion | NC blocks | bytes | G1 / G2-G3 / G5 | cycle time | max gouge | "
-          "max left (reachable) | plan |")
-    print("|---|---:|---:|---:|---:|---:|---:|---:|")
+    print("| motion | NC blocks | bytes | G1 / G2-G3 / G5 | cycle time | max gouge (Z-map) | "
+          "max gouge (footprint) | max left (reachable) | plan |")
+    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|")
     for mode in ("line", "arc", "bezier"):
         r = out[mode]
         m = r["moves"]
         print(f"| {mode} | {r['blocks']} | {r['bytes']} | {m['line']} / {m['arc']} / "
               f"{m['cubic']} | {r['cycle_time_s']:.0f} s | {r['max_gouge']:.5f} in | "
-              f"{r['max_left_reachable']:.4f} in | {r['plan_s']:.1f} s |")
+              f"{r['footprint_gouge']:.5f} in | {r['max_left_reachable']:.4f} in | "
+              f"{r['plan_s']:.1f} s |")
     print("\n| z_mode | gouge (Z-map) | gouge (tool footprint along the path) |")
     print("|---|---:|---:|")
     for zmode in ("surface", "tool"):
