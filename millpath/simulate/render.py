@@ -64,12 +64,33 @@ def render_stock(zmap: ZMap, path: str | Path, *, title: str = "", units: str = 
     return p
 
 
+def _design_outline(ax, zmap: ZMap, design, max_px: int = 600) -> None:
+    """Thin grey contours of the design's height, so deviations can be placed."""
+    ny, nx = zmap.heights.shape
+    step = max(1, int(np.ceil(max(nx, ny) / max_px)))
+    xs, ys = zmap.xs()[::step], zmap.ys()[::step]
+    X, Y = np.meshgrid(xs, ys)
+    try:
+        z = np.asarray(design.height(X, Y), float).reshape(X.shape)
+    except Exception:                       # a design that cannot be sampled: no outline
+        return
+    z = np.where(np.isfinite(z), z, zmap.zmin)
+    z = np.clip(z, zmap.zmin, zmap.ztop)
+    lo, hi = float(z.min()), float(z.max())
+    if hi - lo <= 1e-9 * max(1.0, abs(hi)) or len(xs) < 2 or len(ys) < 2:
+        return
+    levels = np.linspace(lo, hi, 9)[1:-1] if hi - lo > 0 else []
+    levels = np.unique(np.concatenate([levels, [lo + 1e-6 * (hi - lo)]]))
+    ax.contour(X, Y, z, levels=levels, colors="0.45", linewidths=0.5, alpha=0.8)
+
+
 def render_deviation(zmap: ZMap, design, path: str | Path, *, title: str = "",
                      units: str = "", tolerance: float = 0.0) -> Path:
     """Write the deviation of ``zmap`` from ``design`` to ``path`` (PNG).
 
     Red: the tool went below the design (gouge); blue: material left above it; white:
-    within ``tolerance`` (job units). Returns the path."""
+    within ``tolerance`` (job units). Grey lines: contours of the design's height;
+    circles mark the largest gouge and the most material left. Returns the path."""
     from matplotlib.colors import LinearSegmentedColormap, Normalize, TwoSlopeNorm
     from millpath.simulate.simulator import deviation
     plt, fig, ax = _figure(zmap)
@@ -104,6 +125,21 @@ def render_deviation(zmap: ZMap, design, path: str | Path, *, title: str = "",
         d = np.where(-mn > mx, mn, mx)
     im = ax.imshow(d, origin="lower", extent=zmap.extent(), cmap=cmap, norm=norm,
                    interpolation="nearest")
+    _design_outline(ax, zmap, design)
+    ny, nx = dev.shape
+    xs, ys = zmap.xs(), zmap.ys()
+    marks = []
+    if gmax > 0:
+        j, i = np.unravel_index(int(np.argmin(dev)), dev.shape)
+        marks.append((xs[i], ys[j], "#b2001d", f"max gouge {gmax:.3g}"))
+    if lmax > 0:
+        j, i = np.unravel_index(int(np.argmax(dev)), dev.shape)
+        marks.append((xs[i], ys[j], "#08306b", f"max left {lmax:.3g}"))
+    for x, y, colour, label in marks:
+        ax.plot([x], [y], marker="o", markersize=14, markerfacecolor="none",
+                markeredgecolor=colour, markeredgewidth=1.8, linestyle="none", label=label)
+    if marks:
+        ax.legend(loc="upper right", fontsize=8, framealpha=0.85)
     cb = fig.colorbar(im, ax=ax, shrink=0.85)
     u = f" ({units})" if units else ""
     cb.set_label(f"deviation{u}: red = gouge (below design), blue = material left")
