@@ -4,7 +4,8 @@ Each program is fitted at 0.005 program units; millpath's interpreter (full prec
 must give motion within that distance of the original's, and LinuxCNC's rs274 must
 accept the fitted program. rs274 prints positions with 4 decimals, too coarse to
 measure a 0.005 in tolerance in inch programs, so the distance is measured on
-millpath's interpretation.
+millpath's interpretation, sampling every half tolerance (the measurement never
+overestimates; these paths are up to 850 units long).
 """
 
 from __future__ import annotations
@@ -52,6 +53,6 @@ def test_linuxcnc_test_programs_fit_within_tolerance(shared_dir, rs274, fitkit, 
     assert len(out.splitlines()) < len(text.splitlines())
     a = [m for m in interpret(text) if m.kind in ("feed", "traverse", "arc")]
     b = [m for m in interpret(out) if m.kind in ("feed", "traverse", "arc")]
-    assert fitkit.hausdorff(a[0].start, _moves(a), _moves(b), 0.005 / 4) <= 0.005 * 1.002
+    assert fitkit.hausdorff(a[0].start, _moves(a), _moves(b), 0.005 / 2) <= 0.005 * 1.002
     r = run_rs274(out)
     assert r.ok, (r.error, r.error_block)
