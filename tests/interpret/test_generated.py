@@ -35,27 +35,35 @@ def random_tools(rng: random.Random, scale: float) -> list[ToolEntry]:
 
 
 def contour_program(seed: int) -> tuple[str, list[ToolEntry]]:
-    """A random star-shaped closed contour of lines and arcs, cut with G41/G42."""
+    """A random star-shaped closed contour of lines and arcs, cut with G41/G42 (D from
+    the table) or G41.1/G42.1 (diameter in the block), in G17 or G18, G1 or G0 moves."""
     rng = random.Random(seed)
     metric = rng.random() < 0.7
     scale = 25.0 if metric else 1.0
+    plane = "G18" if rng.random() < 0.2 else "G17"
+    # plane letters: first, second, normal; center letters for first and second
+    a, b, nrm, ca, cb = ("Z", "X", "Y", "K", "I") if plane == "G18" else ("X", "Y", "Z", "I", "J")
     n = rng.randint(3, 8)
     angles = sorted(rng.uniform(0, 2 * math.pi) for _ in range(n))
-    pts = [(rng.uniform(0.4, 1.0) * scale * math.cos(a), rng.uniform(0.4, 1.0) * scale * math.sin(a))
-           for a in angles]
+    pts = [(rng.uniform(0.4, 1.0) * scale * math.cos(t), rng.uniform(0.4, 1.0) * scale * math.sin(t))
+           for t in angles]
     if rng.random() < 0.5:
         pts.reverse()
     start = rng.randrange(n)
     pts = pts[start:] + pts[:start]
     tools = random_tools(rng, scale)
-    side = rng.choice(["G41", "G42"])
     d = rng.randint(1, 5)
+    if rng.random() < 0.25:
+        dia = rng.uniform(0.04, 0.7) * scale
+        comp = f"{rng.choice(['G41.1', 'G42.1'])} D{f4(dia)}"
+    else:
+        comp = f"{rng.choice(['G41', 'G42'])} D{d}"
     ang = rng.uniform(0, 2 * math.pi)
     entry = (1.6 * scale * math.cos(ang), 1.6 * scale * math.sin(ang))
     lines = ["G21" if metric else "G20", f"F{rng.choice([100, 250, 600]) if metric else 10}",
-             f"T{d} M6 G43", f"G0 X{f4(entry[0])} Y{f4(entry[1])} Z{f4(0.2 * scale)}",
-             f"{side} D{d}", f"G1 X{f4(pts[0][0])} Y{f4(pts[0][1])}",
-             f"G1 Z{f4(-0.1 * scale)}"]
+             f"T{d} M6 G43", f"G0 {a}{f4(entry[0])} {b}{f4(entry[1])} {nrm}{f4(0.2 * scale)}",
+             plane, comp, f"G1 {a}{f4(pts[0][0])} {b}{f4(pts[0][1])}",
+             f"G1 {nrm}{f4(-0.1 * scale)}"]
     ring = pts[1:] + [pts[0]]
     cur = pts[0]
     for p in ring:
@@ -73,18 +81,21 @@ def contour_program(seed: int) -> tuple[str, list[ToolEntry]]:
                 r = math.hypot(cx - cur[0], cy - cur[1])
                 cw_center = (dx * (cy - cur[1]) - dy * (cx - cur[0])) < 0
                 big = (code == "G2") == cw_center
-                lines.append(f"{code} X{f4(p[0])} Y{f4(p[1])} R{f4(-r if big else r)}")
+                lines.append(f"{code} {a}{f4(p[0])} {b}{f4(p[1])} R{f4(-r if big else r)}")
             else:
-                lines.append(f"{code} X{f4(p[0])} Y{f4(p[1])} I{f4(cx - cur[0])} "
-                             f"J{f4(cy - cur[1])}")
+                lines.append(f"{code} {a}{f4(p[0])} {b}{f4(p[1])} {ca}{f4(cx - cur[0])} "
+                             f"{cb}{f4(cy - cur[1])}")
         else:
-            lines.append(f"G1 X{f4(p[0])} Y{f4(p[1])}")
+            g = "G0" if rng.random() < 0.1 else "G1"
+            lines.append(f"{g} {a}{f4(p[0])} {b}{f4(p[1])}")
         if rng.random() < 0.1:
-            lines.append(f"G1 Z{f4(-0.15 * scale)}")
+            lines.append(f"G1 {nrm}{f4(-0.15 * scale)}")
+        if rng.random() < 0.05:
+            lines.append(f"G4 P{f4(rng.uniform(0, 1))}")
         cur = p
     ex = 1.6 * scale * math.cos(ang + 0.5)
     ey = 1.6 * scale * math.sin(ang + 0.5)
-    lines += [f"G40 G1 X{f4(ex)} Y{f4(ey)}", f"G0 Z{f4(0.2 * scale)}", "M2"]
+    lines += [f"G40 G1 {a}{f4(ex)} {b}{f4(ey)}", f"G0 {nrm}{f4(0.2 * scale)}", "G17", "M2"]
     return "\n".join(lines) + "\n", tools
 
 
