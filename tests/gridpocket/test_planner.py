@@ -56,6 +56,8 @@ def test_planning_errors_name_the_job_file(tmp_path, gp):
         (L_POCKET + 'bottom = { points = "missing.csv" }\nfeed = 10\n', GeometryError,
          "missing.csv"),
         (L_POCKET + STEEP + "feed = 10\ndepths = [-0.1]\nstep = 0.1\n", JobError, "either"),
+        (L_POCKET + 'bottom = { bezier = [[0, 0], [0, 0]], box = [0, 0, 2, 2] }\nfeed = 10\n',
+         GeometryError, "does not reach the pocket outline at (2.0625, 0)"),
     ]
     for op, exc, text in cases:
         p = gp.write_job(tmp_path, "tool = 1\n" + op)

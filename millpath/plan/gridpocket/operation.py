@@ -143,6 +143,25 @@ def load_bottom(t: dict, polygon, base_dir: Path, file=None):
     return MeasuredGrid.from_csv(path, method=t.get("interpolation", "linear"))
 
 
+def check_coverage(surface, polygon, file=None) -> None:
+    """GeometryError unless the bottom surface lies under the whole outline (a surface
+    is never extrapolated silently into a pocket)."""
+    ring = np.asarray(polygon.exterior.coords)
+    t = np.linspace(0.0, 1.0, 33)[:-1, None]
+    pts = np.concatenate([a + (b - a) * t for a, b in zip(ring[:-1], ring[1:])])
+    if isinstance(surface, BezierPatch):
+        ok = surface.uv_of(pts[:, 0], pts[:, 1])[2]
+    else:
+        xmin, ymin, xmax, ymax = surface.bounds
+        slack = 1e-9 * max(1.0, xmax - xmin, ymax - ymin)
+        ok = ((pts[:, 0] >= xmin - slack) & (pts[:, 0] <= xmax + slack)
+              & (pts[:, 1] >= ymin - slack) & (pts[:, 1] <= ymax + slack))
+    if not np.all(ok):
+        x, y = pts[int(np.argmin(ok))]
+        raise GeometryError(f"bottom: the surface does not reach the pocket outline at "
+                            f"({x:g}, {y:g})", file)
+
+
 def plan(ctx: PlanContext, params: dict) -> PlanResult:
     """Plan one grid-pocket operation (see the module docstring for the keys)."""
     f = ctx.job_file
@@ -157,6 +176,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
             e.message = f"bottom: {e.message}"
             e.args = (e.message,)
         raise
+    check_coverage(surface, poly, f)
     top = ctx.stock.zmax if ctx.stock is not None else 0.0
     safe_z = params["safe_z"]
     if safe_z is None:
