@@ -108,11 +108,10 @@ def _moves_for_run(start, lines: list[Move], s: FitSettings) -> list[Move]:
     for k, e, p in zip(kinds.tolist(), ends.tolist(), par):
         end = tuple(float(v) for v in P[e])
         if k == 0:
-            orig = lines[idx[e] - 1]          # points[0] is the start, not a move
-            if e == prev + 1:
-                out.append(orig)              # untouched original move
+            if e == prev + 1 and idx[e] == idx[prev] + 1:
+                out.append(lines[idx[e] - 1])     # untouched original move
             else:
-                out.append(Move("line", orig.end, feed, op))
+                out.append(Move("line", end, feed, op))   # merged: the checked chord
         elif k == 1:
             pl = int(p[0])
             a1, a2, an = (int(v) for v in PLANES[pl])
