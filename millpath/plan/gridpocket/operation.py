@@ -12,7 +12,9 @@ Keys (job units: mm or inch; feeds in units per minute; Z absolute, tool tip):
   interpolated ``linear`` (default) or ``cubic`` (key ``interpolation``).
 - ``grid = [dx, dy]``: cell size (default D/2 both); larger than D/sqrt(2) is an error.
 - ``depths`` (absolute floor Z per roughing layer) or ``step`` (uniform depth of cut);
-  neither: a single finish layer. The last layer is always the finish at the bottom.
+  neither: a single finish layer. A roughing layer cuts at ``max(bottom, floor)`` the
+  cells whose bottom is below its floor; the last layer is always the finish: every
+  cell, down to the bottom, at ``finish_feed``.
 - ``motion``: ``line`` | ``arc`` | ``bezier``; ``tolerance``: fitting tolerance
   (default 0.0002 in / 0.005 mm).
 - ``zigzag``: X and Y clean-up runs (default true).

@@ -26,8 +26,8 @@ HeightFn = Callable[[np.ndarray, np.ndarray], np.ndarray]
 
 
 class ZField:
-    """Memoized tip Z of ``tool`` above ``surface`` (anything with ``height(x, y)`` and
-    ``to_mesh(nu, nv)``) inside ``box = (xmin, ymin, xmax, ymax)``."""
+    """Memoized tip Z of ``tool`` above ``surface`` (anything with a vectorized
+    ``height(x, y)``) for tool centres inside ``box = (xmin, ymin, xmax, ymax)``."""
 
     def __init__(self, surface, tool: Tool, mode: str, box, tolerance: float,
                  file=None):
