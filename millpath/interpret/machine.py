@@ -56,6 +56,7 @@ class Machine(CompMixin, CycleMixin):
         self.named: dict[str, float] = {}
         self.selected_tool = 0
         self.spindle_tool = 0
+        self.spindle_data_tool = 0              # whose table row pocket 0 holds (M6 only)
         self.toolchange_flag = False
         self.tlo_effect = [0.0, 0.0, 0.0]       # TLO shifts of ``cur`` since the last move
         self.tlo_mark = 0
@@ -289,8 +290,10 @@ class Machine(CompMixin, CycleMixin):
         self.selected_tool = t
 
     def tool_data(self, t: int) -> tuple[float, float, float, float]:
+        """Table row of tool ``t``; 0 means the spindle's row, which M6 fills (rs274's M61
+        changes the tool number but not the row)."""
         if t == 0:
-            t = self.spindle_tool
+            t = self.spindle_data_tool
         return self.tools.get(t, (0.0, 0.0, 0.0, 0.0))
 
     def tool_change(self, code: int, w: dict) -> None:
@@ -299,6 +302,7 @@ class Machine(CompMixin, CycleMixin):
                 raise GCodeError("Cannot change tools with cutter radius compensation on")
             self.spindle_dir = 0
             self.spindle_tool = self.selected_tool
+            self.spindle_data_tool = self.selected_tool
             self.toolchange_flag = True
         else:                                      # M61
             q = w.get("q", -1.0)
@@ -367,7 +371,7 @@ class Machine(CompMixin, CycleMixin):
                     raise GCodeError(f"Requested tool {h} not found in the tool table")
                 d = self.tool_data(h)
             else:
-                d = self.tool_data(self.spindle_tool)
+                d = self.tool_data(0)
             new = [self.user_to_prog(d[1]), self.user_to_prog(d[2]), self.user_to_prog(d[3])]
         elif code == 431:
             new = list(self.tlo)
@@ -405,6 +409,22 @@ class Machine(CompMixin, CycleMixin):
         if not self._moved_since(self.tlo_mark):
             for k in range(3):
                 self.cur[k] -= self.tlo_effect[k]
+            self.sync_out()
+        # the canon layer does not track G5 splines either: after a run of splines it is
+        # still where the run began
+        st = self.store
+        j = len(st) - 1
+        first = last = None
+        while j >= 0 and st.kind_at(j) in (T_CUBIC, T_DWELL):
+            if st.kind_at(j) == T_CUBIC:
+                first = j
+                if last is None:
+                    last = j
+            j -= 1
+        if first is not None:
+            a, b = st[first], st[last]
+            self.cur[0] += a.start[0] - b.end[0]
+            self.cur[1] += a.start[1] - b.end[1]
             self.sync_out()
         self.tlo_effect = [0.0, 0.0, 0.0]
         self.tlo_mark = len(self.store)

@@ -357,6 +357,178 @@ G0 X0
 M2
 """
 
+P2["g51_then_m61"] = """G21 F100
+G0 X0 Y0
+G5.1 X10 Y0 I5 J5
+M61 Q2
+G43
+G0 Z1
+M2
+"""
+P2["g28_g30_axes"] = """G20 F10
+G0 X1 Y1 Z1
+G28 X0
+G30 Y0
+G28.1
+G30.1
+G0 X2
+G28
+M2
+"""
+P2["incremental_arcs"] = """G21 F100
+G91 G0 X1 Y1
+G91 G2 X2 Y0 I1 J0
+G90 G3 X0 Y0 R3
+G91 G1 X-1
+G90
+M2
+"""
+P2["comp_full_circle_p2"] = """G21 F100
+G0 X-10 Y0
+G41 D1
+G1 X0 Y0
+G3 X0 Y0 I10 J0 P2
+G40 G1 X-10
+M2
+"""
+P2["comp_tangent_arcs"] = """G21 F100
+G0 X-10 Y0
+G41 D1
+G1 X0 Y0
+G2 X20 Y0 I10 J0
+G3 X40 Y0 I10 J0
+G1 X50
+G40 G1 X60 Y10
+M2
+"""
+P2["comp_incremental"] = """G21 F100
+G0 X-10 Y-10
+G42 D1
+G91 G1 X10 Y10
+G1 X10
+G1 Y10
+G90 G40 G1 X-10 Y-10
+M2
+"""
+P2["comp_queue_with_spindle_coolant_feed"] = """G21 F100
+G0 X-10 Y-10
+G41 D1
+G1 X0 Y0
+G1 X10 M3 S1000
+M8
+G1 X10 Y10 F50
+G40 G0 X20
+M2
+"""
+P2["comp_units_switch"] = """G21 F100
+G0 X0 Y0
+G41 D1
+G1 X10 Y0
+G20
+G1 X1 Y1
+G40 G1 X2 Y2
+M2
+"""
+P2["comp_z_rapids_m0"] = """G21 F100
+G0 X0 Y0 Z1
+G41 D1
+G1 X10 Y0
+G0 Z5
+G0 X20 Y0
+G1 Z-1
+G1 X20 Y10
+M0
+G1 X0 Y10
+G40 G1 X-5
+M2
+"""
+P2["msg_print_comments"] = """G21
+G0 X1 (msg, hello)
+(print, hi)
+G0 X2 ; comment
+G0 X3 (a) (b)
+M2
+"""
+P2["parameters_case_and_timing"] = """G21 F100
+#1 = 5
+#2 = [#1 + 1]
+#3 = #2
+G0 X#1 Y#2 Z#3
+#<v> = 3
+#<V> = 4
+G0 X#<v>
+M2
+"""
+P2["g10_l20_with_g92"] = """G21 F100
+G0 X0 Y0
+G10 L2 P1 X5 Y5 Z0
+G0 X1 Y1
+G10 L20 P1 X0 Y0
+G0 X1
+G92 X10
+G10 L2 P1 X0 Y0
+G0 X0
+M2
+"""
+P2["cycle_incremental_repeats"] = """G21 F100
+G0 X0 Y0 Z0
+G81 X1 Y1 Z-1 R2 L3 G91
+G90 G80
+M2
+"""
+P2["absolute_arc_centers"] = """G21 F100
+G0 X0 Y0 Z0
+G1 X1 G90.1 
+G2 X3 Y0 I2 J0
+M2
+"""
+P2["r_arc_with_turns"] = """G21 F100
+G0 X0 Y0 Z0
+G1 X1 Y1
+G2 X2 Y2 R1 P2
+M2
+"""
+P2["g43_h0"] = """G21 F100
+G0 X0 Y0
+G43 H0
+G1 X1
+M2
+"""
+P2["g41_without_d_no_tool"] = """G21 F100
+G0 X-10 Y0
+G41
+G1 X0
+G1 X10
+M2
+"""
+P2["g83_retract_modes"] = """G21 F100
+G0 X0 Y0 Z5
+G98 G83 X1 Y1 Z-5 R1 Q1
+G99 X2
+G98 Y2 Z-6 Q2
+G80
+M2
+"""
+P2["m61_then_comp_without_d"] = """G21 F100
+G0 X0 Y0
+G1 X10
+M61 Q2
+G43
+G0 Z1
+G41
+G1 X20 Y5
+G1 X30
+G40 G1 X40
+M2
+"""
+P2["m61_keeps_spindle_row"] = """G21 F100
+T2 M6
+M61 Q1
+G43
+G0 X1
+M2
+"""
+
 
 @pytest.mark.parametrize("name", sorted(P2))
 def test_more_same_as_rs274(rs274, name):
