@@ -39,8 +39,8 @@ _IJK = "IJK"
 # G codes that change neither the position nor how a G1 run is read
 _NEUTRAL_G = {4.0, 17.0, 18.0, 19.0, 40.0, 41.0, 42.0, 61.0, 61.1, 64.0, 90.0, 91.0, 90.1,
               91.1, 93.0, 94.0, 95.0, 96.0, 97.0, 98.0, 99.0, 80.0, 0.0, 1.0, 2.0, 3.0,
-              5.0, 81.0, 82.0, 83.0, 84.0, 85.0, 86.0, 87.0, 88.0, 89.0, 73.0, 74.0, 8.0,
-              7.0, 20.0, 21.0, 64.0, 49.0, 43.0, 43.1, 43.2, 44.0}
+              5.0, 81.0, 82.0, 83.0, 84.0, 85.0, 86.0, 87.0, 88.0, 89.0, 73.0, 74.0,
+              20.0, 21.0, 64.0, 49.0, 43.0, 43.1, 43.2, 44.0}
 _MOTION_G = {0.0, 1.0, 2.0, 3.0, 5.0, 73.0, 74.0, 80.0, 81.0, 82.0, 83.0, 84.0, 85.0, 86.0,
              87.0, 88.0, 89.0, 5.1, 5.2, 5.3, 33.0, 33.1, 38.2, 38.3, 38.4, 38.5, 76.0}
 
@@ -65,6 +65,7 @@ class _State:
         self.motion: float | None = None
         self.feed_mode = 94.0
         self.comp = False
+        self.diameter = False        # G7 (lathe diameter mode) in force
         self.comp_exit = False       # the move after G40 is the compensation exit move
         self.feed: float | None = None
         self.pos: list[float | None] = [None, None, None]
@@ -134,8 +135,11 @@ def _apply(st: _State, b: _Block) -> None:
         elif g == 40.0:
             st.comp_exit = st.comp
             st.comp = False
-        elif g in (41.0, 42.0):
+        elif g in (41.0, 42.0, 41.1, 42.1):
             st.comp = True
+        elif g in (7.0, 8.0):
+            st.diameter = g == 7.0           # lathe diameter mode: X is not a length
+            lost = True
         elif g in (43.0, 43.1, 43.2, 44.0, 49.0):
             lost = True                      # the program Z of the tool tip changes
         elif g in _MOTION_G:
@@ -186,7 +190,7 @@ def _fittable(st: _State, b: _Block) -> bool:
         return False
     motion = 1.0 if b.g else st.motion
     return (motion == 1.0 and st.absolute and st.feed_mode == 94.0 and not st.comp
-            and not st.comp_exit)
+            and not st.comp_exit and not st.diameter)
 
 
 class _Emitter:

@@ -48,9 +48,11 @@ def test_incremental_compensated_and_commented_runs_are_kept():
     inc = ["G91"] + [f"G1 X{0.1 * math.cos(k / 10):.4f} Y{0.1 * math.sin(k / 10):.4f}"
                      for k in range(60)] + ["G90"]
     comp = ["G41 D1", "G1 X10 Y0"] + circle_blocks(first_g1=False) + ["G40", "G1 X12 Y0"]
+    dyn = ["G42.1 D6", "G1 X10 Y0"] + circle_blocks(first_g1=False) + ["G40", "G1 X12 Y0"]
+    lathe = ["G7", "G1 X10 Y0"] + circle_blocks(first_g1=False) + ["G8", "G1 X12 Y0"]
     commented = [f"X{10 * math.cos(k / 20):.4f} Y{10 * math.sin(k / 20):.4f} (pt {k})"
                  for k in range(40)]
-    src = program(["G0 X10 Y0 Z2", "G1 Z-1 F200"], inc, comp, commented)
+    src = program(["G0 X10 Y0 Z2", "G1 Z-1 F200"], inc, comp, dyn, lathe, commented)
     assert fit_program(src, 0.01) == src
 
 
