@@ -10,7 +10,9 @@ Prints wall and CPU time of each stage and peak memory (the machine is shared: C
 time shows the work, wall time what a user waits). The target of
 issue 4 is under 10 s for the simulation on the 2-core machine.
 
-Run: ``python bench/sim_speed.py [--moves N] [--resolution R] [--threads T]``.
+Run: ``python bench/sim_speed.py [--moves N] [--resolution R] [--threads T] [--ngc]``.
+``--ngc`` also posts the program as RS274NGC, interprets it with millpath's interpreter
+and simulates the interpreted motion (what ``millpath simulate`` does).
 The first run compiles the numba kernels (cached afterwards); a warm-up on a small
 program is done before timing.
 """
@@ -58,6 +60,7 @@ def main() -> None:
     ap.add_argument("--moves", type=int, default=200_000)
     ap.add_argument("--resolution", type=float, default=0.1)
     ap.add_argument("--threads", type=int, default=0, help="numba threads (0: all)")
+    ap.add_argument("--ngc", action="store_true", help="also time post + interpret + simulate")
     args = ap.parse_args()
     import numba
     if args.threads:
@@ -114,6 +117,24 @@ def main() -> None:
           f"cycle time {t_cyc:.2f} s, design compare {t_cmp:.2f} s")
     print(f"peak memory (max RSS): {peak:.0f} MB")
     j = res.to_json()
+    if args.ngc:
+        from millpath.interpret import interpret
+        from millpath.post.linuxcnc import post
+        from millpath.simulate import simulate_motions
+        text = post(tp, tools)
+        t = time.perf_counter()
+        motions = interpret(text, tools, machine_units="mm")
+        t_int = time.perf_counter() - t
+        t = time.perf_counter()
+        c = time.process_time()
+        r2 = simulate_motions(motions, tools, stock, resolution=args.resolution,
+                              design=_Surface(), machine=Machine())
+        t_sim = time.perf_counter() - t
+        print(f"RS274NGC: {text.count(chr(10))} lines; interpret {t_int:.2f} s; "
+              f"simulate_motions {t_sim:.2f} s wall, {time.process_time() - c:.2f} s CPU; "
+              f"removed {r2.removed_volume:.0f} mm^3")
+        peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+        print(f"peak memory after the NGC run (max RSS): {peak:.0f} MB")
     print(f"result: removed {j['removed_volume']:.0f} mm^3, max gouge {j['max_gouge']}, "
           f"max left {j['max_left']}, cycle {j['cycle_time_s']:.0f} s, "
           f"holder contacts {j['holder_contacts']}, rapids through material "
