@@ -93,14 +93,18 @@ class CycleMixin:
             current_cc = r
         clear_cc = r if self.retract_r_plane else old_cc
         p = q = 0.0
-        if motion in (820, 890):
-            if self.motion_mode != motion and "p" not in w:
+        if motion in (820, 890):               # rs274 reads P-1 / Q-1 as missing words
+            p = w.get("p", -1.0)
+            if self.motion_mode != motion and p == -1.0:
                 raise GCodeError(f"Dwell time p word missing with g{motion // 10}")
-            p = w.get("p", self.cycle_p)
+            if p == -1.0:
+                p = self.cycle_p
         if motion in (730, 830):
-            if self.motion_mode != motion and "q" not in w:
+            q = w.get("q", -1.0)
+            if self.motion_mode != motion and q == -1.0:
                 raise GCodeError(f"Q word missing with g{motion // 10}")
-            q = w.get("q", self.cycle_q)
+            if q == -1.0:
+                q = self.cycle_q
         units = self.units
         delta = 0.010 * (25.4 if units == "mm" else 1.0)
         for rep in range(repeats):

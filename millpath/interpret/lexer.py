@@ -118,6 +118,8 @@ class Reader:
             j += 1
         tok = s[i:j]
         self.i = j
+        if not tok and i >= len(s):
+            raise GCodeError("No characters found in reading real value")
         body = tok.lstrip("+-")
         try:
             return float(tok)
@@ -154,7 +156,7 @@ class Reader:
         v = self.value()
         r = math.floor(v + 0.5)
         if abs(v - r) > 0.0001:
-            raise GCodeError("Non-integer value for integer")
+            raise GCodeError("Non integer value for integer")
         return int(r)
 
     def param_index(self):
@@ -203,7 +205,7 @@ class Reader:
             if self.s.startswith(name, self.i):
                 self.i += len(name)
                 return name
-        if "a" <= c <= "z":
+        if c in "aeglmnox":
             raise GCodeError(f"Unknown operation name starting with {c}")
         raise GCodeError("Unknown operation")
 
@@ -233,7 +235,10 @@ class Reader:
                 name = cand
                 break
         if name is None:
-            raise GCodeError(f"Unknown word starting with {self.peek()}")
+            c = self.peek()
+            if any(u.startswith(c) for u in self._UNARY):
+                raise GCodeError(f"Unknown word starting with {c}")
+            raise GCodeError("Unknown word where unary operation could be")
         self.i += len(name)
         if self.peek() != "[":
             raise GCodeError("Left bracket missing after unary operation name")
@@ -372,6 +377,12 @@ def read_block(raw: str, line: int, params: list[float], named: dict[str, float]
         if c == "(":
             rd.i += 1
             continue
+        if c == "$":
+            rd.i += 1
+            if "$" in words:
+                raise GCodeError("Multiple spindle choice ($) words on one line")
+            words["$"] = rd.value()
+            continue
         if c == "#":
             rd.i += 1
             idx = rd.param_index()
@@ -389,7 +400,7 @@ def read_block(raw: str, line: int, params: list[float], named: dict[str, float]
             v = rd.value() * 10.0
             code = math.floor(v + 0.5)
             if abs(v - code) > 0.0001 or code > 999:
-                raise GCodeError("G code out of range")
+                raise GCodeError("G-code out of range")
             if code < 0:
                 raise GCodeError("Negative g code used")
             grp = G_GROUP.get(code)
@@ -417,12 +428,12 @@ def read_block(raw: str, line: int, params: list[float], named: dict[str, float]
             if c in words:
                 raise GCodeError(f"Multiple {c} words on one line")
             v = rd.integer()
-            if v < 0:
-                raise GCodeError({"h": "Negative h word used", "l": "Negative l word used",
-                                  "t": "Negative tool id used"}[c])
+            if v < 0 and c != "h":
+                raise GCodeError({"l": "Negative l word used",
+                                  "t": "Negative tool id (tool not found)"}[c])
             words[c] = float(v)
         elif c == "n":
-            raise GCodeError("N word not at start of line")
+            raise GCodeError("Bad character 'n' used")
         elif c == "o":
             raise GCodeError("O-word subroutines and control flow are not supported")
         elif c in _REAL_WORDS:

@@ -140,8 +140,6 @@ class Machine(CompMixin, CycleMixin):
         if 8 in m or 9 in m or 5 in m:
             self.other_m(m)
         if g.get(0) == 40:
-            if "p" not in w:
-                raise GCodeError("Dwell time missing with g4")
             self.enqueue_dwell(line, w["p"])
         if 2 in g:
             self.set_plane(PLANE_OF_G.get(g[2]))
@@ -200,7 +198,7 @@ class Machine(CompMixin, CycleMixin):
             motion = self.motion_mode
         blk.motion = motion
         if g0 == 40:
-            if "p" not in w:
+            if w.get("p", -1.0) == -1.0:               # rs274 reads P-1 as "no P"
                 raise GCodeError("Dwell time missing with g4")
             if motion in (20, 30):
                 raise GCodeError("G4 not allowed with G2 or G3 because they both use P")
@@ -261,7 +259,12 @@ class Machine(CompMixin, CycleMixin):
                 raise GCodeError("P value not an integer with M19 G2 or G3")
             if motion in (20, 30) and pv < 1:
                 raise GCodeError("P value should be 1 or greater with G2 or G3")
-        if "q" in w and not (motion in (830, 730, 50, 760) or m.get(5) in (66, 67, 68)
+        if "$" in w and not (m.get(7) in (3, 4, 5, 19) or m.get(9) == 51
+                             or motion in (330, 331, 760) or g.get(5) == 950
+                             or g.get(14) in (960, 970)):
+            raise GCodeError("$ (spindle selection) word with no M3, M4, M5, M19, M51, G33, "
+                             "G33.1, G76, G95, G96 or G97 to use it")
+        if w.get("q", -1.0) != -1.0 and not (motion in (830, 730, 50, 760) or m.get(5) in (66, 67, 68)
                              or g0 == 100 or m.get(6) == 61 or g.get(13) == 640
                              or m.get(7) == 19):
             raise GCodeError("Q word with no G5, G10, G64, G73, G76, G83, M19, M66, M67, "
