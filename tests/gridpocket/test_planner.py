@@ -20,7 +20,17 @@ STEEP = 'bottom = { bezier = [[-0.2, -0.5, -0.2], [-0.3, -0.6, -0.3], [-0.2, -0.
 def test_params_are_exactly_the_keys_of_the_issue():
     assert set(operation.PARAMS) == {
         "tool", "polygon", "bottom", "grid", "depths", "step", "motion", "tolerance",
-        "zigzag", "feed", "finish_feed", "plunge_feed", "spindle", "safe_z", "z_mode"}
+        "zigzag", "feed", "finish_feed", "plunge_feed", "spindle", "safe_z", "z_mode",
+        "force_grid"}
+
+
+def test_force_grid_accepts_cells_larger_than_d_over_sqrt2(tmp_path, gp):
+    op = L_POCKET + STEEP + "feed = 10\ngrid = [0.2, 0.1]\n"
+    with pytest.raises(PlanningError, match="D/sqrt"):
+        gp.plan_file(gp.write_job(tmp_path, "tool = 1\n" + op))
+    _, res = gp.plan_file(gp.write_job(tmp_path, "tool = 1\n" + op + "force_grid = true\n"))
+    assert res.report["pocket"]["grid"]["dx"] == 0.2
+    assert res.report["pocket"]["grid"]["cells_inside"] > 0
 
 
 def test_registry_finds_the_operation():

@@ -109,6 +109,8 @@ PARAMS: dict[str, Param] = {
     "spindle": Param("float", positive=True, doc="rpm, clockwise (M3); required"),
     "safe_z": Param("float", None, doc="retract height"),
     "z_mode": Param("str", "tool", choices=("tool", "surface")),
+    "force_grid": Param("bool", False, doc="accept cells larger than D/sqrt(2) "
+                        "(leaves material uncut in plan view)"),
 }
 
 
@@ -194,7 +196,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         tolerance=params["tolerance"] or (0.0002 if inch else 0.005),
         depths=params["depths"], step=params["step"], motion=params["motion"],
         zigzag=params["zigzag"], spindle=params["spindle"], z_mode=params["z_mode"],
-        file=f)
+        force_grid=params["force_grid"], file=f)
     tp, report = plan_pocket(spec)
     return PlanResult(toolpath=tp, design=PocketDesign(poly, surface, top),
                       report={"pocket": report})
