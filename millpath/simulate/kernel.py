@@ -99,13 +99,14 @@ def _bull_u(R, rc, h2, m, ulo, uhi):
 
 
 @njit(cache=True, inline="always")
-def _envelope(px, py, x0, y0, z0, ux, uy, L, m, sq, ci, ttype, R, rc, k):
+def _envelope(px, py, x0, y0, z0, ux, uy, L, m, sq, ci, ttype, R, rc, k, zcap):
     """Lowest Z of the tool swept along the chord above (px, py); +inf if not under it.
 
     (x0, y0, z0) is the chord start, (ux, uy) the XY unit direction, L the XY length
     (0 for a vertical chord, where z0 must be its lower end), m the slope; per chord
     constants ``sq = sqrt(1 + m^2)`` and ``ci = 1 / sqrt(k^2 - m^2)`` (drill, when the
-    cone is steeper than the chord; else 0).
+    cone is steeper than the chord; else 0). Values at or above ``zcap`` (the cell's
+    height) may be returned as +inf without computing them (bull-nose shortcut).
     """
     dx = px - x0
     dy = py - y0
@@ -140,6 +141,11 @@ def _envelope(px, py, x0, y0, z0, ux, uy, L, m, sq, ci, ttype, R, rc, k):
         else:
             u = ulo if m > 0.0 else uhi
     else:
+        # lower bound: lowest Z along the interval plus the profile at the nearest
+        # possible radius; if that does not reach the cell, skip the search
+        zlb = z0 + m * (s + (ulo if m > 0.0 else uhi)) + _profile(ttype, R, rc, k, abs(hh))
+        if zlb >= zcap:
+            return np.inf
         u = _bull_u(R, rc, h2, m, ulo, uhi)
     if u < ulo:
         u = ulo
@@ -254,7 +260,8 @@ def _row_generic(row, xs0, dx, ddy, ux, uy, L, m, sq, ci, ttype, R, rc, k, z0, z
         old = row[i]
         if old <= zfloor + eps:
             continue
-        z = _envelope(xs0 + i * dx, ddy, 0.0, 0.0, z0, ux, uy, L, m, sq, ci, ttype, R, rc, k)
+        z = _envelope(xs0 + i * dx, ddy, 0.0, 0.0, z0, ux, uy, L, m, sq, ci, ttype, R, rc, k,
+                      old)
         if z < old:
             if z < old - eps:
                 hits += 1
