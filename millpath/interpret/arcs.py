@@ -3,7 +3,8 @@
 All functions work in a plane's (first, second) coordinates: XY=(X, Y), XZ=(Z, X),
 YZ=(Y, Z), as RS274NGC. ``turn`` is the signed turn count: +P counter-clockwise (G3),
 -P clockwise (G2). Tolerances are lengths in program units (LinuxCNC's: 0.00005 in /
-0.00127 mm minimum radius, 0.002*sqrt(2) in / 0.02*sqrt(2) mm spiral, 0.1 % relative; an arc is refused when both are exceeded).
+0.00127 mm minimum radius, 0.002*sqrt(2) in / 0.02*sqrt(2) mm spiral, 0.1 % relative;
+rs274 2.9 refuses an arc only when both spiral limits are exceeded).
 """
 
 from __future__ import annotations

@@ -3,7 +3,8 @@
 Axes are named as LinuxCNC's cycle code does: ``aa``, ``bb`` the plane's first and
 second axes, ``cc`` the normal (XY: X, Y, Z; XZ: Z, X, Y; YZ: Y, Z, X). The initial
 level (the normal coordinate when the run of cycles began) is kept until a non-cycle
-motion; G98 retracts to it, G99 to R. G83 pecks retract to R; peck cycles back off 0.010 in (0.254 mm).
+motion; G98 retracts to it, G99 to R. G83 pecks retract to R; peck cycles back off
+0.010 in (0.254 mm).
 """
 
 from __future__ import annotations

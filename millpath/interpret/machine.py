@@ -20,7 +20,6 @@ from millpath.interpret.store import KIND_CODE, PACK, MotionList, PLANE_CODE
 
 PLANE_AXES = {"XY": (0, 1, 2), "XZ": (2, 0, 1), "YZ": (1, 2, 0)}
 PLANE_OF_G = {170: "XY", 180: "XZ", 190: "YZ"}
-LEFT, RIGHT = 2, 1
 T_TRAVERSE, T_FEED, T_ARC, T_CUBIC, T_DWELL = (KIND_CODE[k] for k in
                                                 ("traverse", "feed", "arc", "cubic", "dwell"))
 MM_PER_INCH = 25.4
@@ -117,8 +116,6 @@ class Machine(CompMixin, CycleMixin):
 
     # --- block execution ------------------------------------------------------------
     def execute(self, blk: Block) -> None:
-        for idx, val in blk.settings:
-            pass                                  # applied by the caller after checks
         self.check(blk)
         w = blk.words
         g = blk.g
@@ -264,9 +261,9 @@ class Machine(CompMixin, CycleMixin):
                              or g.get(14) in (960, 970)):
             raise GCodeError("$ (spindle selection) word with no M3, M4, M5, M19, M51, G33, "
                              "G33.1, G76, G95, G96 or G97 to use it")
-        if w.get("q", -1.0) != -1.0 and not (motion in (830, 730, 50, 760) or m.get(5) in (66, 67, 68)
-                             or g0 == 100 or m.get(6) == 61 or g.get(13) == 640
-                             or m.get(7) == 19):
+        if w.get("q", -1.0) != -1.0 and not (
+                motion in (830, 730, 50, 760) or m.get(5) in (66, 67, 68) or g0 == 100
+                or m.get(6) == 61 or g.get(13) == 640 or m.get(7) == 19):
             raise GCodeError("Q word with no G5, G10, G64, G73, G76, G83, M19, M66, M67, "
                              "M68 or user M code that uses it")
         if "r" in w and not (motion in (20, 30, 760, 730) or 810 <= motion <= 890
