@@ -23,7 +23,7 @@ sys.path.insert(0, str(ROOT))
 
 # (reason, pattern on the lowercased text without comments)
 SKIP_RULES = [
-    ("o-word subroutines / control flow", re.compile(r"(^|\n)\s*(n\s*\d+\s*)?o\s*[<\d#\[]")),
+    ("o-word calls to subroutine files, M98/M99", re.compile(r"m\s*9[89](?![\d])")),
     ("A/B/C/U/V/W axes", re.compile(r"(?<![a-z#<_])[abcuvw]\s*[-+.\d#\[]")),
     ("threading, probing, lathe or tapping cycles (G33 G38 G7 G8 G70-G76 G84 G86-G88)",
      re.compile(r"g\s*0*(33|38|7|8|70|71|72|73\.|74|76|84|86|87|88)(?![\d])")),
@@ -54,6 +54,10 @@ def skip_reason(path: Path, text: str) -> str | None:
     if tbl.is_file() and re.search(r"\bQ\s*[1-9]", tbl.read_text(errors="replace")):
         return "lathe tool orientations (tool table Q1-Q9)"
     low = COMMENT.sub("", text.lower())
+    called = set(re.findall(r"o\s*(<[^>]*>|\d+)\s*call", low))
+    defined = set(re.findall(r"o\s*(<[^>]*>|\d+)\s*sub", low))
+    if called - defined:
+        return "o-word calls to subroutines in other files"
     for reason, pat in SKIP_RULES:
         if pat.search(low):
             return reason

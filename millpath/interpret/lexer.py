@@ -388,6 +388,8 @@ def read_block(raw: str, line: int, params: list[float], named: dict[str, float]
             idx = rd.param_index()
             if rd.peek() != "=":
                 raise GCodeError("Equal sign missing in parameter setting")
+            if idx == "_value":
+                raise GCodeError("Cannot assign to read-only parameter #<_value>")
             rd.i += 1
             blk.settings.append((idx, rd.value()))
             continue
@@ -435,7 +437,7 @@ def read_block(raw: str, line: int, params: list[float], named: dict[str, float]
         elif c == "n":
             raise GCodeError("Bad character 'n' used")
         elif c == "o":
-            raise GCodeError("O-word subroutines and control flow are not supported")
+            raise GCodeError("Unknown control command in o word")
         elif c in _REAL_WORDS:
             if c in words:
                 raise GCodeError(f"Multiple {c} words on one line")

@@ -18,6 +18,7 @@ from millpath.interpret.store import MotionList
 from millpath.interpret.tools import load_tools
 
 CHUNK = 1 << 22
+MAX_BLOCKS = 20_000_000          # o-word loops: stop a program that never ends
 
 
 def _chunks(text: str) -> Iterator[list[str]]:
@@ -31,10 +32,74 @@ def _chunks(text: str) -> Iterator[list[str]]:
         pos = end
 
 
+def _block(machine: Machine, raw: str, n: int) -> None:
+    """Read and execute one line with the general reader."""
+    mark = len(machine.store)
+    try:
+        blk = read_block(raw, n, machine.params, machine.named)
+        if blk.empty:
+            return
+        machine.execute(blk)
+    except GCodeError:
+        machine.store.truncate(mark)
+        raise
+    for idx, val in blk.settings:
+        if isinstance(idx, str):
+            machine.named[idx] = val
+        else:
+            machine.params[idx] = val
+
+
+def _run_flow(text: str, machine: Machine) -> tuple[str, MotionList, tuple[int, str] | None]:
+    """Line by line with o-word control flow (subroutines, loops)."""
+    from millpath.interpret.oword import Flow
+    lines = text.splitlines()
+    fast = FastPath(machine)
+    percent = None
+    k = 0
+    n = 0
+    blocks = 0
+    try:
+        flow = Flow(lines, machine)
+        while k < len(lines):
+            blocks += 1
+            if blocks > MAX_BLOCKS:
+                raise GCodeError(f"more than {MAX_BLOCKS} blocks executed: endless loop?")
+            raw = lines[k]
+            n = k + 1
+            if percent is None:
+                s = raw.strip()
+                if s:
+                    percent = s.startswith("%")
+                    if percent:
+                        k += 1
+                        continue
+            elif percent and raw.strip().startswith("%"):
+                machine.flush_comp(n)
+                return machine.units, machine.store, None
+            if k in flow.ol:
+                k = flow.step(k)
+                continue
+            k += 1
+            if percent is not None and fast.try_line(raw, n):
+                continue
+            _block(machine, raw, n)
+            if machine.ended:
+                return machine.units, machine.store, None
+    except GCodeError as e:
+        return machine.units, machine.store, (getattr(e, "line", None) or n, e.message)
+    msg = ("File ended with no percent sign" if percent
+           else "File ended with no percent sign or program end")
+    return machine.units, machine.store, (max(len(lines), 1), msg)
+
+
 def run_program(text: str, tools, machine_units: str
                 ) -> tuple[str, MotionList, tuple[int, str] | None]:
     """Interpret ``text``; returns (units at the end, motions, (line, message) or None)."""
     machine = Machine(load_tools(tools), machine_units)
+    from millpath.interpret.oword import has_owords
+    if has_owords(text):
+        return _run_flow(text, machine)
     percent = None
     fast = FastPath(machine)
     n = 0
@@ -60,20 +125,7 @@ def run_program(text: str, tools, machine_units: str
                 elif percent and raw.strip().startswith("%"):
                     machine.flush_comp(n)
                     return machine.units, machine.store, None
-                mark = len(machine.store)
-                try:
-                    blk = read_block(raw, n, machine.params, machine.named)
-                    if blk.empty:
-                        continue
-                    machine.execute(blk)
-                except GCodeError:
-                    machine.store.truncate(mark)
-                    raise
-                for idx, val in blk.settings:
-                    if isinstance(idx, str):
-                        machine.named[idx] = val
-                    else:
-                        machine.params[idx] = val
+                _block(machine, raw, n)
                 if machine.ended:
                     return machine.units, machine.store, None
             base += total

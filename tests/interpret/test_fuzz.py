@@ -22,6 +22,8 @@ SEEDS = [
     "Z-1 R0.2 Q0.2 L2\nG85 X5 Z-1 R.1\nG89 X6 Z-1 R.1 P1\nG80\nM2\n",
     "G21 F100\n#1=2 #<a>=[#1*3]\nG18 G2 X1 Z1 I0.5 K0.5\nG19 G3 Y1 Z0 J0.5 K-0.5\nG17 G5 X2 "
     "Y2 I1 J0 P0 Q1\nG10 L2 P2 X1\nG55 G92 X0\nG91 G1 X[sin[#<a>]] Y1\nG90 G53 G0 X0\nM30\n",
+    "G21 F10\n#1=0\no1 while [#1 lt 3]\n#1=[#1+1]\no2 if [#1 eq 2]\nG1 X#1\no2 else\n"
+    "G1 Y#1\no2 endif\no1 endwhile\no<s> sub\nG0 Z#1\no<s> endsub [2]\no<s> call [5]\nM2\n",
     "%\nG21 F100 S1000 M3 M8\nG42.1 D4\nG1 X10 Y0\nG1 Y10\nG2 X0 Y10 R5\nG40 G0 X-5\nG4 P1\n%\n",
 ]
 
@@ -30,6 +32,8 @@ ALPHABET = "GMXYZIJKRPQFSTDHLNOABCUVWE0123456789.-+[]#=<>() ;/%*\n\t" + "abcdefg
 
 
 def check(program: str) -> None:
+    import millpath.interpret.runner as runner
+    runner.MAX_BLOCKS = 20_000              # o-word loops that never end stop early
     try:
         ms = interpret(program, TOOLS)
     except InterpreterError as e:

@@ -529,6 +529,64 @@ G0 X1
 M2
 """
 
+P2["owords_sub_while_if_repeat_do"] = """G21 F100
+o<sq> sub
+  G1 X#1 Y0
+  G1 X#1 Y#1
+  G1 X0 Y#1
+  G1 X0 Y0
+o<sq> endsub [#1 * 2]
+#5 = 0
+o10 while [#5 lt 3]
+  o<sq> call [[#5 + 1] * 10]
+  #5 = [#5 + 1]
+o10 endwhile
+o20 if [#<_value> gt 50]
+  G0 Z10
+o20 else
+  G0 Z20
+o20 endif
+o30 repeat [2]
+  G0 X1
+o30 endrepeat
+o40 do
+  #5 = [#5 - 1]
+  G0 Y#5
+o40 while [#5 gt 0]
+M2
+"""
+P2["owords_return_elseif_break_locals"] = """G21 F100
+#1 = 7
+o100 sub
+  #<loc> = 5
+  G0 X[#1 + #<loc>]
+  o101 if [#1 gt 2]
+    o100 return [3]
+  o101 endif
+  G0 Y1
+o100 endsub
+o100 call [1]
+o100 call [4]
+G0 X#1 Y#<_value>
+o200 if [0]
+  G0 X99
+o200 elseif [1]
+  G0 X50
+o200 else
+  G0 X60
+o200 endif
+#2 = 0
+o300 while [1]
+  #2 = [#2 + 1]
+  o301 if [#2 gt 3]
+    o300 break
+  o301 endif
+  G0 Z#2
+o300 endwhile
+M2
+"""
+P2["owords_nested_sub_error"] = "G21\nO1 sub\nG1 X0\n  O2 sub\n  G1 Y0\n  O2 endsub\nO1 endsub\nO1 call\nM30\n"
+
 
 @pytest.mark.parametrize("name", sorted(P2))
 def test_more_same_as_rs274(rs274, name):

@@ -1,0 +1,206 @@
+"""O-word control flow: subroutines and loops within one program, as LinuxCNC runs them.
+
+Supported: ``o<name>``/``oN`` ``sub`` ... ``endsub [v]``, ``call [args]``, ``return [v]``,
+``if``/``elseif``/``else``/``endif``, ``while``/``endwhile``, ``do`` ... ``while``,
+``repeat [n]``/``endrepeat``, ``break``, ``continue``. A call makes ``#1``-``#30`` and
+named parameters not starting with ``_`` local; ``#<_value>`` holds the value returned.
+Labels pair the statements (``o100 if`` ... ``o100 endif``). Subroutines in other files
+are not searched for.
+"""
+
+from __future__ import annotations
+
+import re
+
+from millpath.interpret.errors import GCodeError
+from millpath.interpret.lexer import Reader, normalize
+
+_OLINE = re.compile(r"^(?:n\d+(?:\.\d*)?)?o(<[^>]*>|\d+)([a-z]+)(.*)$")
+_PREFILTER = re.compile(r"[ \t]*/?[ \t]*(?:[nN][ \t]*[\d.]+[ \t]*)?[oO]")
+_KEYWORDS = ("sub", "endsub", "call", "return", "if", "elseif", "else", "endif", "while",
+             "endwhile", "do", "repeat", "endrepeat", "break", "continue")
+
+
+def has_owords(text: str) -> bool:
+    return re.search(r"(?im)^[ \t]*/?[ \t]*(?:n[ \t]*[\d.]+[ \t]*)?o[ \t]*[<\d]", text) is not None
+
+
+def parse_oline(raw: str):
+    """(label, keyword, rest) for an o-word line, else None."""
+    text, _ = normalize(raw)
+    text = text.lstrip("/")
+    m = _OLINE.match(text)
+    if m is None:
+        return None
+    label, kw, rest = m.group(1), m.group(2), m.group(3)
+    if label.startswith("<"):
+        label = label[1:-1]
+    else:
+        label = str(int(label))
+    if kw not in _KEYWORDS:
+        raise GCodeError("Unknown control command in o word")
+    return label, kw, rest
+
+
+class Flow:
+    """Control flow state for one program (list of lines)."""
+
+    def __init__(self, lines: list[str], machine):
+        self.lines = lines
+        self.m = machine
+        self.ol: dict[int, tuple[str, str, str]] = {}
+        for i, raw in enumerate(lines):
+            if _PREFILTER.match(raw):
+                try:
+                    p = parse_oline(raw)
+                except GCodeError:
+                    p = None
+                if p is not None:
+                    self.ol[i] = p
+        self.subs: dict[str, int] = {}
+        for i, (lab, kw, _) in self.ol.items():
+            if kw == "sub":
+                self.subs[lab] = i
+        self.frames: list[tuple[int, list[float], dict[str, float]]] = []
+        self.if_done: dict[str, bool] = {}
+        self.repeat: dict[str, int] = {}
+
+    def find(self, start: int, label: str, kws: tuple[str, ...]) -> int:
+        for i in range(start + 1, len(self.lines)):
+            p = self.ol.get(i)
+            if p and p[0] == label and p[1] in kws:
+                return i
+        raise GCodeError(f"EOF in file seeking o-word: o<{label}> from line: {start + 1}")
+
+    def find_back(self, start: int, label: str, kws: tuple[str, ...]) -> int:
+        for i in range(start - 1, -1, -1):
+            p = self.ol.get(i)
+            if p and p[0] == label and p[1] in kws:
+                return i
+        raise GCodeError(f"o-word o<{label}> has no start")
+
+    def value(self, rest: str) -> float | None:
+        if not rest:
+            return None
+        rd = Reader(rest, self.m.params, self.m.named)
+        if rd.peek() != "[":
+            raise GCodeError("Left bracket missing after 'if'")
+        rd.i += 1
+        return rd.expression()
+
+    def args(self, rest: str) -> list[float]:
+        rd = Reader(rest, self.m.params, self.m.named)
+        out = []
+        while rd.i < len(rest):
+            if rd.peek() == "(":                    # a comment between arguments
+                rd.i += 1
+                continue
+            if rd.peek() != "[":
+                raise GCodeError("Unexpected character after O-word")
+            rd.i += 1
+            out.append(rd.expression())
+        return out
+
+    def is_do_end(self, i: int, label: str) -> bool:
+        """A ``while`` closes a ``do`` loop when a ``do`` with its label comes before."""
+        for j in range(i - 1, -1, -1):
+            p = self.ol.get(j)
+            if p and p[0] == label:
+                if p[1] == "do":
+                    return True
+                if p[1] in ("while", "endwhile", "endrepeat", "repeat", "endif", "if"):
+                    return False
+        return False
+
+    def step(self, i: int) -> int:
+        """Execute the o-word line ``i``; return the index of the next line to run."""
+        label, kw, rest = self.ol[i]
+        m = self.m
+        if kw == "sub":
+            end = self.find(i, label, ("endsub",))
+            for j in range(i + 1, end):
+                p = self.ol.get(j)
+                if p and p[1] == "sub":
+                    err = GCodeError("Nested subroutine definition")
+                    err.line = j + 1
+                    raise err
+            return end + 1
+        if kw == "call":
+            if label not in self.subs:
+                raise GCodeError(f"Unknown oword name: |{label}|")
+            vals = self.args(rest)
+            saved = m.params[1:31]
+            local = {k: v for k, v in m.named.items() if not k.startswith("_")}
+            self.frames.append((i, saved, local))
+            for k in range(1, 31):
+                m.params[k] = vals[k - 1] if k <= len(vals) else 0.0
+            for k in list(m.named):
+                if not k.startswith("_"):
+                    del m.named[k]
+            return self.subs[label] + 1
+        if kw in ("endsub", "return"):
+            v = self.value(rest)
+            if not self.frames:
+                if kw == "return":
+                    raise GCodeError("return outside of a subroutine")
+                return i + 1
+            if v is not None:
+                m.named["_value"] = v
+            ret, saved, local = self.frames.pop()
+            m.params[1:31] = saved
+            for k in list(m.named):
+                if not k.startswith("_"):
+                    del m.named[k]
+            m.named.update(local)
+            return ret + 1
+        if kw == "if":
+            c = self.value(rest)
+            self.if_done[label] = bool(c)
+            if c:
+                return i + 1
+            return self.find(i, label, ("elseif", "else", "endif"))
+        if kw == "elseif":
+            if self.if_done.get(label):
+                return self.find(i, label, ("endif",)) + 1
+            c = self.value(rest)
+            if c:
+                self.if_done[label] = True
+                return i + 1
+            return self.find(i, label, ("elseif", "else", "endif"))
+        if kw == "else":
+            if self.if_done.get(label):
+                return self.find(i, label, ("endif",)) + 1
+            return i + 1
+        if kw == "endif":
+            return i + 1
+        if kw == "do":
+            return i + 1
+        if kw == "while":
+            c = self.value(rest)
+            if self.is_do_end(i, label):
+                return self.find_back(i, label, ("do",)) + 1 if c else i + 1
+            return i + 1 if c else self.find(i, label, ("endwhile",)) + 1
+        if kw == "endwhile":
+            return self.find_back(i, label, ("while",))
+        if kw == "repeat":
+            n = self.value(rest)
+            self.repeat[label] = int(n or 0)
+            if self.repeat[label] > 0:
+                return i + 1
+            return self.find(i, label, ("endrepeat",)) + 1
+        if kw == "endrepeat":
+            self.repeat[label] = self.repeat.get(label, 0) - 1
+            if self.repeat[label] > 0:
+                return self.find_back(i, label, ("repeat",)) + 1
+            return i + 1
+        if kw == "break":
+            j = self.find(i, label, ("endwhile", "endrepeat", "while"))
+            return j + 1
+        if kw == "continue":
+            j = self.find(i, label, ("endwhile", "endrepeat", "while"))
+            if self.ol[j][1] == "endrepeat":
+                return j
+            if self.ol[j][1] == "endwhile":
+                return self.find_back(i, label, ("while",))
+            return j
+        raise GCodeError("Unknown control command in o word")
