@@ -14,8 +14,11 @@ import math
 
 from millpath.interpret.arcs import arc_center_ijk, arc_center_r, find_turn
 from millpath.interpret.errors import GCodeError
+from millpath.interpret.store import KIND_CODE, PACK, PLANE_CODE
 
 LEFT, RIGHT = 2, 1
+T_ARC = KIND_CODE["arc"]
+T_DWELL = KIND_CODE["dwell"]
 PI = math.pi
 HALF_PI = math.pi / 2.0
 SMALL = 0.05                    # radians: LinuxCNC's TOLERANCE_CONCAVE_CORNER
@@ -123,17 +126,29 @@ class CompMixin:
         self.endpoint_valid = False
         if not self.queue:
             return
-        from millpath.interpret.machine import T_ARC
+        a1, a2, an = self.axes
+        pcode = PLANE_CODE[self.plane]
+        buf = self.store.buf
+        o = self.out
         for q in self.queue:
             if q[0] == "S":
-                self.emit(q[1], q[2], self._xyz(q[6], q[7], q[8]), q[9], None, 0, q[10])
+                e = [0.0, 0.0, 0.0]
+                e[a1], e[a2], e[an] = q[6], q[7], q[8]
+                buf += PACK(o[0], o[1], o[2], e[0], e[1], e[2], q[9], 0.0, 0.0, 0.0,
+                            q[1], q[2], 0, pcode, q[10])
+                o = e
             elif q[0] == "A":
-                start3 = self._pc(self.out)[2]
-                end = self._xyz(q[3], q[4], q[8])
-                center = self._xyz(q[5], q[6], start3)
-                self.emit(T_ARC, q[1], end, q[9], center, q[7], q[10])
+                e = [0.0, 0.0, 0.0]
+                e[a1], e[a2], e[an] = q[3], q[4], q[8]
+                c = [0.0, 0.0, 0.0]
+                c[a1], c[a2], c[an] = q[5], q[6], o[an]
+                buf += PACK(o[0], o[1], o[2], e[0], e[1], e[2], q[9], c[0], c[1], c[2],
+                            T_ARC, q[1], q[7], pcode, q[10])
+                o = e
             else:
-                self.emit_dwell(q[1], q[2], q[3])
+                buf += PACK(o[0], o[1], o[2], o[0], o[1], o[2], 0.0, q[2], 0.0, 0.0,
+                            T_DWELL, q[1], 0, pcode, q[3])
+        self.out = o
         self.queue = []
 
     def move_endpoint_and_flush(self, x: float, y: float) -> None:
@@ -209,10 +224,12 @@ class CompMixin:
 
     def straight_comp2(self, move: int, line: int, end, feed: float) -> None:
         kind = 0 if move == 0 else 1
-        cx, cy, cz = self._pc(self.cur)
+        a1, a2, an = self.axes
+        c, p = self.cur, self.prog
+        cx, cy, cz = c[a1], c[a2], c[an]
         end_x, end_y = cx, cy
-        opx, opy, opz = self._pc(self.prog)
-        px, py, pz = self._pc(end)
+        opx, opy, opz = p[a1], p[a2], p[an]
+        px, py, pz = end[a1], end[a2], end[an]
         if py == opy and px == opx:
             self.enqueue_straight(kind, line, (px - opx, py - opy, pz - opz), cx, cy, pz, feed)
         else:
@@ -294,10 +311,14 @@ class CompMixin:
             else:
                 self.dequeue()
                 self.set_endpoint(cx, cy)
-            self.enqueue_straight(kind, line, (px - opx, py - opy, pz - opz), end_x, end_y, pz,
-                                  feed)
-        self._set_current(end_x, end_y, pz)
-        self._set_program(px, py, pz)
+            self.queue.append(["S", kind, line, px - opx, py - opy, pz - opz, end_x, end_y, pz,
+                               feed, self._state_idx])
+        c = [0.0, 0.0, 0.0]
+        c[a1], c[a2], c[an] = end_x, end_y, pz
+        self.cur = c
+        p = [0.0, 0.0, 0.0]
+        p[a1], p[a2], p[an] = px, py, pz
+        self.prog = p
 
     # --- arcs -------------------------------------------------------------------------
     def _comp_arc_center(self, move: int, blk, sx: float, sy: float, ex: float, ey: float,

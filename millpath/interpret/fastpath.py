@@ -54,12 +54,17 @@ class FastPath:
         # Machine state lives in locals inside the loop; it is written back before any
         # call into the machine (``one``) and on leaving, and read again after. Arcs
         # outside G17 go through the machine's own code.
+        comp_line = False
+
         def load():
             simple = (not m.comp_side and m.dist_abs and m.feed_mode == 0)
             arcs_ok = (simple and not m.ijk_abs and not m.arc_not_allowed
                        and m.plane == "XY")
             units = m.units
             c, o = m.cur, m.out
+            nonlocal comp_line
+            comp_line = (m.comp_side and m.comp_radius > 0.0 and not m.comp_first
+                         and m.dist_abs and m.feed_mode == 0)
             return (c[0], c[1], c[2], o[0], o[1], o[2], m.feed_rate, m.motion_mode, simple,
                     arcs_ok, PLANE_CODE[m.plane], m._state_idx, RADIUS_TOLERANCE[units],
                     SPIRAL_TOLERANCE[units])
@@ -78,6 +83,33 @@ class FastPath:
                     code = mode if (x is not None or y is not None or z is not None) else -1
                 else:
                     code = (ord(g) - 48) * 10
+                if (comp_line and code in (0, 10) and i is None and j is None and kk is None
+                        and r is None and (f is None or f[0] != "-")):
+                    # G0/G1 with compensation on (not the entry move): straight_comp2
+                    m.out, m.feed_rate = [ox, oy, oz], feed
+                    if f is not None:
+                        m.feed_rate = float(f)
+                    if code == 10 and m.feed_rate == 0.0:
+                        return k
+                    prog = m.prog
+                    end = [prog[0] if x is None else float(x),
+                           prog[1] if y is None else float(y),
+                           prog[2] if z is None else float(z)]
+                    m.motion_mode = code
+                    m.arc_not_allowed = False
+                    m.cycle_il_flag = False
+                    self.k = k
+                    mark = len(m.store)
+                    try:
+                        m.straight_comp2(code, base + k + 1, end,
+                                         m.feed_rate if code == 10 else 0.0)
+                    except GCodeError:
+                        m.store.truncate(mark)
+                        raise
+                    (cx, cy, cz, ox, oy, oz, feed, mode, simple, arcs_ok, pcode, state, rtol,
+                     stol) = load()
+                    k += 1
+                    continue
                 if (not simple or code < 0 or code > 30
                         or (code >= 20 and (r is not None or not arcs_ok))):
                     m.cur, m.out = [cx, cy, cz], [ox, oy, oz]
