@@ -7,7 +7,10 @@ Prints both times (wall clock and CPU, which is the fair measure on a loaded
 machine), the ratios and millpath's peak memory (resident set of a fresh
 process that only interprets the program).
 
-    python bench/interp_speed.py [--lines N] [--keep FILE]
+A second, smaller case (``--comp-lines``, 100,000 by default) is one long compensated
+path of G1 lines, the slowest kind of input for millpath.
+
+    python bench/interp_speed.py [--lines N] [--comp-lines N] [--keep FILE]
 """
 
 from __future__ import annotations
@@ -73,17 +76,39 @@ def generate(n_lines: int, seed: int = 1) -> str:
     return "\n".join(out) + "\n"
 
 
+def generate_comp(n_lines: int, seed: int = 3) -> str:
+    """A program that is all one compensated path of G1 lines (worst case for us)."""
+    rng = random.Random(seed)
+    out = ["G21 G17 G90 G94", "T1 M6", "G43 H1", "F800", "G0 X-10 Y-10 Z5", "G1 Z-1",
+           "G41 D1", "G1 X0 Y0"]
+    x = y = ang = 0.0
+    while len(out) < n_lines - 2:
+        ang += rng.uniform(-0.6, 0.9)
+        step = rng.uniform(5, 15)
+        x += step * math.cos(ang)
+        y += step * math.sin(ang)
+        out.append(f"G1 X{x:.3f} Y{y:.3f}")
+    out += ["G40 G1 X-10 Y-10", "M2"]
+    return "\n".join(out) + "\n"
+
+
 _CHILD = r"""
-import json, resource, sys, time
+import json, sys, time
+def hwm():
+    # peak resident set of this process image (VmHWM is reset by exec, unlike ru_maxrss)
+    for line in open("/proc/self/status"):
+        if line.startswith("VmHWM:"):
+            return int(line.split()[1])
+    return 0
 t0 = time.perf_counter()
 from millpath.interpret import interpret
-base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+base = hwm()
 t1 = time.perf_counter()
 c1 = time.process_time()
 ms = interpret(open(sys.argv[1]).read(), sys.argv[2])
 c2 = time.process_time()
 t2 = time.perf_counter()
-peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+peak = hwm()
 print(json.dumps({"seconds": t2 - t1, "cpu": c2 - c1, "import": t1 - t0, "moves": len(ms),
                   "peak_kb": peak, "base_kb": base}))
 """
@@ -99,18 +124,27 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--lines", type=int, default=1_000_000)
     ap.add_argument("--keep", type=Path, help="also write the program here")
+    ap.add_argument("--comp-lines", type=int, default=100_000,
+                    help="also time a program that is one compensated path (0: skip)")
     ns = ap.parse_args()
+    run_case("mixed program", generate(ns.lines), ns.keep)
+    if ns.comp_lines:
+        print()
+        run_case("all-compensated program", generate_comp(ns.comp_lines), None)
+
+
+def run_case(name: str, text: str, keep: Path | None) -> None:
     root = Path(__file__).resolve().parents[1]
     with tempfile.TemporaryDirectory(prefix="interp-speed-") as d:
         ngc = Path(d) / "program.ngc"
         tbl = Path(d) / "tools.tbl"
-        text = generate(ns.lines)
         ngc.write_text(text)
         tbl.write_text(TOOL_TABLE)
-        if ns.keep:
-            ns.keep.write_text(text)
+        if keep:
+            keep.write_text(text)
         n = text.count("\n")
-        print(f"program: {n} lines, {len(text) / 1e6:.1f} MB")
+        print(f"{name}: {n} lines, {len(text) / 1e6:.1f} MB")
+        del text
         env = dict(os.environ, PYTHONPATH=str(root))
         p = subprocess.run([sys.executable, "-c", _CHILD, str(ngc), str(tbl)],
                            capture_output=True, text=True, env=env)
@@ -138,7 +172,8 @@ def main() -> None:
           f"({'faster' if c_ours < c_rs else 'slower'} than rs274 in CPU time; wall time "
           f"depends on the machine's load)")
     print(f"millpath peak memory: {ours['peak_kb'] / 1024:.0f} MB resident "
-          f"({ours['base_kb'] / 1024:.0f} MB after imports)")
+          f"({ours['base_kb'] / 1024:.0f} MB after imports; program text, its lines and "
+          f"the compact motion arrays make the rest)")
 
 
 if __name__ == "__main__":

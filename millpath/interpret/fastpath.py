@@ -99,15 +99,17 @@ class FastPath:
                     m.arc_not_allowed = False
                     m.cycle_il_flag = False
                     self.k = k
-                    mark = len(m.store)
+                    mark = len(buf)
                     try:
                         m.straight_comp2(code, base + k + 1, end,
                                          m.feed_rate if code == 10 else 0.0)
                     except GCodeError:
-                        m.store.truncate(mark)
+                        del buf[mark:]
                         raise
-                    (cx, cy, cz, ox, oy, oz, feed, mode, simple, arcs_ok, pcode, state, rtol,
-                     stol) = load()
+                    # straight_comp2 changes only the position (and the feed set above)
+                    c, o = m.cur, m.out
+                    cx, cy, cz, ox, oy, oz = c[0], c[1], c[2], o[0], o[1], o[2]
+                    feed, mode = m.feed_rate, code
                     k += 1
                     continue
                 if (not simple or code < 0 or code > 30
