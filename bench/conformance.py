@@ -3,7 +3,8 @@
 Runs every ``*.ngc`` under ``../shared/linuxcnc`` (or ``--root``) through both
 interpreters (with the ``test.tbl`` beside it when there is one, else tools 1-99 of
 diameter 0.05 + 0.005 n in; tool tables in inches, as rs274 reads them) and prints a
-table: programs, identical (same motion within 1e-4), errors matched (both fail on the same block), different, and skipped
+table: programs, identical (same motion within 1e-4), errors matched (both fail on
+the same block), different, and skipped
 (with the reason: features outside millpath's RS274NGC subset).
 
     python bench/conformance.py [--root DIR] [--show N] [--jobs N]

@@ -152,34 +152,38 @@ class CompMixin:
         self.queue = []
 
     def move_endpoint_and_flush(self, x: float, y: float) -> None:
-        if not self.queue:
+        queue = self.queue
+        if not queue:
             return
-        for q in self.queue:
-            if q[0] == "A":
-                r1 = math.hypot(q[3] - q[5], q[4] - q[6])
-                l1 = q[2]
-                r2 = math.hypot(x - q[5], y - q[6])
-                l2 = find_turn(self.endpoint[0], self.endpoint[1], q[5], q[6], q[7], x, y)
-                if abs(r1 - r2) > 0.01:
-                    raise GCodeError("BUG: cutter compensation has generated an invalid arc "
-                                     f"with mismatched radii r1 {r1:f} r2 {r2:f}\n")
-                # rs274 2.9 allows 0.001 rad in inch programs, 0.0254 in mm programs
-                slack = 0.0254 if self.units == "mm" else 0.001
-                if l1 and self.endpoint_valid and abs(l2) > abs(l1) + slack:
-                    raise GCodeError("Arc move in concave corner cannot be reached by the "
-                                     "tool without gouging")
-                q[3], q[4] = x, y
-            elif q[0] == "S":
-                dot = q[3] * (x - self.endpoint[0]) + q[4] * (y - self.endpoint[1])
-                if self.endpoint_valid and dot < 0:
+        e0, e1 = self.endpoint
+        valid = self.endpoint_valid
+        dx, dy = x - e0, y - e1
+        for q in queue:
+            if q[0] == "S":
+                if valid and q[3] * dx + q[4] * dy < 0:
                     if q[1] == 0:
                         raise GCodeError("Straight traverse in concave corner cannot be "
                                          "reached by the tool without gouging")
                     raise GCodeError("Straight feed in concave corner cannot be reached by "
                                      "the tool without gouging")
                 q[6], q[7] = x, y
+            elif q[0] == "A":
+                r1 = math.hypot(q[3] - q[5], q[4] - q[6])
+                l1 = q[2]
+                r2 = math.hypot(x - q[5], y - q[6])
+                l2 = find_turn(e0, e1, q[5], q[6], q[7], x, y)
+                if abs(r1 - r2) > 0.01:
+                    raise GCodeError("BUG: cutter compensation has generated an invalid arc "
+                                     f"with mismatched radii r1 {r1:f} r2 {r2:f}\n")
+                # rs274 2.9 allows 0.001 rad in inch programs, 0.0254 in mm programs
+                slack = 0.0254 if self.units == "mm" else 0.001
+                if l1 and valid and abs(l2) > abs(l1) + slack:
+                    raise GCodeError("Arc move in concave corner cannot be reached by the "
+                                     "tool without gouging")
+                q[3], q[4] = x, y
         self.dequeue()
-        self.set_endpoint(x, y)
+        self.endpoint = [x, y]
+        self.endpoint_valid = True
 
     def flush_comp(self, line: int) -> None:
         """M0/M1/M2/M30: emit what is queued."""
@@ -262,12 +266,14 @@ class CompMixin:
             if not concave and beta > SMALL:
                 self.move_endpoint_and_flush(cx, cy)
                 if move == 10:
-                    self.enqueue_arc(line, 0.0, mid_x, mid_y, opx, opy,
-                                     -1 if side == LEFT else 1, cz, feed)
+                    self.queue.append(["A", line, 0.0, mid_x, mid_y, opx, opy,
+                                       -1 if side == LEFT else 1, cz, feed, self._state_idx])
                 else:
-                    self.enqueue_straight(0, line, (0.0, 0.0, 0.0), mid_x, mid_y, cz, 0.0)
+                    self.queue.append(["S", 0, line, 0.0, 0.0, 0.0, mid_x, mid_y, cz, 0.0,
+                                       self._state_idx])
                 self.dequeue()
-                self.set_endpoint(mid_x, mid_y)
+                self.endpoint = [mid_x, mid_y]
+                self.endpoint_valid = True
             elif concave:
                 if front is None or front[0] != "A":
                     halfcorner = (beta + PI) / 2.0

@@ -45,8 +45,8 @@ def contour_program(seed: int) -> tuple[str, list[ToolEntry]]:
     a, b, nrm, ca, cb = ("Z", "X", "Y", "K", "I") if plane == "G18" else ("X", "Y", "Z", "I", "J")
     n = rng.randint(3, 8)
     angles = sorted(rng.uniform(0, 2 * math.pi) for _ in range(n))
-    pts = [(rng.uniform(0.4, 1.0) * scale * math.cos(t), rng.uniform(0.4, 1.0) * scale * math.sin(t))
-           for t in angles]
+    pts = [(rng.uniform(0.4, 1.0) * scale * math.cos(t),
+            rng.uniform(0.4, 1.0) * scale * math.sin(t)) for t in angles]
     if rng.random() < 0.5:
         pts.reverse()
     start = rng.randrange(n)

@@ -144,7 +144,8 @@ M2
 """
 P["tool_not_found"] = "G21\nT9\nM2\n"
 P["h_not_found"] = "G21\nG43 H9\nM2\n"
-P["spindle_coolant"] = "G21 F100 S1200 M3 M8\nG1 X1\nM4 S500\nG1 X2\nM5 M9\nM7\nG1 X3\nM0\nM1\nM30\n"
+P["spindle_coolant"] = ("G21 F100 S1200 M3 M8\nG1 X1\nM4 S500\nG1 X2\nM5 M9\nM7\nG1 X3\nM0\n"
+                        "M1\nM30\n")
 P["cycles_xy"] = """G21 F100
 G0 X0 Y0 Z5
 G81 X1 Y1 Z-2 R1
@@ -585,7 +586,8 @@ o300 while [1]
 o300 endwhile
 M2
 """
-P2["owords_nested_sub_error"] = "G21\nO1 sub\nG1 X0\n  O2 sub\n  G1 Y0\n  O2 endsub\nO1 endsub\nO1 call\nM30\n"
+P2["owords_nested_sub_error"] = ("G21\nO1 sub\nG1 X0\n  O2 sub\n  G1 Y0\n  O2 endsub\n"
+                                 "O1 endsub\nO1 call\nM30\n")
 
 
 @pytest.mark.parametrize("name", sorted(P2))
