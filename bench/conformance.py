@@ -25,7 +25,6 @@ sys.path.insert(0, str(ROOT))
 # (reason, pattern on the lowercased text without comments)
 SKIP_RULES = [
     ("o-word calls to subroutine files, M98/M99", re.compile(r"m\s*9[89](?![\d])")),
-    ("A/B/C/U/V/W axes", re.compile(r"(?<![a-z#<_])[abcuvw]\s*[-+.\d#\[]")),
     ("threading, probing, lathe or tapping cycles (G33 G38 G7 G8 G70-G76 G84 G86-G88)",
      re.compile(r"g\s*0*(33|38|7|8|70|71|72|73\.|74|76|84|86|87|88)(?![\d])")),
     ("NURBS (G5.2/G5.3, G6.2)", re.compile(r"g\s*0*5\s*\.\s*[23]|g\s*0*6\s*\.\s*2")),

@@ -10,7 +10,8 @@ table path, a list of ``ToolEntry`` or a dict of millpath ``Tool``; its values a
 ``machine_units`` (rs274 reads tool tables as inches). Programs start in mm, G17, G90,
 G94, G40, G49, G99 and G80 like rs274. Coordinates are program coordinates in program
 units; see :mod:`millpath.interpret.motion`. O-word subroutines and loops within the
-program are run (:mod:`millpath.interpret.oword`).
+program are run (:mod:`millpath.interpret.oword`). A, B and C words are accepted as
+rs274 does, but motion records only X, Y and Z.
 """
 
 from __future__ import annotations

@@ -350,7 +350,8 @@ def _binary(op: str, a: float, b: float) -> float:
     raise GCodeError("Unknown operation")
 
 
-_REAL_WORDS = set("abcdefijkpqrsuvwxyz")
+# rs274 without an INI has axes X Y Z A B C: U V W are bad characters
+_REAL_WORDS = set("abcdefijkpqrsxyz")
 
 
 def read_block(raw: str, line: int, params: list[float], named: dict[str, float]) -> Block:
