@@ -28,8 +28,8 @@ SKIP_RULES = [
     ("threading, probing, lathe or tapping cycles (G33 G38 G7 G8 G70-G76 G84 G86-G88)",
      re.compile(r"g\s*0*(33|38|7|8|70|71|72|73\.|74|76|84|86|87|88)(?![\d])")),
     ("NURBS (G5.2/G5.3, G6.2)", re.compile(r"g\s*0*5\s*\.\s*[23]|g\s*0*6\s*\.\s*2")),
-    ("XY rotation, G10 L10/L11/L0 or planes G17.1-G19.1",
-     re.compile(r"g\s*10[^\n]*l\s*(0|10|11)(?![\d])|g\s*10[^\n]*r\s*[-+.\d]|g\s*1[789]\s*\.\s*1")),
+    ("G10 L10/L11/L0 or planes G17.1-G19.1",
+     re.compile(r"g\s*10[^\n]*l\s*(0|10|11)(?![\d])|g\s*1[789]\s*\.\s*1")),
     ("polar coordinates (@ ^)", re.compile(r"[@^]")),
     ("spindle modes, per-rev feed, I/O, M19, M70-M73, M98/M99, user M codes",
      re.compile(r"g\s*9[567](?![\d])|m\s*0*(19|6[2-8]|7[0-3]|9[89]|1\d\d)(?![\d])")),
@@ -54,6 +54,12 @@ def skip_reason(path: Path, text: str) -> str | None:
     if tbl.is_file() and re.search(r"\bQ\s*[1-9]", tbl.read_text(errors="replace")):
         return "lathe tool orientations (tool table Q1-Q9)"
     low = COMMENT.sub("", text.lower())
+    for r in re.findall(r"g\s*10[^\n]*?r\s*([-+]?[\d.]+|[#\[])", low):
+        try:
+            if float(r) != 0.0:
+                return "XY rotation (G10 L2 R not 0)"
+        except ValueError:
+            return "XY rotation (G10 L2 R not 0)"
     called = set(re.findall(r"o\s*(<[^>]*>|\d+)\s*call", low))
     defined = set(re.findall(r"o\s*(<[^>]*>|\d+)\s*sub", low))
     if called - defined:
