@@ -9,6 +9,8 @@ motion; G98 retracts to it, G99 to R. G83 pecks retract to R; peck cycles back o
 
 from __future__ import annotations
 
+import math
+
 from millpath.interpret.errors import GCodeError
 
 CYCLES = frozenset((730, 810, 820, 830, 840, 850, 860, 870, 880, 890))
@@ -70,15 +72,24 @@ class CycleMixin:
         else:
             old_cc = self.cycle_il = cur[an]
             self.cycle_il_flag = True
+        rad_inc = theta_inc = 0.0
         if self.dist_abs:
             inc_a = inc_b = 0.0
             r = r_word
             cc = c_word
-            aa = w.get(la, cur[a1])
-            bb = w.get(lb, cur[a2])
+            if "@" in w or "^" in w:          # polar (G17 only): about the XY origin
+                radius = w["@"] if "@" in w else math.hypot(cur[1], cur[0])
+                theta = (math.radians(w["^"]) if "^" in w
+                         else math.atan2(cur[1], cur[0]))
+                aa, bb = radius * math.cos(theta), radius * math.sin(theta)
+            else:
+                aa = w.get(la, cur[a1])
+                bb = w.get(lb, cur[a2])
         else:
             inc_a = w.get(la, 0.0)
             inc_b = w.get(lb, 0.0)
+            rad_inc = w.get("@", 0.0)
+            theta_inc = math.radians(w.get("^", 0.0))
             r = r_word + old_cc
             cc = r + c_word
             aa = cur[a1]
@@ -111,6 +122,14 @@ class CycleMixin:
         for rep in range(repeats):
             aa += inc_a
             bb += inc_b
+            for inc, is_radius in ((rad_inc, True), (theta_inc, False)):
+                if inc:
+                    if aa == 0 and bb == 0:
+                        raise GCodeError("Incremental motion with polar coordinates is "
+                                         "indeterminate when at the origin")
+                    t = math.atan2(bb, aa) + (0.0 if is_radius else inc)
+                    rr = math.hypot(bb, aa) + (inc if is_radius else 0.0)
+                    aa, bb = rr * math.cos(t), rr * math.sin(t)
             if rep == 0 and current_cc > r:
                 self._cyc_move(0, line, aa, bb, current_cc)
                 self._cyc_move(0, line, aa, bb, r)

@@ -35,7 +35,7 @@ M_GROUP: dict[int, int] = {0: 4, 1: 4, 2: 4, 30: 4, 60: 4, 6: 6, 61: 6, 3: 7, 4:
                            50: 9, 51: 9, 52: 9, 53: 9, 62: 5, 63: 5, 64: 5, 65: 5, 66: 5,
                            67: 5, 68: 5}
 
-AXES = "xyzabcuvw"
+AXES = "xyzabcuvw@^"
 MAX_PARAM = 5602
 TOLERANCE_EQUAL = 1e-6
 
@@ -377,6 +377,12 @@ def read_block(raw: str, line: int, params: list[float], named: dict[str, float]
         c = s[rd.i]
         if c == "(":
             rd.i += 1
+            continue
+        if c in "@^":                       # polar radius and angle (degrees)
+            rd.i += 1
+            if c in words:
+                raise GCodeError(f"Multiple {c} words on one line")
+            words[c] = rd.value()
             continue
         if c == "$":
             rd.i += 1

@@ -194,6 +194,17 @@ class Machine(CompMixin, CycleMixin):
                 raise GCodeError("Cannot use axis values without a g code that uses them")
             motion = self.motion_mode
         blk.motion = motion
+        if "@" in w or "^" in w:
+            if motion == -1:
+                raise GCodeError("Polar coordinates can only be used for motion")
+            if self.plane != "XY":
+                raise GCodeError("Cannot use polar coordinate except in G17 plane")
+            if "x" in w:
+                raise GCodeError("Cannot specify both polar coordinate and X word")
+            if "y" in w:
+                raise GCodeError("Cannot specify both polar coordinate and Y word")
+            if g0 == 530:
+                raise GCodeError("Cannot use polar coordinates with G53")
         if g0 == 40:
             if w.get("p", -1.0) == -1.0:               # rs274 reads P-1 as "no P"
                 raise GCodeError("Dwell time missing with g4")
@@ -568,8 +579,43 @@ class Machine(CompMixin, CycleMixin):
             off = [self.origin[k] + self.axis_offset[k] + self.tlo[k] for k in range(3)]
             return [w[a] - off[k] if a in w else self.cur[k] for k, a in enumerate("xyz")]
         if self.dist_abs:
-            return [w.get("x", base[0]), w.get("y", base[1]), w.get("z", base[2])]
-        return [base[0] + w.get("x", 0.0), base[1] + w.get("y", 0.0), base[2] + w.get("z", 0.0)]
+            end = [w.get("x", base[0]), w.get("y", base[1]), w.get("z", base[2])]
+        else:
+            end = [base[0] + w.get("x", 0.0), base[1] + w.get("y", 0.0),
+                   base[2] + w.get("z", 0.0)]
+        if "@" in w or "^" in w:
+            self.polar_end(end, w)
+        return end
+
+    def polar_end(self, end: list[float], w: dict) -> None:
+        """@ radius and ^ angle (degrees) about the origin of X and Y (LinuxCNC)."""
+        px, py = end[0], end[1]
+        if self.dist_abs:
+            if "@" in w and "^" in w:
+                r, t = w["@"], math.radians(w["^"])
+            elif "@" in w:
+                if px == 0 and py == 0:
+                    raise GCodeError("Must specify angle in polar coordinate if at the origin")
+                r, t = w["@"], math.atan2(py, px)
+            else:
+                r, t = math.hypot(py, px), math.radians(w["^"])
+            end[0], end[1] = r * math.cos(t), r * math.sin(t)
+            return
+        if "@" in w:
+            if px == 0 and py == 0:
+                raise GCodeError("Incremental motion with polar coordinates is indeterminate "
+                                 "when at the origin")
+            t = math.atan2(py, px)
+            r = math.hypot(py, px) + w["@"]
+            px, py = r * math.cos(t), r * math.sin(t)
+        if "^" in w:
+            if px == 0 and py == 0:
+                raise GCodeError("G91 motion with polar coordinates is indeterminate when at "
+                                 "the origin")
+            t = math.atan2(py, px) + math.radians(w["^"])
+            r = math.hypot(py, px)
+            px, py = r * math.cos(t), r * math.sin(t)
+        end[0], end[1] = px, py
 
     def home(self, code: int, blk: Block) -> None:
         end = self.find_ends(blk)
@@ -662,7 +708,7 @@ class Machine(CompMixin, CycleMixin):
                     raise GCodeError(f"{letter.upper()} word missing in absolute center arc")
         else:
             a1, a2 = {"XY": ("x", "y"), "XZ": ("x", "z"), "YZ": ("y", "z")}[plane]
-            if a1 not in w and a2 not in w:
+            if a1 not in w and a2 not in w and not (plane == "XY" and ("@" in w or "^" in w)):
                 raise GCodeError({"XY": "X and y words missing for arc in xy plane",
                                   "YZ": "Y and z words missing for arc in yz plane",
                                   "XZ": "X and z words missing for arc in xz plane"}[plane])

@@ -28,7 +28,7 @@ SEEDS = [
 ]
 
 FUZZ = int(os.environ.get("MILLPATH_FUZZ_EXAMPLES", "400"))
-ALPHABET = "GMXYZIJKRPQFSTDHLNOABCUVWE0123456789.-+[]#=<>() ;/%*\n\t" + "abcdefgmnoqrstxyz"
+ALPHABET = "GMXYZIJKRPQFSTDHLNOABCUVWE0123456789.-+[]#=<>() ;/%*@^$\n\t" + "abcdefgmnoqrstxyz"
 
 
 def check(program: str) -> None:

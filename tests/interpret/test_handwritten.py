@@ -589,6 +589,43 @@ M2
 P2["owords_nested_sub_error"] = ("G21\nO1 sub\nG1 X0\n  O2 sub\n  G1 Y0\n  O2 endsub\n"
                                  "O1 endsub\nO1 call\nM30\n")
 
+P2["polar_cycles_and_moves"] = """G20 F10
+G0 X0 Y0 Z0
+G0 X2.5 Y0
+G81 R.1 Z-0.5 F60
+^120
+^240
+G90 @1 ^33
+G91 G81 @1 R.1 Z-0.5 L5
+G90 G0 X2 Y0
+G91 G81 ^[360/17] R.1 Z-0.5 L17
+G90 G80 G0 X1 Y1
+G1 @2
+G91 G1 @-.1 ^4.5
+G1 ^10
+G90 G2 @1 ^90 R1
+G0 @1 ^0
+G91 G3 ^90 @0.5 R0.8
+M2
+"""
+P2["polar_radius_only"] = """G21
+G0 X0 Y0
+G1 @1 F10
+M2
+"""
+P2["polar_with_x_error"] = """G21
+G0 @1 X1
+M2
+"""
+P2["polar_outside_g17_error"] = """G21 G18
+G0 @1
+M2
+"""
+P2["polar_without_motion_error"] = """G21
+@1
+M2
+"""
+
 
 @pytest.mark.parametrize("name", sorted(P2))
 def test_more_same_as_rs274(rs274, name):
