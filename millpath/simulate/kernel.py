@@ -258,7 +258,7 @@ def _row_generic(row, xs0, dx, ddy, ux, uy, L, m, sq, ci, ttype, R, rc, k, z0, z
     hits = 0
     for i in range(row.shape[0]):
         old = row[i]
-        if old <= zfloor + eps:
+        if old <= zfloor:
             continue
         z = _envelope(xs0 + i * dx, ddy, 0.0, 0.0, z0, ux, uy, L, m, sq, ci, ttype, R, rc, k,
                       old)
@@ -294,17 +294,25 @@ def _sweep_band(H, bmax, B, jlo, jhi, zfloor, gx, gy, dx, dy,
     for bi in range(ia // B, ib // B + 1):
         if bmax[bi] > top:
             top = bmax[bi]
-    if top <= zlow + eps or top <= zfloor + eps:
+    tol = 0.0 if cut else eps            # cutting is exact; contact tests have a tolerance
+    if top <= zlow + tol or top <= zfloor + tol:
         return False
     Lx = x1 - x0
     Ly = y1 - y0
     L = math.sqrt(Lx * Lx + Ly * Ly)
-    if L <= 1e-8 * abs(z1 - z0) + 1e-12:     # vertical (or so steep that m u loses digits)
+    # reference point of the chord (cell offsets are taken from it): its start, or
+    # for a vertical chord its lower end
+    rx = x0
+    ry = y0
+    if L <= 1e-6 * abs(z1 - z0) + 1e-12:     # vertical (or so steep that m u loses digits)
         L = 0.0
         ux = 0.0
         uy = 0.0
         m = 0.0
         zs = zlow
+        if z1 < z0:
+            rx = x1
+            ry = y1
     else:
         ux = Lx / L
         uy = Ly / L
@@ -324,12 +332,12 @@ def _sweep_band(H, bmax, B, jlo, jhi, zfloor, gx, gy, dx, dy,
         if i0 > i1:
             continue
         row = H[j, i0:i1 + 1]
-        xs0 = gx + (i0 + 0.5) * dx - x0
+        xs0 = gx + (i0 + 0.5) * dx - rx
         if fast:
-            hits += _row_fast(row, xs0, dx, yc - y0, ux, uy, L, m, 1.0 / sq, ci, ttype, R,
+            hits += _row_fast(row, xs0, dx, yc - ry, ux, uy, L, m, 1.0 / sq, ci, ttype, R,
                               k, zs, zfloor, eps, cut)
         else:
-            hits += _row_generic(row, xs0, dx, yc - y0, ux, uy, L, m, sq, ci, ttype, R,
+            hits += _row_generic(row, xs0, dx, yc - ry, ux, uy, L, m, sq, ci, ttype, R,
                                  rc, k, zs, zfloor, eps, cut)
         if hits > 0 and not cut:
             return True
