@@ -143,3 +143,18 @@ def test_renderers_write_readable_pngs(tmp_path):
     c = render_deviation(r.zmap, PlaneDesign(-5.0), tmp_path / "left.png")
     img = mpimg.imread(c)[..., :3]
     assert ((img[..., 0] > 0.6) & (img[..., 1] < 0.45) & (img[..., 2] < 0.45)).sum() == 0
+
+
+def test_inch_program_with_inch_tool_library(tmp_path):
+    (tmp_path / "p.ngc").write_text("G20 G17 G90\nT2 M6\nG0 X0.53 Y0.41 Z0.2\nG1 Z-0.1 F10\n"
+                                    "G1 X2.37 F20\nG0 Z0.2\nM2\n")
+    (tmp_path / "t.toml").write_text('[[tools]]\nnumber = 2\ntype = "flat"\n'
+                                     'diameter = 0.25\n')
+    r = _run([tmp_path / "p.ngc", "--tools", tmp_path / "t.toml", "--stock",
+              "0,0,-1,3,1,0", "--resolution", "0.005", "--json"])
+    assert r.exit_code == 0, r.output
+    j = json.loads(r.output)
+    expected = ((2.37 - 0.53) * 0.25 + math.pi * 0.125 ** 2) * 0.1
+    assert j["removed_volume"] == pytest.approx(expected, rel=0.005)
+    # 1.84 in at 20 in/min plus the plunge at 10 in/min, inch machine defaults
+    assert j["cycle_time_s"] > 1.84 / 20 * 60 + 0.3 / 10 * 60 * 0.5
