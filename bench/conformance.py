@@ -53,12 +53,6 @@ def skip_reason(path: Path, text: str) -> str | None:
     if tbl.is_file() and re.search(r"\bQ\s*[1-9]", tbl.read_text(errors="replace")):
         return "lathe tool orientations (tool table Q1-Q9)"
     low = COMMENT.sub("", text.lower())
-    for r in re.findall(r"g\s*10[^\n]*?r\s*([-+]?[\d.]+|[#\[])", low):
-        try:
-            if float(r) != 0.0:
-                return "XY rotation (G10 L2 R not 0)"
-        except ValueError:
-            return "XY rotation (G10 L2 R not 0)"
     called = set(re.findall(r"o\s*(<[^>]*>|\d+)\s*call", low))
     defined = set(re.findall(r"o\s*(<[^>]*>|\d+)\s*sub", low))
     if called - defined:

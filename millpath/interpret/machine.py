@@ -1,7 +1,8 @@
 """The interpreter state machine: executes blocks in LinuxCNC's order.
 
 Positions are program coordinates in program units (``units``), like LinuxCNC's
-``current_x``: machine position = program + G92 offset + work offset + tool offset.
+``current_x``: machine position = rotate_xy(program + G92 offset, rotation) + work offset
++ tool offset (``G10 L2 R`` sets the work system's XY rotation, in degrees).
 Tool table values are in machine units and converted when read. Motion goes to a
 :class:`MotionList`; with cutter radius compensation on, moves wait in a queue
 (``comp.py``) until the next move fixes their end points, as in LinuxCNC.
@@ -26,6 +27,15 @@ MM_PER_INCH = 25.4
 G83_RAPID_DELTA = 0.010          # inch
 
 
+def rotate(x: float, y: float, degrees: float) -> tuple[float, float]:
+    """Rotate (x, y) counter-clockwise by ``degrees`` (LinuxCNC's Interp::rotate)."""
+    if degrees == 0.0:
+        return x, y
+    t = math.radians(degrees)
+    c, s = math.cos(t), math.sin(t)
+    return x * c - y * s, x * s + y * c
+
+
 class Machine(CompMixin, CycleMixin):
     """RS274NGC interpreter state; see the module docstring."""
 
@@ -48,6 +58,7 @@ class Machine(CompMixin, CycleMixin):
         self.out = [0.0, 0.0, 0.0]              # end of the last emitted motion
         self.origin_index = 1
         self.origin = [0.0, 0.0, 0.0]           # work offset, program units
+        self.rotation = 0.0                     # XY rotation of the work system, degrees
         self.axis_offset = [0.0, 0.0, 0.0]      # G92/G52 offset, program units
         self.tlo = [0.0, 0.0, 0.0]              # tool length offset, program units
         self.params = [0.0] * 5602
@@ -401,9 +412,11 @@ class Machine(CompMixin, CycleMixin):
         if self._moved_since(self.tlo_mark):
             self.tlo_effect = [0.0, 0.0, 0.0]
         self.tlo_mark = len(self.store)
+        d = [self.tlo[k] - new[k] for k in range(3)]
+        d[0], d[1] = rotate(d[0], d[1], -self.rotation)
         for k in range(3):
-            self.cur[k] += self.tlo[k] - new[k]
-            self.tlo_effect[k] += self.tlo[k] - new[k]
+            self.cur[k] += d[k]
+            self.tlo_effect[k] += d[k]
         self.tlo = new
         self.sync_out()
         self.touch_state()
@@ -444,6 +457,25 @@ class Machine(CompMixin, CycleMixin):
         base = 5201 + 20 * index
         return [self.user_to_prog(self.params[base + k]) for k in range(3)]
 
+    def current_in_system(self, system: int) -> list[float]:
+        """The current point expressed in work system ``system`` (LinuxCNC's
+        find_current_in_system: through machine coordinates, rotations included)."""
+        p = self.params
+        x = self.cur[0] + self.axis_offset[0]
+        y = self.cur[1] + self.axis_offset[1]
+        z = self.cur[2] + self.axis_offset[2]
+        x, y = rotate(x, y, self.rotation)
+        o = self.work_offset_params(system)
+        x += self.origin[0] - o[0]
+        y += self.origin[1] - o[1]
+        z += self.origin[2] - o[2]
+        x, y = rotate(x, y, -p[5210 + system * 20])
+        if p[5210]:
+            x -= self.user_to_prog(p[5211])
+            y -= self.user_to_prog(p[5212])
+            z -= self.user_to_prog(p[5213])
+        return [x, y, z]
+
     def coordinate_system(self, code: int) -> None:
         if self.comp_side:
             raise GCodeError("Cannot change coordinate systems with cutter radius "
@@ -451,10 +483,9 @@ class Machine(CompMixin, CycleMixin):
         index = {540: 1, 550: 2, 560: 3, 570: 4, 580: 5, 590: 6, 591: 7, 592: 8, 593: 9}[code]
         if index == self.origin_index:
             return
-        new = self.work_offset_params(index)
-        for k in range(3):
-            self.cur[k] = self.cur[k] + self.origin[k] - new[k]
-        self.origin = new
+        self.cur = self.current_in_system(index)
+        self.origin = self.work_offset_params(index)
+        self.rotation = self.params[5210 + index * 20]
         self.origin_index = index
         self.params[5220] = float(index)
         self.sync_out()
@@ -477,9 +508,12 @@ class Machine(CompMixin, CycleMixin):
                 raise GCodeError("Cannot set reference point with cutter compensation in "
                                  "effect")
             base = 5161 if code == 281 else 5181
+            c, ao = self.cur, self.axis_offset
+            mx, my = rotate(c[0] + ao[0], c[1] + ao[1], self.rotation)
+            machine = [mx, my, c[2] + ao[2]]
             for k in range(3):
                 self.params[base + k] = self.prog_to_user(
-                    self.cur[k] + self.tlo[k] + self.origin[k] + self.axis_offset[k])
+                    machine[k] + self.tlo[k] + self.origin[k])
         else:
             self.axis_offsets(code, w)
 
@@ -492,30 +526,51 @@ class Machine(CompMixin, CycleMixin):
         if self.comp_side and p == self.origin_index:
             raise GCodeError("Cannot change the active coordinate system with cutter radius "
                              "compensation on")
+        params = self.params
+        base = 5201 + 20 * p
+        cx, cy, cz = self.current_in_system(p)
         if "r" in w:
             if lv == 20:
                 raise GCodeError("R not allowed in G10 L20")
-            if w["r"] != 0.0:
-                raise GCodeError("XY rotation (G10 L2 R) is not supported by this interpreter")
-        base = 5201 + 20 * p
-        old = self.work_offset_params(p)
-        if p == self.origin_index:
-            cur_in = list(self.cur)
+            r = w["r"]
+            params[base + 9] = r
         else:
-            # current point expressed in system p
-            cur_in = [self.cur[k] + self.origin[k] - old[k] for k in range(3)]
-        new = list(old)
-        for k, a in enumerate("xyz"):
-            if a in w:
-                if lv == 20:
-                    new[k] = cur_in[k] + old[k] - w[a]
-                else:
-                    new[k] = w[a]
-                self.params[base + k] = self.prog_to_user(new[k])
-        if p == self.origin_index:
-            for k in range(3):
-                self.cur[k] = self.cur[k] + self.origin[k] - new[k]
-            self.origin = new
+            r = params[base + 9]
+        old = self.work_offset_params(p)
+        active = p == self.origin_index
+        if lv == 20:
+            ox, oy = rotate(cx, cy, r)
+            x, y = rotate(w.get("x", cx), w.get("y", cy), r)
+            x = ox + old[0] - x
+            y = oy + old[1] - y
+            params[base] = self.prog_to_user(x)
+            params[base + 1] = self.prog_to_user(y)
+            if active:
+                self.cur[0], self.cur[1] = rotate(self.cur[0], self.cur[1], self.rotation)
+                self.rotation = 0.0
+        else:
+            x = w.get("x", old[0])
+            y = w.get("y", old[1])
+            if "x" in w:
+                params[base] = self.prog_to_user(x)
+            if "y" in w:
+                params[base + 1] = self.prog_to_user(y)
+        if "z" in w:
+            z = w["z"]
+            if lv == 20:
+                z = cz + old[2] - z
+            params[base + 2] = self.prog_to_user(z)
+        else:
+            z = old[2]
+        if active:
+            c = self.cur
+            c[0], c[1] = rotate(c[0], c[1], self.rotation)
+            c[0] += self.origin[0] - x
+            c[1] += self.origin[1] - y
+            c[2] += self.origin[2] - z
+            self.origin = [x, y, z]
+            c[0], c[1] = rotate(c[0], c[1], -r)
+            self.rotation = r
             self.sync_out()
 
     def g10_l1(self, w: dict) -> None:
@@ -576,8 +631,13 @@ class Machine(CompMixin, CycleMixin):
         comp_mid = self.comp_side and not self.comp_first
         base = self.prog if comp_mid else self.cur
         if blk.g.get(0) == 530:
-            off = [self.origin[k] + self.axis_offset[k] + self.tlo[k] for k in range(3)]
-            return [w[a] - off[k] if a in w else self.cur[k] for k, a in enumerate("xyz")]
+            ao, org, tlo = self.axis_offset, self.origin, self.tlo
+            cx, cy = rotate(self.cur[0] + ao[0], self.cur[1] + ao[1], self.rotation)
+            px = w["x"] - org[0] - tlo[0] if "x" in w else cx
+            py = w["y"] - org[1] - tlo[1] if "y" in w else cy
+            px, py = rotate(px, py, -self.rotation)
+            pz = w["z"] - org[2] - ao[2] - tlo[2] if "z" in w else self.cur[2]
+            return [px - ao[0], py - ao[1], pz]
         if self.dist_abs:
             end = [w.get("x", base[0]), w.get("y", base[1]), w.get("z", base[2])]
         else:
@@ -624,8 +684,11 @@ class Machine(CompMixin, CycleMixin):
         self.emit(T_TRAVERSE, blk.line, end)
         self.cur = list(end)
         base = 5161 if code == 280 else 5181
-        home = [self.user_to_prog(self.params[base + k]) - self.origin[k] - self.axis_offset[k]
-                - self.tlo[k] for k in range(3)]
+        h = [self.user_to_prog(self.params[base + k]) for k in range(3)]
+        hx, hy = rotate(h[0] - self.origin[0] - self.tlo[0], h[1] - self.origin[1] - self.tlo[1],
+                        -self.rotation)
+        home = [hx - self.axis_offset[0], hy - self.axis_offset[1],
+                h[2] - self.origin[2] - self.axis_offset[2] - self.tlo[2]]
         w = blk.words
         if any(a in w for a in AXES):
             end = [home[k] if a in w else end[k] for k, a in enumerate("xyz")]
@@ -777,13 +840,17 @@ class Machine(CompMixin, CycleMixin):
     def stop(self, code: int, line: int) -> None:
         self.flush_comp(line)
         if code in (2, 30):
+            c = self.cur
             for k in range(3):
-                self.cur[k] += self.origin[k]
+                c[k] += self.origin[k]
+            c[0], c[1] = rotate(c[0], c[1], self.rotation)
             self.origin_index = 1
             self.params[5220] = 1.0
             self.origin = self.work_offset_params(1)
+            self.rotation = self.params[5230]
+            c[0], c[1] = rotate(c[0], c[1], -self.rotation)
             for k in range(3):
-                self.cur[k] -= self.origin[k]
+                c[k] -= self.origin[k]
             self.plane = "XY"
             self.axes = PLANE_AXES["XY"]
             self.dist_abs = True

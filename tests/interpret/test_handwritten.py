@@ -626,6 +626,43 @@ P2["polar_without_motion_error"] = """G21
 M2
 """
 
+P2["xy_rotation_offsets_g53_g28_tlo"] = """G21 F100
+G10 L2 P2 X10 Y5 R30
+G10 L2 P1 R15
+G0 X1 Y1
+G55 G0 X2 Y0
+G1 X5 Y5
+G2 X7 Y5 R1
+G10 L20 P2 X0 Y0
+G1 X3
+G54 G0 X0 Y0
+G53 G0 X5 Y5
+G55
+G53 G0 X1
+T4 M6 G43 H4
+G0 X4
+G28.1
+G0 X0 Y0
+G28
+G92 X1 Y1
+G0 X2
+G10 L2 P0 R-20
+G0 X3 Y3
+M2
+"""
+P2["xy_rotation_l20_and_switching"] = """G20 F10
+G10 L2 P1 X1 Y1 R90
+G0 X1 Y0
+G10 L20 P1 X0
+G0 Y1
+G56 G0 X0
+G10 L2 P3 R45
+G0 X1
+G54
+G0 X1
+M2
+"""
+
 
 @pytest.mark.parametrize("name", sorted(P2))
 def test_more_same_as_rs274(rs274, name):
