@@ -30,8 +30,8 @@ SKIP_RULES = [
     ("NURBS (G5.2/G5.3, G6.2)", re.compile(r"g\s*0*5\s*\.\s*[23]|g\s*0*6\s*\.\s*2")),
     ("G10 L10/L11/L0 or planes G17.1-G19.1",
      re.compile(r"g\s*10[^\n]*l\s*(0|10|11)(?![\d])|g\s*1[789]\s*\.\s*1")),
-    ("spindle modes, per-rev feed, I/O, M19, M70-M73, M98/M99, user M codes",
-     re.compile(r"g\s*9[567](?![\d])|m\s*0*(19|6[2-8]|7[0-3]|9[89]|1\d\d)(?![\d])")),
+    ("I/O, M19, M70-M73, M98/M99, user M codes",
+     re.compile(r"m\s*0*(19|6[2-8]|7[0-3]|9[89]|1\d\d)(?![\d])")),
     ("system / read-only named parameters", re.compile(r"#\s*<\s*_")),
     ("numbered system parameters (#5000 and up)", re.compile(r"#\s*5\d\d\d")),
 ]
