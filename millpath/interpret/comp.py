@@ -17,6 +17,7 @@ from millpath.interpret.errors import GCodeError
 from millpath.interpret.store import KIND_CODE, PACK, PLANE_CODE
 
 LEFT, RIGHT = 2, 1
+_atan2, _cos, _sin = math.atan2, math.cos, math.sin
 T_ARC = KIND_CODE["arc"]
 T_DWELL = KIND_CODE["dwell"]
 PI = math.pi
@@ -239,8 +240,8 @@ class CompMixin:
         else:
             side = self.comp_side
             radius = self.comp_radius
-            theta = math.atan2(cy - opy, cx - opx)
-            alpha = math.atan2(py - opy, px - opx)
+            theta = _atan2(cy - opy, cx - opx)
+            alpha = _atan2(py - opy, px - opx)
             if side == LEFT:
                 if theta < alpha:
                     theta = theta + 2 * PI
@@ -251,10 +252,12 @@ class CompMixin:
                     alpha = alpha + 2 * PI
                 beta = (alpha - theta) - HALF_PI
                 gamma = -HALF_PI
-            end_x = px + radius * math.cos(alpha + gamma)
-            end_y = py + radius * math.sin(alpha + gamma)
-            mid_x = opx + radius * math.cos(alpha + gamma)
-            mid_y = opy + radius * math.sin(alpha + gamma)
+            rc = radius * _cos(alpha + gamma)
+            rs = radius * _sin(alpha + gamma)
+            end_x = px + rc
+            end_y = py + rs
+            mid_x = opx + rc
+            mid_y = opy + rs
             front = self.queue[0] if self.queue else None
             if beta < -SMALL or beta > PI + SMALL:
                 concave = True
@@ -319,12 +322,16 @@ class CompMixin:
                 self.set_endpoint(cx, cy)
             self.queue.append(["S", kind, line, px - opx, py - opy, pz - opz, end_x, end_y, pz,
                                feed, self._state_idx])
-        c = [0.0, 0.0, 0.0]
-        c[a1], c[a2], c[an] = end_x, end_y, pz
-        self.cur = c
-        p = [0.0, 0.0, 0.0]
-        p[a1], p[a2], p[an] = px, py, pz
-        self.prog = p
+        if a1 == 0:                              # XY plane
+            self.cur = [end_x, end_y, pz]
+            self.prog = [px, py, pz]
+        else:
+            c = [0.0, 0.0, 0.0]
+            c[a1], c[a2], c[an] = end_x, end_y, pz
+            self.cur = c
+            p = [0.0, 0.0, 0.0]
+            p[a1], p[a2], p[an] = px, py, pz
+            self.prog = p
 
     # --- arcs -------------------------------------------------------------------------
     def _comp_arc_center(self, move: int, blk, sx: float, sy: float, ex: float, ey: float,
