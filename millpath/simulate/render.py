@@ -137,7 +137,8 @@ def render_deviation(zmap: ZMap, design, path: str | Path, *, title: str = "",
         marks.append((xs[i], ys[j], "#08306b", f"max left {lmax:.3g}"))
     for x, y, colour, label in marks:
         ax.plot([x], [y], marker="o", markersize=14, markerfacecolor="none",
-                markeredgecolor=colour, markeredgewidth=1.8, linestyle="none", label=label)
+                markeredgecolor=colour, markeredgewidth=1.8, linestyle="none", label=label,
+                clip_on=False, zorder=5)
     if marks:
         ax.legend(loc="upper right", fontsize=8, framealpha=0.85)
     cb = fig.colorbar(im, ax=ax, shrink=0.85)
