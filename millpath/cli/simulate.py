@@ -99,6 +99,8 @@ def command(program: Path, tools_path: Path | None, stock_text: str,
             hint = (f" in {tools_path} (a tool table row needs a diameter D)"
                     if tools_path else "; give --tools")
             raise MillpathError(f"tool {t} is not defined{hint}", program, line)
+    if not used and any(m.kind != "dwell" for m in motions):
+        click.echo("millpath: warning: no tool is loaded (T.. M6): nothing is cut", err=True)
     if resolution is None:
         w, h, _ = stock.size
         resolution = max(w, h) / 1000.0

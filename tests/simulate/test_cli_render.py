@@ -157,3 +157,12 @@ def test_inch_program_with_inch_tool_library(tmp_path):
     assert j["removed_volume"] == pytest.approx(expected, rel=0.005)
     # 1.84 in at 20 in/min plus the plunge at 10 in/min, inch machine defaults
     assert j["cycle_time_s"] > 1.84 / 20 * 60 + 0.3 / 10 * 60 * 0.5
+
+
+def test_program_without_a_tool_change_warns_that_nothing_is_cut(tmp_path):
+    (tmp_path / "p.ngc").write_text("G21\nG0 X1 Y1 Z1\nG1 Z-1 F100\nM2\n")
+    r = CliRunner().invoke(
+        cli, ["simulate", str(tmp_path / "p.ngc"), "--stock", "0,0,-5,10,10,0", "--json"])
+    assert r.exit_code == 0, r.output
+    assert json.loads(r.stdout)["removed_volume"] == 0
+    assert "no tool is loaded" in r.stderr
