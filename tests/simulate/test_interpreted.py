@@ -95,3 +95,22 @@ def test_rs274_motion_simulates_like_the_toolpath(rs274):
     _compare(res.motions)
     mine, _ = toolpath_motions(_toolpath())
     assert _path(res.motions)[1:] == _path(mine)
+
+
+def test_cubic_moves_simulate_like_their_interpreted_g5():
+    from millpath.interpret import interpret
+    from millpath.post.linuxcnc import post
+    tp = Toolpath()
+    tp.begin(Operation("mill", "spline", 1))
+    tp.rapid(5, 5, 5)
+    tp.line(5, 5, -1.5, 200)
+    tp.cubic((15, 30), (35, -10), (50, 20, -1.5), 500)
+    tp.cubic((55, 30), (40, 45), (20, 40, -1.5), 500)
+    tp.rapid(20, 40, 5)
+    direct = simulate_toolpath(tp, TOOLS, STOCK, resolution=0.1, machine=Machine())
+    motions = interpret(post(tp, TOOLS), TOOLS, machine_units="mm")
+    assert sum(m.kind == "cubic" for m in motions) == 2
+    inter = simulate_motions(motions, TOOLS, STOCK, resolution=0.1, machine=Machine())
+    assert np.abs(direct.zmap.heights - inter.zmap.heights).max() < 0.003
+    assert inter.removed_volume == pytest.approx(direct.removed_volume, rel=1e-4)
+    assert inter.cycle_time_s == pytest.approx(direct.cycle_time_s, rel=0.01)
