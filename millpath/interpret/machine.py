@@ -457,9 +457,10 @@ class Machine(CompMixin, CycleMixin):
         base = 5201 + 20 * index
         return [self.user_to_prog(self.params[base + k]) for k in range(3)]
 
-    def current_in_system(self, system: int) -> list[float]:
+    def current_in_system(self, system: int, with_tlo: bool = False) -> list[float]:
         """The current point expressed in work system ``system`` (LinuxCNC's
-        find_current_in_system: through machine coordinates, rotations included)."""
+        find_current_in_system: through machine coordinates, rotations included);
+        ``with_tlo``: as if the tool length offset were not applied."""
         p = self.params
         x = self.cur[0] + self.axis_offset[0]
         y = self.cur[1] + self.axis_offset[1]
@@ -469,6 +470,10 @@ class Machine(CompMixin, CycleMixin):
         x += self.origin[0] - o[0]
         y += self.origin[1] - o[1]
         z += self.origin[2] - o[2]
+        if with_tlo:
+            x += self.tlo[0]
+            y += self.tlo[1]
+            z += self.tlo[2]
         x, y = rotate(x, y, -p[5210 + system * 20])
         if p[5210]:
             x -= self.user_to_prog(p[5211])
@@ -497,8 +502,8 @@ class Machine(CompMixin, CycleMixin):
             lv = int(w.get("l", -1))
             if lv in (2, 20):
                 self.g10_l2(w, lv)
-            elif lv == 1:
-                self.g10_l1(w)
+            elif lv in (1, 10, 11):
+                self.g10_l1(w, lv)
             else:
                 raise GCodeError(f"G10 L{lv} is not supported by this interpreter")
         elif code in (280, 300):
@@ -573,20 +578,48 @@ class Machine(CompMixin, CycleMixin):
             self.rotation = r
             self.sync_out()
 
-    def g10_l1(self, w: dict) -> None:
+    def g10_l1(self, w: dict, lv: int = 1) -> None:
+        """Tool table rows: L1 sets offsets directly, L10 (L11) so that the current point
+        becomes the given value in the active system (in G59.3), LinuxCNC's
+        convert_setup_tool."""
         p = w.get("p", 0.0)
         t = int(p + 0.5)
-        if t not in self.tools:
+        if t != 0 and t not in self.tools:
             raise GCodeError(f"Requested tool {t} not found in the tool table")
         if not any(a in w for a in "xyzabcuvwrqij"):
             raise GCodeError("G10 L1 without offsets has no effect")
-        d, x, y, z = self.tools[t]
-        if "x" in w:
-            x = self.prog_to_user(w["x"])
-        if "y" in w:
-            y = self.prog_to_user(w["y"])
-        if "z" in w:
-            z = self.prog_to_user(w["z"])
+        d, x, y, z = self.tools.get(t, (0.0, 0.0, 0.0, 0.0))
+        if lv == 1:
+            if "x" in w:
+                x = self.prog_to_user(w["x"])
+            if "y" in w:
+                y = self.prog_to_user(w["y"])
+            if "z" in w:
+                z = self.prog_to_user(w["z"])
+        else:
+            dest = 9 if lv == 11 else self.origin_index
+            rot = self.params[5210 + dest * 20]
+            tx, ty, tz = self.current_in_system(dest, with_tlo=True)
+            if lv == 11 and self.params[5210]:
+                tx += self.user_to_prog(self.params[5211])
+                ty += self.user_to_prog(self.params[5212])
+                tz += self.user_to_prog(self.params[5213])
+            if "x" in w and "y" in w:
+                ox, oy = rotate(tx - w["x"], ty - w["y"], rot)
+                x, y = self.prog_to_user(ox), self.prog_to_user(oy)
+            elif "x" in w or "y" in w:
+                kx, ky = rotate(self.user_to_prog(x), self.user_to_prog(y), -rot)
+                if "x" in w:
+                    kx = 0.0
+                    ax, ay = tx - w["x"], 0.0
+                else:
+                    ky = 0.0
+                    ax, ay = 0.0, ty - w["y"]
+                kx, ky = rotate(kx, ky, rot)
+                ax, ay = rotate(ax, ay, rot)
+                x, y = self.prog_to_user(ax + kx), self.prog_to_user(ay + ky)
+            if "z" in w:
+                z = self.prog_to_user(tz - w["z"])
         if "r" in w:
             d = self.prog_to_user(w["r"]) * 2.0
         self.tools = dict(self.tools)

@@ -663,6 +663,23 @@ G0 X1
 M2
 """
 
+P2["g10_l1_l10_l11_tool_offsets"] = """G20 F10
+G0 X1 Y2 Z3
+T1 M6 G43
+G10 L10 P1 Z0.5
+G43
+G0 X0
+G10 L10 P4 X0.1 Y0.2
+G10 L1 P4 Z1.2 R0.1
+T4 M6 G43 H4
+G0 X1
+G10 L2 P9 X1 Y1 Z1 R10
+G10 L11 P1 X0 Z2
+G43 H1
+G0 Y0
+M2
+"""
+
 
 @pytest.mark.parametrize("name", sorted(P2))
 def test_more_same_as_rs274(rs274, name):
