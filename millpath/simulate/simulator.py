@@ -126,8 +126,9 @@ def sweep(zmap: ZMap, segs: Segments, tools: dict[int, Tool], n_motions: int, *,
     n = len(segs)
     bar = None
     if progress and n > CHUNK:
+        from rich.console import Console
         from rich.progress import Progress
-        bar = Progress(transient=True)
+        bar = Progress(transient=True, console=Console(stderr=True))
         bar.start()
         task = bar.add_task("simulating", total=n)
     try:
