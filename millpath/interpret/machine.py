@@ -24,7 +24,6 @@ PLANE_OF_G = {170: "XY", 180: "XZ", 190: "YZ"}
 T_TRAVERSE, T_FEED, T_ARC, T_CUBIC, T_DWELL = (KIND_CODE[k] for k in
                                                 ("traverse", "feed", "arc", "cubic", "dwell"))
 MM_PER_INCH = 25.4
-G83_RAPID_DELTA = 0.010          # inch
 
 
 def rotate(x: float, y: float, degrees: float) -> tuple[float, float]:
