@@ -1,7 +1,8 @@
-"""Fast path for the commonest block shapes: ``[G0-3] [X] [Y] [Z] [I] [J] [K] [R] [F]``.
+"""Fast path for the commonest block shapes:
+``[N..] [G0-3] [X] [Y] [Z] [I] [J] [K] [R] [F] [(comment) | ;comment]``.
 
 One regular expression recognizes such a line (words in this order, plain numbers, no
-comments or parameters) and hands its values straight to the machine's motion code,
+parameters or expressions) and hands its values straight to the machine's motion code,
 skipping the general reader and the block checks, which cannot fail for these words
 when the motion is G0-G3. Any other line goes to the general reader, so behaviour and
 errors are the same either way; only the time differs.
@@ -19,9 +20,10 @@ from millpath.interpret.store import PACK, PLANE_CODE
 
 _NUM = r"([-+]?+(?:\d++\.?+\d*+|\.\d++))"
 # possessive quantifiers (Python 3.11) keep the regex engine from backtracking
-_FAST = re.compile(r"[ \t]*+(?:[Gg]0*([0-3])(?![\d.])[ \t]*+)?+"
+_FAST = re.compile(r"[ \t]*+(?:[Nn][ \t]*+\d++(?:\.\d*+)?+[ \t]*+)?+"
+                   r"(?:[Gg]0*([0-3])(?![\d.])[ \t]*+)?+"
                    + "".join(rf"(?:[{u}{u.lower()}][ \t]*+{_NUM}[ \t]*+)?+" for u in "XYZIJKRF")
-                   + r"\r?")
+                   + r"(?:\([^()]*+\)[ \t]*+|;.*+)?+\r?")
 _LETTERS = "xyzijkrf"
 
 
