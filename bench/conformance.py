@@ -33,7 +33,6 @@ SKIP_RULES = [
     ("I/O, M19, M70-M73, M98/M99, user M codes",
      re.compile(r"m\s*0*(19|6[2-8]|7[0-3]|9[89]|1\d\d)(?![\d])")),
     ("system / read-only named parameters", re.compile(r"#\s*<\s*_")),
-    ("numbered system parameters (#5000 and up)", re.compile(r"#\s*5\d\d\d")),
 ]
 def _default_tools():
     """Tools 1-99 (inches) for programs that come without a table: D 0.05-0.54, Z 0.1 n."""
