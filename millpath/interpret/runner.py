@@ -35,8 +35,11 @@ def _chunks(text: str) -> Iterator[list[str]]:
 def _block(machine: Machine, raw: str, n: int) -> None:
     """Read and execute one line with the general reader."""
     mark = len(machine.store)
+    params = machine.params
+    params[5420], params[5421], params[5422] = machine.cur     # read-only: position
+    params[5400] = float(machine.spindle_tool)                   # and tool in the spindle
     try:
-        blk = read_block(raw, n, machine.params, machine.named)
+        blk = read_block(raw, n, params, machine.named)
         if blk.empty:
             return
         machine.execute(blk)

@@ -680,6 +680,17 @@ G0 Y0
 M2
 """
 
+P2["system_parameters_position_tool_offsets"] = """G21 F100
+G0 X1 Y2 Z3
+G0 X[#5420+1] Y#5421 Z[#5422*2]
+T1 M6
+G0 X#5400
+G55 G0 Y#5220
+G92 X0
+G0 Y[#5420+#5211]
+M2
+"""
+
 
 @pytest.mark.parametrize("name", sorted(P2))
 def test_more_same_as_rs274(rs274, name):
