@@ -176,6 +176,8 @@ def _drop_one(x, y, R, rc, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts, 
     icx = int(math.floor((x - x0) / cell))
     icy = int(math.floor((y - y0) / cell))
     ncell = (ix1 - ix0 + 1) * (iy1 - iy0 + 1)
+    if ix0 > ix1 or iy0 > iy1:
+        ncell = 0
     for n in range(-1, ncell):
         if n < 0:
             # the cell under the axis first: it gives a high contact early
@@ -342,6 +344,19 @@ def _drop_batch(xy, R, rc, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts, 
                              cell, nx, ny, starts, items, cc_out[p])
 
 
+@njit(cache=True)
+def _drop_serial(xy, R, rc, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts, items,
+                 z_out, cc_out):
+    for p in range(xy.shape[0]):
+        z_out[p] = _drop_one(xy[p, 0], xy[p, 1], R, rc, tri, box, ztop, plane, x0, y0,
+                             cell, nx, ny, starts, items, cc_out[p])
+
+
+#: below this many points a batch runs on one thread: starting the thread pool costs
+#: more than it saves (and much more on a loaded machine)
+PARALLEL_MIN = 4000
+
+
 @dataclass
 class DropResult:
     """``z``: tool-tip Z per point (``n``,); ``cc``: contact points (``n``, 3), NaN
@@ -358,7 +373,8 @@ def drop(index: MeshIndex, cutter: Cutter, xy, z_floor: float = -np.inf) -> Drop
     z = np.empty(len(pts))
     cc = np.empty((len(pts), 3))
     if len(pts):
-        _drop_batch(pts, float(cutter.radius), float(cutter.corner), index.tri, index.box,
+        fn = _drop_batch if len(pts) >= PARALLEL_MIN else _drop_serial
+        fn(pts, float(cutter.radius), float(cutter.corner), index.tri, index.box,
                     index.ztop, index.plane, index.x0, index.y0, index.cell, index.nx,
                     index.ny, index.starts, index.items, z, cc)
     if z_floor > -np.inf:
@@ -422,6 +438,13 @@ def _height_batch(xs, ys, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts, i
                              starts, items)
 
 
+@njit(cache=True)
+def _height_serial(xs, ys, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts, items, out):
+    for p in range(xs.shape[0]):
+        out[p] = _height_one(xs[p], ys[p], tri, box, ztop, plane, x0, y0, cell, nx, ny,
+                             starts, items)
+
+
 class MeshHeight:
     """The mesh as a height field (a :class:`millpath.plan.base.Design`): the highest
     triangle above each (x, y), ``-inf`` off the mesh. Job units."""
@@ -437,6 +460,7 @@ class MeshHeight:
         out = np.empty(len(xs))
         ix = self.index
         if len(xs):
-            _height_batch(xs, ys, ix.tri, ix.box, ix.ztop, ix.plane, ix.x0, ix.y0, ix.cell,
+            fn = _height_batch if len(xs) >= PARALLEL_MIN else _height_serial
+            fn(xs, ys, ix.tri, ix.box, ix.ztop, ix.plane, ix.x0, ix.y0, ix.cell,
                           ix.nx, ix.ny, ix.starts, ix.items, out)
         return out.reshape(np.broadcast_shapes(x.shape, y.shape))

@@ -1,0 +1,67 @@
+"""Join finishing passes into a toolpath (job units; feeds in units per minute).
+
+Neighbouring pieces closer than ``link_max`` in XY are joined by a feed move that
+follows the surface (drop-cutter points along the straight XY link, verified at every
+midpoint like the passes, holder clearance included); otherwise the tool retracts to
+``safe_z``, rapids over, rapids down to ``clearance`` above the next start and plunges
+at ``plunge_feed``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from millpath.model.toolpath import Toolpath
+from millpath.plan.surface.sampler import Sampler
+from millpath.plan.surface.zigzag import Pass, _refine
+
+
+def surface_link(sampler: Sampler, a: np.ndarray, b: np.ndarray, tol: float,
+                 step: float) -> np.ndarray:
+    """Tip points from ``a`` to ``b`` (x, y, z) following the surface, both ends included."""
+    ua = sampler.uw(a[0], a[1])
+    ub = sampler.uw(b[0], b[1])
+    n = max(1, int(math.ceil(float(np.hypot(*(ub - ua))) / step)))
+    t = np.linspace(0.0, 1.0, n + 1)
+    uw = ua[None, :] + (ub - ua)[None, :] * t[:, None]
+    z, _ = sampler.z_safe(uw[:, 0], uw[:, 1])
+    z[0], z[-1] = a[2], b[2]
+    P = _refine(sampler, np.column_stack([uw, z]), tol, tol, 1e-4)
+    xy = sampler.xy(P[:, 0], P[:, 1])
+    return np.column_stack([xy, P[:, 2]])
+
+
+def add_passes(tp: Toolpath, sampler: Sampler, passes: list[Pass], *, feed: float,
+               plunge_feed: float, safe_z: float, clearance: float, link_max: float,
+               tolerance: float) -> dict:
+    """Append the passes to ``tp`` (its operation already begun); return link counts."""
+    links = {"surface": 0, "retract": 0}
+    cur = None
+    for p in passes:
+        P = p.points
+        if len(P) == 0:
+            continue
+        start = P[0]
+        if cur is None:
+            tp.rapid(start[0], start[1], safe_z)
+            tp.rapid(start[0], start[1], min(safe_z, start[2] + clearance))
+            tp.line(*start, plunge_feed)
+        elif math.hypot(start[0] - cur[0], start[1] - cur[1]) <= link_max:
+            L = surface_link(sampler, cur, start, tolerance, 0.25 * sampler.cutter.radius)
+            for q in L[1:]:
+                tp.line(*q, feed)
+            links["surface"] += 1
+        else:
+            tp.rapid(cur[0], cur[1], safe_z)
+            tp.rapid(start[0], start[1], safe_z)
+            tp.rapid(start[0], start[1], min(safe_z, start[2] + clearance))
+            tp.line(*start, plunge_feed)
+            links["retract"] += 1
+        for q in P[1:]:
+            tp.line(*q, feed)
+        cur = P[-1]
+    if cur is not None:
+        tp.rapid(cur[0], cur[1], safe_z)
+    return links

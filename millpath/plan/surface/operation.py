@@ -1,0 +1,185 @@
+"""Job operation ``type = "surface-finish"``: zigzag finishing of a free-form surface.
+
+Keys (lengths in the job's units, feeds in units per minute):
+
+- ``surface``: an STL file (binary or ASCII), or a Bezier net as a table
+  ``{ heights = [[z, ...], ...], box = [xmin, ymin, xmax, ymax] }`` (``heights[i][j]``:
+  ``i`` along X, ``j`` along Y) or ``{ control = [[[x, y, z], ...], ...] }``, or a TOML file holding
+  such a table; Bezier nets are tessellated into ``divisions`` x ``divisions`` cells
+  (two triangles each).
+- ``tool`` or ``choose_tool = true`` (from the job's tools, see :mod:`.toolchoice`).
+- ``tolerance``: chord tolerance along the passes; ``scallop``: scallop height.
+- ``angle``: pass direction in degrees from +X; ``side_step``: ``"published"`` or
+  ``"variable"``; ``strategy``: only ``"zigzag"`` is available in this version.
+- ``feed``, ``plunge_feed``, ``spindle`` (rpm), ``safe_z`` (default: 5 mm / 0.2 in
+  above the highest tool position), ``region`` ``[xmin, ymin, xmax, ymax]`` of the tool
+  tip (default: the surface's XY extent), ``compare``: also plan the other side-step
+  method and report both path counts.
+
+The design handed to the simulator is the tessellated surface as a height field.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from pathlib import Path
+
+import numpy as np
+
+from millpath.errors import JobError, PlanningError
+from millpath.job.schema import Param
+from millpath.model.toolpath import Operation, Toolpath
+from millpath.part.surface.mesh import Mesh, read_stl
+from millpath.plan.base import PlanContext, PlanResult
+from millpath.plan.surface.cutter import Cutter
+from millpath.plan.surface.dropcutter import MeshHeight, build_index
+from millpath.plan.surface.linking import add_passes
+from millpath.plan.surface.sampler import Sampler
+from millpath.plan.surface.toolchoice import choose_tool
+from millpath.plan.surface.zigzag import ZigzagSettings, zigzag
+
+PARAMS = {
+    "surface": Param("any", doc="STL file, Bezier net table or TOML file with one"),
+    "divisions": Param("int", 160, positive=True, doc="Bezier tessellation per direction"),
+    "tool": Param("int", None, positive=True),
+    "choose_tool": Param("bool", False),
+    "tolerance": Param("float", None, positive=True),
+    "scallop": Param("float", None, positive=True),
+    "angle": Param("float", 0.0),
+    "strategy": Param("str", "zigzag", choices=("zigzag", "waterline", "steep-shallow")),
+    "side_step": Param("str", "variable", choices=("published", "variable")),
+    "feed": Param("float", None, positive=True),
+    "plunge_feed": Param("float", None, positive=True),
+    "spindle": Param("float", 10000.0, positive=True),
+    "safe_z": Param("float", None),
+    "region": Param("floats", None, length=4),
+    "compare": Param("bool", True),
+    "name": Param("str", "surface finish"),
+}
+
+
+def _bezier_mesh(table: dict, divisions: int, where: str) -> Mesh:
+    from millpath.part.surface.bezier import BezierPatch
+    if "heights" in table:
+        if "box" not in table:
+            raise JobError(f"{where}.box: a heights net needs box = [xmin, ymin, xmax, ymax]")
+        z = np.array(table["heights"], dtype=float)
+        patch = BezierPatch.from_heights(z, tuple(float(v) for v in table["box"]))
+    elif "control" in table:
+        patch = BezierPatch(np.array(table["control"], dtype=float))
+    else:
+        raise JobError(f"{where}: a Bezier net needs heights (with box) or control")
+    return Mesh(patch.to_mesh(divisions, divisions), "bezier")
+
+
+def load_surface(spec, divisions: int, base_dir: Path, file=None) -> Mesh:
+    """The surface to finish as a mesh (see the module docstring for ``spec``)."""
+    where = "surface"
+    if isinstance(spec, dict):
+        try:
+            return _bezier_mesh(spec, divisions, where)
+        except (ValueError, TypeError) as e:
+            raise JobError(f"{where}: {e}", file) from None
+    if not isinstance(spec, str):
+        raise JobError(f"{where}: expected a file name or a Bezier net table", file)
+    path = Path(spec)
+    if not path.is_absolute():
+        path = base_dir / path
+    suffix = path.suffix.lower()
+    if suffix == ".stl":
+        return read_stl(path)
+    if suffix == ".toml":
+        try:
+            data = tomllib.loads(path.read_text(encoding="utf-8"))
+        except FileNotFoundError:
+            raise JobError(f"{where}: no such file {spec!r}", file) from None
+        except tomllib.TOMLDecodeError as e:
+            raise JobError(f"invalid TOML: {e}", path) from None
+        return _bezier_mesh(data, divisions, str(path))
+    if suffix in (".step", ".stp"):
+        raise JobError(f"{where}: STEP surfaces are not supported yet; export an STL", file)
+    raise JobError(f"{where}: unknown surface file type {suffix!r} (use .stl or .toml)", file)
+
+
+def plan(ctx: PlanContext, params: dict) -> PlanResult:
+    inch = ctx.units == "inch"
+    file = ctx.job_file
+    mesh = load_surface(params["surface"], params["divisions"], ctx.base_dir, file)
+    index = build_index(mesh)
+    design = MeshHeight(index)
+    lo, hi = mesh.bounds
+    region = tuple(params["region"]) if params["region"] else (lo[0], lo[1], hi[0], hi[1])
+    if not (region[0] < region[2] and region[1] < region[3]):
+        raise JobError("region: xmin < xmax and ymin < ymax expected", file)
+    report: dict = {}
+    if params["strategy"] != "zigzag":
+        raise PlanningError(f"strategy {params['strategy']!r} is not available yet "
+                            "(only zigzag)", file)
+    ext = np.maximum(np.ptp(mesh.triangles[:, :, 0], axis=1),
+                     np.ptp(mesh.triangles[:, :, 1], axis=1))
+    if params["choose_tool"]:
+        tool, why = choose_tool(ctx.tools, index, design, region,
+                                max(4.0 * float(np.mean(ext)), 0.02 if inch else 0.5))
+        report["tool_choice"] = why
+        if tool is None:
+            raise PlanningError("choose_tool: no ball cutter in the job's tools fits the "
+                                "surface's concave regions with its holder clear", file)
+    elif params["tool"] is not None:
+        tool = ctx.tool(params["tool"], "tool")
+    else:
+        raise JobError("tool: give a tool number or choose_tool = true", file)
+    try:
+        cutter = Cutter.from_tool(tool)
+    except ValueError as e:
+        raise PlanningError(str(e), file) from None
+    tol = params["tolerance"] or (0.0002 if inch else 0.005)
+    scallop = params["scallop"] or (0.0004 if inch else 0.01)
+    feed = params["feed"] or (40.0 if inch else 1000.0)
+    plunge = params["plunge_feed"] or feed / 3.0
+    sampler = Sampler(index, cutter, params["angle"], tuple(tool.holder_cylinders()),
+                      z_floor=float(lo[2]))
+
+    def run(mode: str):
+        s = ZigzagSettings(tolerance=tol, scallop=scallop, region=region, side_step=mode,
+                           material_tolerance=min(tol, 0.25 * scallop))
+        return zigzag(sampler, design, s)
+
+    try:
+        res = run(params["side_step"])
+    except PlanningError as e:
+        raise PlanningError(e.message, file) from None
+    top = max(float(np.max(p.points[:, 2])) for p in res.passes) if res.passes else hi[2]
+    safe_z = params["safe_z"]
+    if safe_z is None:
+        safe_z = top + (0.2 if inch else 5.0)
+    elif safe_z < top:
+        raise JobError(f"safe_z: {safe_z:g} is below the highest tool position {top:.4g}", file)
+    tp = Toolpath(units=ctx.units)
+    tp.begin(Operation("surface-finish", params["name"], tool.number, params["spindle"],
+                       info={"side_step": params["side_step"], "scallop": scallop,
+                             "tolerance": tol}))
+    links = add_passes(tp, sampler, res.passes, feed=feed, plunge_feed=plunge, safe_z=safe_z,
+                       clearance=0.04 if inch else 1.0, link_max=3.0 * cutter.radius,
+                       tolerance=tol)
+    section = {
+        "tool": tool.number, "cutter": f"{cutter.kind} D{2 * cutter.radius:g}"
+        + (f" r{cutter.corner:g}" if cutter.kind == "bull" else ""),
+        "triangles": len(mesh), "region": list(map(float, region)),
+        "tolerance": tol, "scallop": scallop, "angle": params["angle"],
+        "side_step": params["side_step"],
+        "pass_lines": res.n_lines, "pieces": len(res.passes), "cl_points": res.n_points,
+        "cutting_length": round(res.length, 4), "links": links,
+        "holder": {"cylinders": [list(c) for c in tool.holder_cylinders()],
+                   "lifted_points": res.n_lifted,
+                   "note": ("points lifted so the shank or holder clears the surface; "
+                            "material is left there") if res.n_lifted else "no contact"},
+    }
+    if params["compare"]:
+        other = "published" if params["side_step"] == "variable" else "variable"
+        o = run(other)
+        section["compare"] = {
+            params["side_step"]: {"pass_lines": res.n_lines, "cutting_length": round(res.length, 3)},
+            other: {"pass_lines": o.n_lines, "cutting_length": round(o.length, 3)},
+        }
+    report["surface_finish"] = section
+    return PlanResult(tp, design, report)

@@ -1,0 +1,277 @@
+"""Zigzag finishing on the cutter-location surface.
+
+Passes run along ``u`` (at ``angle`` from +X, see :mod:`.sampler`) and step across in
+``w``. Every pass is a polyline of tool-tip points (job units) that
+
+- is sampled by constant CL arc length (denser where steep), the step from the chord
+  tolerance and the local curvature along the pass (:func:`.steps.feed_step`);
+- is verified at the midpoint of every segment: the drop-cutter Z there may exceed the
+  chord by at most ``tolerance`` (the gouge side) and fall below it by at most
+  ``material_tolerance`` (the material side); failing segments are split, collinear
+  points merged, and the result verified again;
+- never lets the shank or the holder touch the surface (points are lifted, counted).
+
+Side step, ``side_step = "published"``: every pass is a straight line; the step to the
+next is the smallest, over the pass, of the published scallop formula with the local
+curvature across the passes, projected on XY by the cross slope.
+``side_step = "variable"``: the same formula at each station along the pass, each station
+keeping its own step (smoothed by a running minimum over neighbouring stations), so the
+next pass is a curve ``w(u)`` and no station pays for the worst one.
+In both, the scallop is held under ``h`` measured vertically (the formula gets the
+normal height ``h cos(slope)``), less an allowance for the feed chords on the material
+side, so a Z-map simulation measures at most ``h``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from millpath.errors import PlanningError
+from millpath.plan.surface.sampler import Sampler
+from millpath.plan.surface.steps import curvature_radius, feed_step, flat_side_step, side_step
+
+
+@dataclass
+class ZigzagSettings:
+    """Tolerances and steps (job units). ``region`` is ``(xmin, ymin, xmax, ymax)``
+    of the tool tip; ``station`` the spacing of the stations along the passes where
+    side steps are computed."""
+
+    tolerance: float
+    scallop: float
+    region: tuple[float, float, float, float]
+    side_step: str = "variable"
+    material_tolerance: float | None = None
+    station: float | None = None
+    max_step: float | None = None
+    max_passes: int = 5000
+
+
+@dataclass
+class Pass:
+    points: np.ndarray          # (n, 3) tool tip x, y, z
+    lifted: np.ndarray          # (n,) bool: raised to clear the shank or holder
+
+
+@dataclass
+class ZigzagResult:
+    passes: list[Pass]
+    steps: list[float] = field(default_factory=list)   # XY side step per pass (mean)
+    min_step: float = 0.0
+    n_lines: int = 0                                    # pass lines across the region
+
+    @property
+    def length(self) -> float:
+        """Total cutting length along the passes (job units, links excluded)."""
+        return float(sum(np.linalg.norm(np.diff(p.points, axis=0), axis=1).sum()
+                         for p in self.passes))
+
+    @property
+    def n_points(self) -> int:
+        return int(sum(len(p.points) for p in self.passes))
+
+    @property
+    def n_lifted(self) -> int:
+        return int(sum(int(p.lifted.sum()) for p in self.passes))
+
+
+def effective_radius(sampler: Sampler) -> float:
+    """Radius of the cutter part that leaves the scallops: the ball, or a bull's corner."""
+    c = sampler.cutter
+    if c.corner <= 0.0:
+        raise PlanningError("scallop-driven finishing needs a ball or bull-nose cutter, "
+                            "not a flat end mill")
+    return c.corner
+
+
+def _frame_box(sampler: Sampler, region) -> tuple[float, float, float, float]:
+    x0, y0, x1, y1 = region
+    uw = sampler.uw(np.array([x0, x1, x1, x0]), np.array([y0, y0, y1, y1]))
+    return uw[:, 0].min(), uw[:, 0].max(), uw[:, 1].min(), uw[:, 1].max()
+
+
+def _inside(sampler: Sampler, region, u, w) -> np.ndarray:
+    x0, y0, x1, y1 = region
+    xy = sampler.xy(u, w)
+    e = 1e-9
+    return ((xy[..., 0] >= x0 - e) & (xy[..., 0] <= x1 + e)
+            & (xy[..., 1] >= y0 - e) & (xy[..., 1] <= y1 + e))
+
+
+def _runmin(a: np.ndarray, k: int = 1) -> np.ndarray:
+    out = a.copy()
+    for s in range(1, k + 1):
+        out[s:] = np.minimum(out[s:], a[:-s])
+        out[:-s] = np.minimum(out[:-s], a[s:])
+    return out
+
+
+def _station_steps(sampler: Sampler, u, W, r, h, fd) -> np.ndarray:
+    """XY side step at each station from the published formula with the local curvature
+    and slope across the passes. The scallop is limited to ``h`` measured vertically:
+    the normal height used in the formula is ``h cos(slope)``."""
+    zm = sampler.z_cut(u, W - fd)
+    z0 = sampler.z_cut(u, W)
+    zp = sampler.z_cut(u, W + fd)
+    ok = np.isfinite(zm) & np.isfinite(z0) & np.isfinite(zp)
+    out = np.full(len(u), np.nan)
+    rho_cl, slope = curvature_radius(zm[ok], z0[ok], zp[ok], fd)
+    cos = 1.0 / np.sqrt(1.0 + slope * slope)
+    out[ok] = np.array([side_step(r, rc - r, h * c) for rc, c in zip(rho_cl, cos)]) * cos
+    return out
+
+
+def pass_lines(sampler: Sampler, design, s: ZigzagSettings) -> tuple[np.ndarray, list[np.ndarray], list[float]]:
+    """Stations ``u`` and the ``w(u)`` of every pass, with the XY step taken after each."""
+    r = effective_radius(sampler)
+    h = s.scallop
+    umin, umax, wmin, wmax = _frame_box(sampler, s.region)
+    st = s.station or min(0.5, sampler.cutter.radius / 4.0)
+    n = max(2, int(math.ceil((umax - umin) / st)) + 1)
+    u = np.linspace(umin, umax, n)
+    flat = flat_side_step(r, h)
+    fd = min(0.25 * r, max(4.0 * flat, 1e-3))
+    W = np.full(n, wmin)
+    lines = [W.copy()]
+    steps: list[float] = []
+    target = 0.9 * h - min(s.material_tolerance or s.tolerance, 0.25 * h)
+    target = max(target, 0.25 * h)
+    while np.any(W < wmax - 1e-9):
+        if len(lines) >= s.max_passes:
+            raise PlanningError(f"more than {s.max_passes} passes: scallop {h} is too small "
+                                f"for this surface and cutter")
+        inside = _inside(sampler, s.region, u, W)
+        eps = _station_steps(sampler, u, W, r, target, fd)
+        known = inside & np.isfinite(eps)
+        if not known.any():
+            dW = np.full(n, flat_side_step(r, target))
+        elif s.side_step == "published":
+            dW = np.full(n, float(eps[known].min()))        # the worst station, whole pass
+        else:
+            e = np.where(known, eps, np.inf)
+            e = np.where(np.isfinite(e), e, float(eps[known].min()))
+            dW = _runmin(e, 2)                                # each station its own step
+        Wn = np.minimum(W + dW, wmax)
+        steps.append(float(np.mean(Wn - W)))
+        W = Wn
+        lines.append(W.copy())
+    return u, lines, steps
+
+
+def _refine(sampler: Sampler, P: np.ndarray, tol_g: float, tol_m: float,
+            min_len: float) -> np.ndarray:
+    """Split segments of ``P`` (rows u, w, z) whose midpoint deviates beyond tolerance."""
+    for _ in range(20):
+        mid = 0.5 * (P[1:] + P[:-1])
+        zt, _ = sampler.z_safe(mid[:, 0], mid[:, 1])
+        dev = zt - mid[:, 2]
+        seg = np.hypot(P[1:, 0] - P[:-1, 0], P[1:, 1] - P[:-1, 1])
+        bad = ((dev > tol_g) | (dev < -tol_m)) & (seg > min_len)
+        if not bad.any():
+            break
+        mid[:, 2] = zt
+        idx = np.nonzero(bad)[0]
+        P = np.insert(P, idx + 1, mid[idx], axis=0)
+    return P
+
+
+def _merge(P: np.ndarray, tol: float) -> np.ndarray:
+    """Drop interior points within ``tol`` (3D) of the chord joining their neighbours
+    kept so far (greedy, forward)."""
+    if len(P) < 3:
+        return P
+    keep = [0]
+    a = 0
+    i = 2
+    while i < len(P):
+        A, B = P[a], P[i]
+        AB = B - A
+        L2 = float(AB @ AB)
+        inner = P[a + 1:i]
+        if L2 > 0:
+            t = np.clip((inner - A) @ AB / L2, 0.0, 1.0)
+            dist = np.linalg.norm(inner - (A + t[:, None] * AB), axis=1)
+        else:
+            dist = np.linalg.norm(inner - A, axis=1)
+        if dist.max() > tol:
+            keep.append(i - 1)
+            a = i - 1
+        i += 1
+    keep.append(len(P) - 1)
+    return P[keep]
+
+
+def sample_pass(sampler: Sampler, u: np.ndarray, W: np.ndarray, s: ZigzagSettings,
+                r: float) -> np.ndarray | None:
+    """Tolerance-driven CL points (rows u, w, z in the pass frame) along one pass."""
+    inside = _inside(sampler, s.region, u, W)
+    if inside.sum() < 2:
+        return None
+    u, W = u[inside], W[inside]
+    Z, _ = sampler.z_safe(u, W)
+    if not np.all(np.isfinite(Z)):
+        ok = np.isfinite(Z)
+        u, W, Z = u[ok], W[ok], Z[ok]
+        if len(u) < 2:
+            return None
+    tol_g = s.tolerance
+    tol_m = s.material_tolerance if s.material_tolerance is not None else s.tolerance
+    max_step = s.max_step or 2.0 * sampler.cutter.radius
+    # CL arc length and the feed step from the curvature along the pass
+    seg = np.sqrt(np.diff(u) ** 2 + np.diff(W) ** 2 + np.diff(Z) ** 2)
+    S = np.concatenate([[0.0], np.cumsum(seg)])
+    if len(u) >= 3:
+        sxy = np.concatenate([[0.0], np.cumsum(np.hypot(np.diff(u), np.diff(W)))])
+        ds = np.gradient(sxy)
+        d1 = np.gradient(Z, sxy)
+        d2 = np.gradient(d1, sxy)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            rho_cl = np.where(np.abs(d2) < 1e-12, np.inf, -(1.0 + d1 * d1) ** 1.5 / d2)
+        delta = feed_step(r, rho_cl - r, min(tol_g, tol_m), max_step)
+        delta = _runmin(np.maximum(delta, ds.min() * 0.5), 1)
+    else:
+        delta = np.full(len(u), max_step)
+    # constant arc length sampling: sample count grows as the integral of ds / delta
+    N = np.concatenate([[0.0], np.cumsum(seg / np.minimum(delta[1:], delta[:-1]))])
+    k = max(1, int(math.ceil(N[-1])))
+    Ns = np.linspace(0.0, N[-1], k + 1)
+    us = np.interp(Ns, N, u)
+    ws = np.interp(Ns, N, W)
+    zs, _ = sampler.z_safe(us, ws)
+    P = np.stack([us, ws, zs], axis=1)
+    min_len = 1e-3 * max(r, 1e-3)
+    P = _refine(sampler, P, tol_g, tol_m, min_len)
+    P = _merge(P, 0.2 * min(tol_g, tol_m))
+    P = _refine(sampler, P, tol_g, tol_m, min_len)
+    return P
+
+
+def zigzag(sampler: Sampler, design, s: ZigzagSettings) -> ZigzagResult:
+    """Plan the zigzag passes (see module docstring); points are returned in XY."""
+    if s.side_step not in ("published", "variable"):
+        raise PlanningError(f"side_step must be published or variable, not {s.side_step!r}")
+    r = effective_radius(sampler)
+    u, lines, steps = pass_lines(sampler, design, s)
+    wmax = _frame_box(sampler, s.region)[3]
+    passes: list[Pass] = []
+    for k, W in enumerate(lines):
+        # a station already on the last line was finished by the pass before
+        active = np.ones(len(u), bool) if k == 0 else lines[k - 1] < wmax - 1e-9
+        active = active | np.roll(active, 1) | np.roll(active, -1)
+        pieces = []
+        for run in np.split(np.arange(len(u)), np.nonzero(np.diff(active.astype(int)))[0] + 1):
+            if not active[run[0]] or len(run) < 2:
+                continue
+            P = sample_pass(sampler, u[run], W[run], s, r)
+            if P is not None:
+                pieces.append(P)
+        if k % 2 == 1:
+            pieces = [P[::-1] for P in pieces[::-1]]
+        for P in pieces:
+            _, lifted = sampler.z_safe(P[:, 0], P[:, 1])
+            xy = sampler.xy(P[:, 0], P[:, 1])
+            passes.append(Pass(np.column_stack([xy, P[:, 2]]), lifted))
+    return ZigzagResult(passes, steps, min(steps) if steps else 0.0, len(lines))
