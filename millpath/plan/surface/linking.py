@@ -3,8 +3,10 @@
 Neighbouring pieces closer than ``link_max`` in XY are joined by a feed move that
 follows the surface (drop-cutter points along the straight XY link, verified at every
 midpoint like the passes, holder clearance included); otherwise the tool retracts to
-``safe_z``, rapids over, rapids down to ``clearance`` above the next start and plunges
-at ``plunge_feed``.
+``safe_z``, rapids over, rapids down to ``clearance`` above the next start, or above
+``approach_z`` if that is higher (the stock top: material the operation has not yet
+cut may stand anywhere below it, so no rapid goes lower), and feeds down at
+``plunge_feed``.
 """
 
 from __future__ import annotations
@@ -33,9 +35,18 @@ def surface_link(sampler: Sampler, a: np.ndarray, b: np.ndarray, tol: float,
     return np.column_stack([xy, P[:, 2]])
 
 
+def _descend(tp: Toolpath, start, safe_z: float, clearance: float, approach_z: float,
+             plunge_feed: float) -> None:
+    """From ``safe_z`` above ``start``: rapid to the approach height, feed to ``start``."""
+    z = min(safe_z, max(start[2], approach_z) + clearance)
+    if z < safe_z - 1e-9:
+        tp.rapid(start[0], start[1], z)
+    tp.line(*start, plunge_feed)
+
+
 def add_passes(tp: Toolpath, sampler: Sampler, passes: list[Pass], *, feed: float,
                plunge_feed: float, safe_z: float, clearance: float, link_max: float,
-               tolerance: float) -> dict:
+               tolerance: float, approach_z: float = -math.inf) -> dict:
     """Append the passes to ``tp`` (its operation already begun); return link counts."""
     links = {"surface": 0, "retract": 0}
     cur = None
@@ -46,8 +57,7 @@ def add_passes(tp: Toolpath, sampler: Sampler, passes: list[Pass], *, feed: floa
         start = P[0]
         if cur is None:
             tp.rapid(start[0], start[1], safe_z)
-            tp.rapid(start[0], start[1], min(safe_z, start[2] + clearance))
-            tp.line(*start, plunge_feed)
+            _descend(tp, start, safe_z, clearance, approach_z, plunge_feed)
         elif math.hypot(start[0] - cur[0], start[1] - cur[1]) <= link_max:
             L = surface_link(sampler, cur, start, tolerance, 0.25 * sampler.cutter.radius)
             for q in L[1:]:
@@ -56,8 +66,7 @@ def add_passes(tp: Toolpath, sampler: Sampler, passes: list[Pass], *, feed: floa
         else:
             tp.rapid(cur[0], cur[1], safe_z)
             tp.rapid(start[0], start[1], safe_z)
-            tp.rapid(start[0], start[1], min(safe_z, start[2] + clearance))
-            tp.line(*start, plunge_feed)
+            _descend(tp, start, safe_z, clearance, approach_z, plunge_feed)
             links["retract"] += 1
         for q in P[1:]:
             tp.line(*q, feed)

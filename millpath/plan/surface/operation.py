@@ -13,7 +13,8 @@ Keys (lengths in the job's units, feeds in units per minute):
   ``"variable"``; ``strategy``: only ``"zigzag"`` is available in this version.
 - ``feed``, ``plunge_feed``, ``spindle`` (rpm), ``safe_z`` (default: 5 mm / 0.2 in
   above the highest tool position), ``region`` ``[xmin, ymin, xmax, ymax]`` of the tool
-  tip (default: the surface's XY extent), ``compare``: also plan the other side-step
+  tip (default: the surface's XY extent grown by the cutter radius, so the
+  edges are finished too), ``compare``: also plan the other side-step
   method and report both path counts.
 
 The design handed to the simulator is the tessellated surface as a height field.
@@ -108,7 +109,8 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     index = build_index(mesh)
     design = MeshHeight(index)
     lo, hi = mesh.bounds
-    region = tuple(params["region"]) if params["region"] else (lo[0], lo[1], hi[0], hi[1])
+    extent = (float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1]))
+    region = tuple(params["region"]) if params["region"] else extent
     if not (region[0] < region[2] and region[1] < region[3]):
         raise JobError("region: xmin < xmax and ymin < ymax expected", file)
     report: dict = {}
@@ -132,6 +134,11 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         cutter = Cutter.from_tool(tool)
     except ValueError as e:
         raise PlanningError(str(e), file) from None
+    if not params["region"]:
+        # the tip goes one cutter radius beyond the surface's edges so that the contact
+        # point reaches the edge on any slope (the tool rolls over the edge there)
+        region = (extent[0] - cutter.radius, extent[1] - cutter.radius,
+                  extent[2] + cutter.radius, extent[3] + cutter.radius)
     tol = params["tolerance"] or (0.0002 if inch else 0.005)
     scallop = params["scallop"] or (0.0004 if inch else 0.01)
     feed = params["feed"] or (40.0 if inch else 1000.0)
@@ -141,7 +148,8 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
 
     def run(mode: str):
         s = ZigzagSettings(tolerance=tol, scallop=scallop, region=region, side_step=mode,
-                           material_tolerance=min(tol, 0.25 * scallop))
+                           material_tolerance=min(tol, 0.25 * scallop),
+                           trim_edges=not params["region"])
         return zigzag(sampler, design, s)
 
     try:
@@ -150,17 +158,21 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         raise PlanningError(e.message, file) from None
     top = max(float(np.max(p.points[:, 2])) for p in res.passes) if res.passes else hi[2]
     safe_z = params["safe_z"]
+    stock_top = ctx.stock.zmax if ctx.stock is not None else -np.inf
     if safe_z is None:
-        safe_z = top + (0.2 if inch else 5.0)
+        safe_z = max(top, stock_top) + (0.2 if inch else 5.0)
     elif safe_z < top:
         raise JobError(f"safe_z: {safe_z:g} is below the highest tool position {top:.4g}", file)
+    elif safe_z <= stock_top:
+        raise JobError(f"safe_z: {safe_z:g} is not above the stock top {stock_top:g}", file)
     tp = Toolpath(units=ctx.units)
     tp.begin(Operation("surface-finish", params["name"], tool.number, params["spindle"],
                        info={"side_step": params["side_step"], "scallop": scallop,
                              "tolerance": tol}))
     links = add_passes(tp, sampler, res.passes, feed=feed, plunge_feed=plunge, safe_z=safe_z,
                        clearance=0.04 if inch else 1.0, link_max=3.0 * cutter.radius,
-                       tolerance=tol)
+                       tolerance=tol,
+                       approach_z=stock_top if ctx.stock is not None else np.inf)
     section = {
         "tool": tool.number, "cutter": f"{cutter.kind} D{2 * cutter.radius:g}"
         + (f" r{cutter.corner:g}" if cutter.kind == "bull" else ""),

@@ -19,7 +19,10 @@ keeping its own step (smoothed by a running minimum over neighbouring stations),
 next pass is a curve ``w(u)`` and no station pays for the worst one.
 In both, the scallop is held under ``h`` measured vertically (the formula gets the
 normal height ``h cos(slope)``), less an allowance for the feed chords on the material
-side, so a Z-map simulation measures at most ``h``.
+side, so a Z-map simulation measures at most ``h``. The formula is local: over a
+convex crease (or the surface's edge, which the tool rolls over) it allows up to a
+cutter diameter that the surface beyond cannot take, so each step is also limited by
+the step the formula gives at the candidate next line (:func:`_look_ahead`).
 """
 
 from __future__ import annotations
@@ -38,7 +41,9 @@ from millpath.plan.surface.steps import curvature_radius, feed_step, flat_side_s
 class ZigzagSettings:
     """Tolerances and steps (job units). ``region`` is ``(xmin, ymin, xmax, ymax)``
     of the tool tip; ``station`` the spacing of the stations along the passes where
-    side steps are computed."""
+    side steps are computed. ``trim_edges``: the region is the surface grown by the
+    cutter radius; the first and last pass at each station are moved in to where the
+    contact point just reaches the surface's edge (see :func:`edge_lines`)."""
 
     tolerance: float
     scallop: float
@@ -48,6 +53,7 @@ class ZigzagSettings:
     station: float | None = None
     max_step: float | None = None
     max_passes: int = 5000
+    trim_edges: bool = False
 
 
 @dataclass
@@ -124,6 +130,61 @@ def _station_steps(sampler: Sampler, u, W, r, h, fd) -> np.ndarray:
     return out
 
 
+def edge_lines(sampler: Sampler, design, u: np.ndarray, wmin: float, wmax: float,
+               slack: float, iterations: int = 14) -> tuple[np.ndarray, np.ndarray]:
+    """First and last pass line ``w(u)`` for a region grown beyond the surface.
+
+    At each station the surface spans ``[e0, e1]`` in ``w`` (where the design is
+    finite). The first line is the largest ``w <= e0`` at which the cutter's contact
+    point lies within ``slack`` of ``e0`` (so the edge is finished), found by
+    bisection; likewise the last line from ``e1``. Between there and the grown
+    region's bound the tool would only roll over the edge. Stations with no surface take
+    the lines of the nearest station with surface if it is within a cutter radius (the
+    pass runs on over the edge), else an empty span (first line = last line).
+    """
+    n = len(u)
+    k = 257
+    ws = np.linspace(wmin, wmax, k)
+    uu = np.repeat(u, k)
+    xy = sampler.xy(uu, np.tile(ws, n))
+    fin = np.isfinite(design.height(xy[:, 0], xy[:, 1])).reshape(n, k)
+    has = fin.any(axis=1)
+    i0 = np.where(has, np.argmax(fin, axis=1), 0)
+    i1 = np.where(has, k - 1 - np.argmax(fin[:, ::-1], axis=1), 0)
+    e0, e1 = ws[i0], ws[i1]
+
+    def reaches(w, lower: bool) -> np.ndarray:
+        _, _, cw = sampler.cut(u, w)
+        ok = (cw <= e0 + slack) if lower else (cw >= e1 - slack)
+        return ok | ~np.isfinite(cw)
+
+    def search(edge, bound, lower: bool) -> np.ndarray:
+        good = np.where(reaches(edge, lower), edge, bound)      # known to reach
+        bad = edge.copy()                                         # known not to
+        todo = good != edge
+        for _ in range(iterations):
+            mid = 0.5 * (good + bad)
+            ok = reaches(mid, lower)
+            good = np.where(todo & ok, mid, good)
+            bad = np.where(todo & ~ok, mid, bad)
+        return good
+
+    W0 = search(e0, np.full(n, wmin), True)
+    W1 = np.maximum(search(e1, np.full(n, wmax), False), W0)
+    if not has.any():
+        return np.full(n, wmin), np.full(n, wmin)
+    # beyond the surface's ends along the passes the lines run straight on, one cutter
+    # radius (the tool rolls over the edge there); further out nothing is cut
+    W0 = np.interp(u, u[has], W0[has])
+    W1 = np.interp(u, u[has], W1[has])
+    uh = u[has]
+    gap = np.min(np.abs(u[:, None] - uh[None, :]), axis=1) if n * len(uh) < 4_000_000 \
+        else np.abs(u - np.interp(u, uh, uh))
+    far = gap > sampler.cutter.radius + 1e-9
+    W1 = np.where(far, W0, W1)
+    return W0, W1
+
+
 def pass_lines(sampler: Sampler, design, s: ZigzagSettings) -> tuple[np.ndarray, list[np.ndarray], list[float]]:
     """Stations ``u`` and the ``w(u)`` of every pass, with the XY step taken after each."""
     r = effective_radius(sampler)
@@ -134,7 +195,10 @@ def pass_lines(sampler: Sampler, design, s: ZigzagSettings) -> tuple[np.ndarray,
     u = np.linspace(umin, umax, n)
     flat = flat_side_step(r, h)
     fd = min(0.25 * r, max(4.0 * flat, 1e-3))
-    W = np.full(n, wmin)
+    if s.trim_edges:
+        W, wmax = edge_lines(sampler, design, u, wmin, wmax, 0.5 * flat_side_step(r, h))
+    else:
+        W = np.full(n, wmin)
     lines = [W.copy()]
     steps: list[float] = []
     target = 0.9 * h - min(s.material_tolerance or s.tolerance, 0.25 * h)
@@ -154,11 +218,36 @@ def pass_lines(sampler: Sampler, design, s: ZigzagSettings) -> tuple[np.ndarray,
             e = np.where(known, eps, np.inf)
             e = np.where(np.isfinite(e), e, float(eps[known].min()))
             dW = _runmin(e, 2)                                # each station its own step
+        dW = _look_ahead(sampler, u, W, dW, wmax, r, target, fd, s.side_step == "published")
         Wn = np.minimum(W + dW, wmax)
         steps.append(float(np.mean(Wn - W)))
         W = Wn
         lines.append(W.copy())
     return u, lines, steps
+
+
+def _look_ahead(sampler: Sampler, u, W, dW, wmax, r: float, target: float,
+                fd: float, uniform: bool, rounds: int = 4) -> np.ndarray:
+    """Shrink the step ``dW`` to the published step found at the candidate next line:
+    the formula is local, and over a convex crease (or the edge the tool rolls over)
+    it allows up to a cutter diameter that the surface beyond cannot take. Each round
+    takes ``min(dW, step at W + dW)`` (the whole pass for ``uniform``)."""
+    dW = np.asarray(dW, float).copy()
+    for _ in range(rounds):
+        Wn = np.minimum(W + dW, wmax)
+        ahead = _station_steps(sampler, u, Wn, r, target, fd)
+        ok = np.isfinite(ahead) & (Wn < wmax - 1e-9)
+        if not ok.any():
+            break
+        new = np.where(ok, np.minimum(dW, ahead), dW)
+        if uniform:
+            new = np.full_like(dW, float(new.min()))
+        else:
+            new = _runmin(new, 2)
+        if np.allclose(new, dW, rtol=1e-3, atol=0.0):
+            break
+        dW = new
+    return dW
 
 
 def _refine(sampler: Sampler, P: np.ndarray, tol_g: float, tol_m: float,
@@ -255,11 +344,11 @@ def zigzag(sampler: Sampler, design, s: ZigzagSettings) -> ZigzagResult:
         raise PlanningError(f"side_step must be published or variable, not {s.side_step!r}")
     r = effective_radius(sampler)
     u, lines, steps = pass_lines(sampler, design, s)
-    wmax = _frame_box(sampler, s.region)[3]
+    wmax = lines[-1]
     passes: list[Pass] = []
     for k, W in enumerate(lines):
         # a station already on the last line was finished by the pass before
-        active = np.ones(len(u), bool) if k == 0 else lines[k - 1] < wmax - 1e-9
+        active = (lines[0] < wmax - 1e-9) if k == 0 else lines[k - 1] < wmax - 1e-9
         active = active | np.roll(active, 1) | np.roll(active, -1)
         pieces = []
         for run in np.split(np.arange(len(u)), np.nonzero(np.diff(active.astype(int)))[0] + 1):
