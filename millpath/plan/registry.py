@@ -16,6 +16,7 @@ STRATEGIES: dict[str, str] = {
     "die-cavity": "millpath.plan.diecavity.operation",
     "features": "millpath.plan.features.operation",
     "surface-finish": "millpath.plan.surface.operation",
+    "surface-rough": "millpath.plan.surface.rough",
 }
 
 

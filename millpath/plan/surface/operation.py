@@ -124,8 +124,11 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
                                 max(4.0 * float(np.mean(ext)), 0.02 if inch else 0.5))
         report["tool_choice"] = why
         if tool is None:
+            reasons = "; ".join(f"T{c['tool']}: {c['rejected']}" for c in why["candidates"]
+                                if "rejected" in c) or "the job has no ball cutter"
             raise PlanningError("choose_tool: no ball cutter in the job's tools fits the "
-                                "surface's concave regions with its holder clear", file)
+                                f"surface's concave regions with its holder clear ({reasons})",
+                                file)
     elif params["tool"] is not None:
         tool = ctx.tool(params["tool"], "tool")
     else:
@@ -193,5 +196,8 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
             params["side_step"]: {"pass_lines": res.n_lines, "cutting_length": round(res.length, 3)},
             other: {"pass_lines": o.n_lines, "cutting_length": round(o.length, 3)},
         }
-    report["surface_finish"] = section
+    if "tool_choice" in report:
+        section["tool_choice"] = report.pop("tool_choice")
+    section = {"operation": params["name"], **section}
+    report["surface_finish"] = [section]          # a list: one entry per operation
     return PlanResult(tp, design, report)

@@ -1,9 +1,9 @@
 """Tool choice for finishing: the largest ball that fits every concave region and whose
 shank and holder never touch the surface.
 
-Curvature convention: principal curvatures of the surface seen from above (upward
-normal); positive = concave (a valley, where a ball larger than the radius of
-curvature cannot reach the bottom). Lengths in job units.
+Curvature: the smallest concave radius (a valley seen from above, where a ball larger
+than the radius of curvature cannot reach the bottom) is measured on the mesh itself,
+see :func:`mesh_concave_radius`. Lengths in job units.
 """
 
 from __future__ import annotations
@@ -15,40 +15,9 @@ from millpath.plan.surface.cutter import Cutter
 from millpath.plan.surface.dropcutter import MeshIndex
 from millpath.plan.surface.sampler import Sampler
 
-
-def min_concave_radius(design, region, spacing: float) -> float:
-    """Smallest concave radius of curvature of the height field ``design`` over
-    ``region`` (xmin, ymin, xmax, ymax), from finite differences ``spacing`` apart
-    (choose a few triangle sizes for a mesh). ``inf`` if nowhere concave."""
-    x0, y0, x1, y1 = region
-    xs = np.arange(x0 + spacing, x1 - spacing + 1e-12, spacing)
-    ys = np.arange(y0 + spacing, y1 - spacing + 1e-12, spacing)
-    if len(xs) < 3 or len(ys) < 3:
-        return float("inf")
-    X, Y = np.meshgrid(xs, ys)
-    Z = design.height(X, Y)
-    if not np.all(np.isfinite(Z)):
-        Z = np.where(np.isfinite(Z), Z, np.nanmin(np.where(np.isfinite(Z), Z, np.nan)))
-    fy, fx = np.gradient(Z, spacing)
-    fyy, fyx = np.gradient(fy, spacing)
-    fxy, fxx = np.gradient(fx, spacing)
-    fxy = 0.5 * (fxy + fyx)
-    g = 1.0 + fx * fx + fy * fy
-    # shape operator I^-1 II for the graph z = f(x, y); II = Hess / sqrt(g)
-    E, F, G = 1.0 + fx * fx, fx * fy, 1.0 + fy * fy
-    L, M, N = fxx / np.sqrt(g), fxy / np.sqrt(g), fyy / np.sqrt(g)
-    det = E * G - F * F
-    a11 = (G * L - F * M) / det
-    a12 = (G * M - F * N) / det
-    a21 = (E * M - F * L) / det
-    a22 = (E * N - F * M) / det
-    tr = a11 + a22
-    disc = np.sqrt(np.maximum((a11 - a22) ** 2 + 4.0 * a12 * a21, 0.0))
-    kmax = 0.5 * (tr + disc)
-    kmax = kmax[1:-1, 1:-1]
-    if not np.any(kmax > 1e-12):
-        return float("inf")
-    return float(1.0 / kmax.max())
+#: concave edges sharper than this percentile are taken as faceting of the mesh (a
+#: height grid of a steep wall has staircase creases) and left out of the tool choice
+CURVATURE_PERCENTILE = 99.5
 
 
 def holder_collisions(index: MeshIndex, tool: Tool, region, spacing: float) -> int:
@@ -65,7 +34,7 @@ def choose_tool(tools: dict[int, Tool], index: MeshIndex, design, region,
                 spacing: float) -> tuple[Tool | None, dict]:
     """Pick the largest ball cutter under the smallest concave radius whose holder never
     collides; returns the tool (None if none fits) and an explanation for the report."""
-    rho = min_concave_radius(design, region, spacing)
+    rho = mesh_concave_radius(index.mesh, region, CURVATURE_PERCENTILE)
     balls = sorted((t for t in tools.values() if t.type == "ball"),
                    key=lambda t: (-t.radius, t.number))
     why: list[dict] = []
@@ -86,5 +55,53 @@ def choose_tool(tools: dict[int, Tool], index: MeshIndex, design, region,
         if chosen is not None:
             break
     return chosen, {"min_concave_radius": rho if np.isfinite(rho) else None,
+                    "curvature": (f"from vertex normals along the mesh edges, the sharpest "
+                                  f"{100 - CURVATURE_PERCENTILE:g}% of concave edges left "
+                                  f"out as faceting"),
                     "candidates": why,
                     "chosen": chosen.number if chosen else None}
+
+
+def mesh_concave_radius(mesh, region=None, percentile: float = 100.0) -> float:
+    """Smallest concave radius of curvature of a triangle mesh (job units).
+
+    Vertex normals are the area-weighted normals of the triangles around each vertex
+    (oriented up); along an edge ``p_i p_j`` the normal curvature is
+    ``k = (n_j - n_i) . (p_j - p_i) / |p_j - p_i|^2`` (exact on a sphere), negative
+    where the surface is concave seen from above (a valley). Robust on steep walls,
+    where finite differences of the height field are not. ``region`` (xmin, ymin, xmax,
+    ymax) keeps edges whose midpoint lies inside; ``percentile`` < 100 ignores the
+    sharpest edges (mesh noise). ``inf`` if no edge is concave."""
+    t = mesh.triangles
+    n = len(t)
+    V, inv = np.unique(np.round(t.reshape(-1, 3), 9), axis=0, return_inverse=True)
+    F = inv.reshape(n, 3)
+    fn = np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])      # length = 2 * area
+    fn[fn[:, 2] < 0] *= -1.0
+    vn = np.zeros_like(V)
+    for j in range(3):
+        np.add.at(vn, F[:, j], fn)
+    ln = np.linalg.norm(vn, axis=1)
+    vn[ln > 0] /= ln[ln > 0, None]
+    e = np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]])
+    e.sort(axis=1)
+    e, uses = np.unique(e, axis=0, return_counts=True)
+    # normals at the mesh's boundary are one-sided: leave its edges out
+    rim = np.zeros(len(V), bool)
+    rim[e[uses == 1].ravel()] = True
+    e = e[~rim[e[:, 0]] & ~rim[e[:, 1]]]
+    pi, pj = V[e[:, 0]], V[e[:, 1]]
+    if region is not None:
+        x0, y0, x1, y1 = region
+        m = 0.5 * (pi + pj)
+        keep = (m[:, 0] >= x0) & (m[:, 0] <= x1) & (m[:, 1] >= y0) & (m[:, 1] <= y1)
+        e, pi, pj = e[keep], pi[keep], pj[keep]
+    d = pj - pi
+    L2 = np.einsum("ij,ij->i", d, d)
+    ok = (L2 > 0) & (ln[e[:, 0]] > 0) & (ln[e[:, 1]] > 0)
+    k = np.einsum("ij,ij->i", vn[e[ok, 1]] - vn[e[ok, 0]], d[ok]) / L2[ok]
+    concave = -k[k < 0]
+    if len(concave) == 0:
+        return float("inf")
+    kmax = float(np.percentile(concave, percentile)) if percentile < 100 else float(concave.max())
+    return 1.0 / kmax if kmax > 0 else float("inf")

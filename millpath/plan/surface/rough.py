@@ -1,0 +1,198 @@
+"""Job operation ``type = "surface-rough"``: layered zigzag roughing above a surface.
+
+The tool clears the stock down to the surface plus an ``allowance`` in Z layers
+``stepdown`` apart, from the stock top down, so that finishing (``surface-finish``)
+meets an even skin instead of the whole block. At every point of a pass the tip goes
+to ``max(layer Z, drop-cutter Z + allowance)``: the drop-cutter Z (exact, holder and
+shank clearance included, see :mod:`.sampler`) never lets the tool touch the surface,
+the layer Z never lets it take more than ``stepdown`` at once. Passes run along
+``angle`` (degrees from +X) ``step_over`` apart; each layer keeps only the stretches
+that still have material above their target (the layer above did not reach them).
+
+Keys (job units; feeds in units per minute): ``surface`` (as for surface-finish),
+``divisions``, ``tool``, ``stepdown``, ``step_over`` (length; default 0.6 x the tool
+diameter), ``allowance`` (default 0.3 mm / 0.012 in), ``angle``, ``feed``,
+``plunge_feed``, ``spindle``, ``safe_z``, ``region`` (tool-tip box, default: the
+surface grown by the tool radius), ``name``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from millpath.errors import JobError, PlanningError
+from millpath.job.schema import Param
+from millpath.model.toolpath import Operation, Toolpath
+from millpath.plan.base import PlanContext, PlanResult
+from millpath.plan.surface.cutter import Cutter
+from millpath.plan.surface.dropcutter import MeshHeight, build_index
+from millpath.plan.surface.linking import add_passes
+from millpath.plan.surface.operation import load_surface
+from millpath.plan.surface.sampler import Sampler
+from millpath.plan.surface.zigzag import Pass, _refine
+
+PARAMS = {
+    "surface": Param("any", doc="STL file, Bezier net table or TOML file with one"),
+    "divisions": Param("int", 160, positive=True, doc="Bezier tessellation per direction"),
+    "tool": Param("int", None, positive=True),
+    "stepdown": Param("float", None, positive=True),
+    "step_over": Param("float", None, positive=True),
+    "allowance": Param("float", None),
+    "angle": Param("float", 0.0),
+    "feed": Param("float", None, positive=True),
+    "plunge_feed": Param("float", None, positive=True),
+    "spindle": Param("float", 8000.0, positive=True),
+    "safe_z": Param("float", None),
+    "region": Param("floats", None, length=4),
+    "name": Param("str", "surface rough"),
+}
+
+
+def _runs(mask: np.ndarray) -> list[np.ndarray]:
+    """Index runs where ``mask`` holds."""
+    idx = np.nonzero(mask)[0]
+    if len(idx) == 0:
+        return []
+    return np.split(idx, np.nonzero(np.diff(idx) > 1)[0] + 1)
+
+
+def rough_passes(sampler: Sampler, region, top: float, stepdown: float, step_over: float,
+                 allowance: float, tolerance: float) -> tuple[list[Pass], list[float]]:
+    """Layer by layer, the zigzag stretches that still cut (tip points in XY frame)."""
+    x0, y0, x1, y1 = region
+    corners = sampler.uw(np.array([x0, x1, x1, x0]), np.array([y0, y0, y1, y1]))
+    umin, umax = corners[:, 0].min(), corners[:, 0].max()
+    wmin, wmax = corners[:, 1].min(), corners[:, 1].max()
+    du = min(0.5, sampler.cutter.radius / 4.0)
+    u = np.linspace(umin, umax, max(2, int(math.ceil((umax - umin) / du)) + 1))
+    nw = max(1, int(math.ceil((wmax - wmin) / step_over)))
+    ws = np.linspace(wmin, wmax, nw + 1)
+    U, W = np.meshgrid(u, ws)
+    xy = sampler.xy(U, W)
+    inside = ((xy[..., 0] >= x0 - 1e-9) & (xy[..., 0] <= x1 + 1e-9)
+              & (xy[..., 1] >= y0 - 1e-9) & (xy[..., 1] <= y1 + 1e-9))
+    floor, _ = sampler.z_safe(U.ravel(), W.ravel())
+    _, cu, _ = sampler.cut(U.ravel(), W.ravel())
+    touch = np.isfinite(cu).reshape(U.shape) & inside
+    if not touch.any():
+        return [], []
+    floor = floor.reshape(U.shape) + allowance
+    lowest = float(floor[touch].min())
+    # off the surface (no contact) the layers alone limit the depth
+    floor = np.where(touch, floor, lowest)
+    levels = []
+    z = top - stepdown
+    while z > lowest - stepdown:
+        levels.append(max(z, lowest))
+        if z <= lowest:
+            break
+        z -= stepdown
+    passes: list[Pass] = []
+    above = top
+    for k, level in enumerate(levels):
+        target = np.maximum(floor, level)
+        cuts = inside & (target < above - 1e-9)       # material left by the layer above
+        for row in range(len(ws)):
+            pieces = []
+            for run in _runs(cuts[row]):
+                # one station of margin so the stretch starts and ends clear of the wall
+                a, b = max(run[0] - 1, 0), min(run[-1] + 1, len(u) - 1)
+                a = a if inside[row, a] else run[0]
+                b = b if inside[row, b] else run[-1]
+                if b <= a:
+                    continue
+                P = np.column_stack([u[a:b + 1], np.full(b - a + 1, ws[row]),
+                                     target[row, a:b + 1]])
+                P = _refine_floor(sampler, P, level, allowance, tolerance)
+                pieces.append(P)
+            if row % 2 == 1:
+                pieces = [P[::-1] for P in pieces[::-1]]
+            for P in pieces:
+                xyp = sampler.xy(P[:, 0], P[:, 1])
+                passes.append(Pass(np.column_stack([xyp, P[:, 2]]),
+                                   np.zeros(len(P), bool)))
+        above = level
+    return passes, levels
+
+
+def _refine_floor(sampler: Sampler, P: np.ndarray, level: float, allowance: float,
+                  tolerance: float) -> np.ndarray:
+    """Split chords whose midpoint would come closer to the surface than the allowance
+    less ``tolerance`` (the points themselves are exact)."""
+    for _ in range(20):
+        mid = 0.5 * (P[1:] + P[:-1])
+        zt, _ = sampler.z_safe(mid[:, 0], mid[:, 1])
+        want = np.maximum(zt + allowance, level)
+        seg = np.abs(P[1:, 0] - P[:-1, 0])
+        bad = (want - mid[:, 2] > tolerance) & (seg > 1e-3)
+        if not bad.any():
+            break
+        mid[:, 2] = want
+        idx = np.nonzero(bad)[0]
+        P = np.insert(P, idx + 1, mid[idx], axis=0)
+    return P
+
+
+def plan(ctx: PlanContext, params: dict) -> PlanResult:
+    inch = ctx.units == "inch"
+    file = ctx.job_file
+    if ctx.stock is None:
+        raise JobError("surface-rough needs the job's [stock] box (the layers start at its "
+                       "top)", file)
+    mesh = load_surface(params["surface"], params["divisions"], ctx.base_dir, file)
+    if params["tool"] is None:
+        raise JobError("tool: give the roughing tool's number", file)
+    tool = ctx.tool(params["tool"], "tool")
+    try:
+        cutter = Cutter.from_tool(tool)
+    except ValueError as e:
+        raise PlanningError(str(e), file) from None
+    lo, hi = mesh.bounds
+    if params["region"]:
+        region = tuple(params["region"])
+        if not (region[0] < region[2] and region[1] < region[3]):
+            raise JobError("region: xmin < xmax and ymin < ymax expected", file)
+    else:
+        region = (lo[0] - cutter.radius, lo[1] - cutter.radius,
+                  hi[0] + cutter.radius, hi[1] + cutter.radius)
+    stepdown = params["stepdown"] or (0.08 if inch else 2.0)
+    step_over = params["step_over"] or 0.6 * 2.0 * cutter.radius
+    if step_over > 2.0 * cutter.radius:
+        raise JobError(f"step_over: {step_over:g} is more than the tool diameter", file)
+    allowance = params["allowance"] if params["allowance"] is not None else (
+        0.012 if inch else 0.3)
+    if allowance < 0:
+        raise JobError("allowance: must not be negative", file)
+    feed = params["feed"] or (60.0 if inch else 1500.0)
+    plunge = params["plunge_feed"] or feed / 3.0
+    index = build_index(mesh)
+    sampler = Sampler(index, cutter, params["angle"], tuple(tool.holder_cylinders()),
+                      z_floor=min(float(lo[2]), ctx.stock.zmin))
+    tol = 0.25 * allowance if allowance > 0 else (0.0004 if inch else 0.01)
+    passes, levels = rough_passes(sampler, region, ctx.stock.zmax, stepdown, step_over,
+                                  allowance, tol)
+    if not passes:
+        raise PlanningError("surface-rough: the stock top is already below the surface "
+                            "plus allowance; nothing to rough", file)
+    clear = 0.2 if inch else 5.0
+    safe_z = params["safe_z"] if params["safe_z"] is not None else ctx.stock.zmax + clear
+    if safe_z <= ctx.stock.zmax:
+        raise JobError(f"safe_z: {safe_z:g} is not above the stock top {ctx.stock.zmax:g}",
+                       file)
+    tp = Toolpath(units=ctx.units)
+    tp.begin(Operation("surface-rough", params["name"], tool.number, params["spindle"],
+                       info={"stepdown": stepdown, "allowance": allowance}))
+    links = add_passes(tp, sampler, passes, feed=feed, plunge_feed=plunge, safe_z=safe_z,
+                       clearance=0.04 if inch else 1.0, link_max=0.0, tolerance=tol,
+                       approach_z=ctx.stock.zmax)
+    design = MeshHeight(index)
+    section = {
+        "operation": params["name"], "tool": tool.number,
+        "cutter": f"{cutter.kind} D{2 * cutter.radius:g}", "layers": len(levels),
+        "levels": [round(z, 4) for z in levels], "stepdown": stepdown,
+        "step_over": step_over, "allowance": allowance, "pieces": len(passes),
+        "retracts": links["retract"],
+    }
+    return PlanResult(tp, design, {"surface_rough": [section]})
