@@ -147,7 +147,8 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     feed = params["feed"] or (40.0 if inch else 1000.0)
     plunge = params["plunge_feed"] or feed / 3.0
     sampler = Sampler(index, cutter, params["angle"], tuple(tool.holder_cylinders()),
-                      z_floor=float(lo[2]))
+                      z_floor=float(lo[2]),
+                      holder_clearance=0.04 if inch else 1.0)
 
     def run(mode: str):
         s = ZigzagSettings(tolerance=tol, scallop=scallop, region=region, side_step=mode,

@@ -169,7 +169,8 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     plunge = params["plunge_feed"] or feed / 3.0
     index = build_index(mesh)
     sampler = Sampler(index, cutter, params["angle"], tuple(tool.holder_cylinders()),
-                      z_floor=min(float(lo[2]), ctx.stock.zmin))
+                      z_floor=min(float(lo[2]), ctx.stock.zmin),
+                      holder_clearance=0.04 if inch else 1.0)
     tol = 0.25 * allowance if allowance > 0 else (0.0004 if inch else 0.01)
     passes, levels = rough_passes(sampler, region, ctx.stock.zmax, stepdown, step_over,
                                   allowance, tol)

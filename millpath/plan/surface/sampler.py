@@ -7,7 +7,8 @@ The pass frame has ``u`` along the passes and ``w`` across them; the passes run 
 
 ``z_cut`` is the drop-cutter tip Z of the cutter alone; ``z_safe`` also lifts the tool
 so that the shank and every holder cylinder (flat profiles whose bottoms sit
-``z_bottom`` above the tip, from :meth:`Tool.holder_cylinders`) clear the mesh.
+``z_bottom`` above the tip, from :meth:`Tool.holder_cylinders`) clear the mesh by
+``holder_clearance`` (material a roughing allowance left stands above the mesh).
 Job units throughout.
 """
 
@@ -30,6 +31,7 @@ class Sampler:
     holder: tuple[tuple[float, float, float], ...] = ()  # (radius, z_bottom, z_top)
     z_floor: float = -np.inf
     holder_index: MeshIndex | None = None
+    holder_clearance: float = 0.0                        # kept between holder and mesh
 
     def __post_init__(self) -> None:
         a = math.radians(self.angle)
@@ -75,7 +77,8 @@ class Sampler:
             return out
         xy = self.xy(u, w).reshape(-1, 2)
         for r, zb, _zt in self.holder:
-            z = drop(self.holder_index, Cutter(r, 0.0), xy).z.reshape(u.shape) - zb
+            z = (drop(self.holder_index, Cutter(r, 0.0), xy).z.reshape(u.shape) - zb
+                 + self.holder_clearance)
             np.maximum(out, z, out=out)
         return out
 
