@@ -6,7 +6,9 @@ Keys (lengths in the job's units, feeds in units per minute):
   ``{ heights = [[z, ...], ...], box = [xmin, ymin, xmax, ymax] }`` (``heights[i][j]``:
   ``i`` along X, ``j`` along Y) or ``{ control = [[[x, y, z], ...], ...] }``, or a TOML file holding
   such a table; Bezier nets are tessellated into ``divisions`` x ``divisions`` cells
-  (two triangles each).
+  (two triangles each). Also a measured grid (``.csv``/``.xyz``/``.txt`` of x, y, z, or
+  ``{ grid = "points.csv", method = "cubic" }``) or a STEP file (optional extra
+  ``millpath[step-brep]``); see :mod:`millpath.part.surface.load`.
 - ``tool`` or ``choose_tool = true`` (from the job's tools, see :mod:`.toolchoice`).
 - ``tolerance``: chord tolerance along the passes; ``scallop``: scallop height.
 - ``angle``: pass direction in degrees from +X; ``side_step``: ``"published"`` or
@@ -22,15 +24,12 @@ The design handed to the simulator is the tessellated surface as a height field.
 
 from __future__ import annotations
 
-import tomllib
-from pathlib import Path
-
 import numpy as np
 
 from millpath.errors import JobError, PlanningError
 from millpath.job.schema import Param
 from millpath.model.toolpath import Operation, Toolpath
-from millpath.part.surface.mesh import Mesh, read_stl
+from millpath.part.surface.load import load_surface
 from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.surface.cutter import Cutter
 from millpath.plan.surface.dropcutter import MeshHeight, build_index
@@ -57,49 +56,6 @@ PARAMS = {
     "compare": Param("bool", True),
     "name": Param("str", "surface finish"),
 }
-
-
-def _bezier_mesh(table: dict, divisions: int, where: str) -> Mesh:
-    from millpath.part.surface.bezier import BezierPatch
-    if "heights" in table:
-        if "box" not in table:
-            raise JobError(f"{where}.box: a heights net needs box = [xmin, ymin, xmax, ymax]")
-        z = np.array(table["heights"], dtype=float)
-        patch = BezierPatch.from_heights(z, tuple(float(v) for v in table["box"]))
-    elif "control" in table:
-        patch = BezierPatch(np.array(table["control"], dtype=float))
-    else:
-        raise JobError(f"{where}: a Bezier net needs heights (with box) or control")
-    return Mesh(patch.to_mesh(divisions, divisions), "bezier")
-
-
-def load_surface(spec, divisions: int, base_dir: Path, file=None) -> Mesh:
-    """The surface to finish as a mesh (see the module docstring for ``spec``)."""
-    where = "surface"
-    if isinstance(spec, dict):
-        try:
-            return _bezier_mesh(spec, divisions, where)
-        except (ValueError, TypeError) as e:
-            raise JobError(f"{where}: {e}", file) from None
-    if not isinstance(spec, str):
-        raise JobError(f"{where}: expected a file name or a Bezier net table", file)
-    path = Path(spec)
-    if not path.is_absolute():
-        path = base_dir / path
-    suffix = path.suffix.lower()
-    if suffix == ".stl":
-        return read_stl(path)
-    if suffix == ".toml":
-        try:
-            data = tomllib.loads(path.read_text(encoding="utf-8"))
-        except FileNotFoundError:
-            raise JobError(f"{where}: no such file {spec!r}", file) from None
-        except tomllib.TOMLDecodeError as e:
-            raise JobError(f"invalid TOML: {e}", path) from None
-        return _bezier_mesh(data, divisions, str(path))
-    if suffix in (".step", ".stp"):
-        raise JobError(f"{where}: STEP surfaces are not supported yet; export an STL", file)
-    raise JobError(f"{where}: unknown surface file type {suffix!r} (use .stl or .toml)", file)
 
 
 def plan(ctx: PlanContext, params: dict) -> PlanResult:

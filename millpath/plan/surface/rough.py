@@ -25,11 +25,11 @@ import numpy as np
 from millpath.errors import JobError, PlanningError
 from millpath.job.schema import Param
 from millpath.model.toolpath import Operation, Toolpath
+from millpath.part.surface.load import load_surface
 from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.surface.cutter import Cutter
 from millpath.plan.surface.dropcutter import MeshHeight, build_index
 from millpath.plan.surface.linking import add_passes
-from millpath.plan.surface.operation import load_surface
 from millpath.plan.surface.sampler import Sampler
 from millpath.plan.surface.zigzag import Pass, _refine
 

@@ -1,0 +1,231 @@
+"""A surface to machine, from whatever describes it, as a triangle mesh (job units).
+
+``spec`` (the ``surface`` key of a surface operation, or the ``millpath drop`` argument) is:
+
+- an ``.stl`` file, binary or ASCII, read as it is;
+- a Bezier net as a table ``{ heights = [[z, ...], ...], box = [xmin, ymin, xmax, ymax] }``
+  (``heights[i][j]``: ``i`` along X, ``j`` along Y) or ``{ control = [[[x, y, z], ...], ...] }``,
+  or a ``.toml`` file holding such a table; tessellated into ``divisions`` x ``divisions``
+  parameter cells, two triangles each;
+- a measured grid of ``x, y, z`` points (:mod:`millpath.part.surface.grid`): a ``.csv``,
+  ``.xyz`` or ``.txt`` file (linear interpolation), or a table
+  ``{ grid = "points.csv", method = "linear" | "cubic" }``. Each grid cell is split into
+  ``k`` x ``k`` sub-cells, ``k = ceil(divisions / cells along the longer side)`` (at least
+  1), so the mesh passes through every sample and has at least ``divisions`` cells along
+  the longer side. Linear: the sub-cell corners lie on the bilinear quadrilateral through
+  the cell's four samples. Cubic: they lie on the interpolating spline;
+- a ``.step`` / ``.stp`` file (every face of every shape in it), meshed by OpenCASCADE
+  with chord tolerance ``chord_tolerance`` (largest distance between a face and its
+  triangles). Needs the optional extra ``millpath[step-brep]`` (``cadquery-ocp``).
+  OpenCASCADE converts the file's length unit to millimetres; with ``units="inch"`` the
+  mesh is scaled to inches (``chord_tolerance`` is then in inches too).
+
+Relative file names are resolved from ``base_dir``. Errors are :class:`JobError` or
+:class:`GeometryError` naming ``file`` (the job file) or the surface file, and the line
+where known.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import re
+import sys
+import tempfile
+import tomllib
+from pathlib import Path
+
+import numpy as np
+
+from millpath.errors import GeometryError, JobError
+from millpath.part.surface.mesh import Mesh, read_stl
+
+GRID_SUFFIXES = (".csv", ".xyz", ".txt")
+STEP_SUFFIXES = (".step", ".stp")
+STEP_EXTRA = "STEP surfaces need the optional extra: pip install 'millpath[step-brep]'"
+
+
+def load_surface(spec, divisions: int, base_dir: Path, file=None, *,
+                 chord_tolerance: float = 0.01, units: str = "mm") -> Mesh:
+    """The surface described by ``spec`` as a :class:`Mesh` (see the module docstring).
+
+    ``divisions``: Bezier cells per direction, least grid cells along a measured grid's
+    longer side. ``chord_tolerance``: STEP meshing tolerance (job units).
+    """
+    where = "surface"
+    if isinstance(spec, dict):
+        if "grid" in spec:
+            return _grid_table(spec, divisions, base_dir, file)
+        try:
+            return _bezier_mesh(spec, divisions, where, file)
+        except (ValueError, TypeError) as e:
+            raise JobError(f"{where}: {e}", file) from None
+    if not isinstance(spec, str):
+        raise JobError(f"{where}: expected a file name, a Bezier net table or a grid table",
+                       file)
+    path = _resolve(spec, base_dir)
+    suffix = path.suffix.lower()
+    known = (".stl", ".toml") + GRID_SUFFIXES + STEP_SUFFIXES
+    if suffix not in known:
+        raise JobError(f"{where}: unknown surface file type {suffix or spec!r} "
+                       f"(use {', '.join(known)})", file)
+    if not path.is_file():
+        raise JobError(f"{where}: no such file {spec!r}", file)
+    if suffix == ".stl":
+        return read_stl(path)
+    if suffix == ".toml":
+        try:
+            data = tomllib.loads(path.read_text(encoding="utf-8"))
+        except tomllib.TOMLDecodeError as e:
+            raise JobError(f"invalid TOML: {e}", path) from None
+        except UnicodeDecodeError:
+            raise JobError("not a UTF-8 text file", path) from None
+        try:
+            return _bezier_mesh(data, divisions, where, path)
+        except (ValueError, TypeError) as e:
+            raise JobError(str(e), path) from None
+    if suffix in GRID_SUFFIXES:
+        return grid_mesh(path, "linear", divisions)
+    return read_step(path, chord_tolerance, units)
+
+
+def _resolve(name: str, base_dir: Path) -> Path:
+    path = Path(name)
+    return path if path.is_absolute() else Path(base_dir) / path
+
+
+def _bezier_mesh(table: dict, divisions: int, where: str, file) -> Mesh:
+    from millpath.part.surface.bezier import BezierPatch
+    if "heights" in table:
+        if "box" not in table:
+            raise JobError(f"{where}.box: a heights net needs box = [xmin, ymin, xmax, ymax]",
+                           file)
+        z = np.array(table["heights"], dtype=float)
+        patch = BezierPatch.from_heights(z, tuple(float(v) for v in table["box"]))
+    elif "control" in table:
+        patch = BezierPatch(np.array(table["control"], dtype=float))
+    else:
+        raise JobError(f"{where}: a Bezier net needs heights (with box) or control; "
+                       "a measured grid needs grid", file)
+    return Mesh(patch.to_mesh(divisions, divisions), "bezier")
+
+
+def _grid_table(table: dict, divisions: int, base_dir: Path, file) -> Mesh:
+    unknown = sorted(set(table) - {"grid", "method"})
+    if unknown:
+        raise JobError(f"surface.{unknown[0]}: unknown key (a grid table has grid, method)",
+                       file)
+    name, method = table["grid"], table.get("method", "linear")
+    if not isinstance(name, str):
+        raise JobError("surface.grid: expected a file name", file)
+    if method not in ("linear", "cubic"):
+        raise JobError(f"surface.method: linear or cubic expected, not {method!r}", file)
+    path = _resolve(name, base_dir)
+    if not path.is_file():
+        raise JobError(f"surface.grid: no such file {name!r}", file)
+    return grid_mesh(path, method, divisions)
+
+
+def grid_mesh(path: Path, method: str, divisions: int) -> Mesh:
+    """Mesh of the measured grid in ``path`` (see the module docstring for the density)."""
+    from millpath.part.surface.bezier import _grid_triangles
+    from millpath.part.surface.grid import MeasuredGrid
+    g = MeasuredGrid.from_csv(path, method=method)
+    nx, ny = g.xs.size, g.ys.size
+    k = max(1, math.ceil(divisions / (max(nx, ny) - 1)))
+    t = np.linspace(0.0, 1.0, k + 1)[:-1]
+    # parameters (cell index + fraction) of the sub-cell corners along each direction
+    pu = np.concatenate([np.arange(nx - 1)[:, None] + t[None, :], [[nx - 1]]], axis=None)
+    pv = np.concatenate([np.arange(ny - 1)[:, None] + t[None, :], [[ny - 1]]], axis=None)
+    if method == "cubic":
+        gx = np.interp(pu, np.arange(nx), g.xs)
+        gy = np.interp(pv, np.arange(ny), g.ys)
+        X, Y = np.meshgrid(gx, gy, indexing="ij")
+        P = np.stack([X, Y, g.height(X, Y)], axis=-1)
+    else:
+        # bilinear blend of the four real samples of each cell: exact at the samples,
+        # also on a near-regular grid
+        i = np.minimum(np.floor(pu).astype(int), nx - 2)
+        j = np.minimum(np.floor(pv).astype(int), ny - 2)
+        s = (pu - i)[:, None, None]
+        r = (pv - j)[None, :, None]
+        S = np.stack([g.X, g.Y, g.Z], axis=-1)              # (nx, ny, 3)
+        I, J = np.meshgrid(i, j, indexing="ij")
+        P = ((1 - s) * (1 - r) * S[I, J] + s * (1 - r) * S[I + 1, J]
+             + (1 - s) * r * S[I, J + 1] + s * r * S[I + 1, J + 1])
+    return Mesh(_grid_triangles(P), path.name)
+
+
+def read_step(path: Path, chord_tolerance: float = 0.01, units: str = "mm") -> Mesh:
+    """Mesh every face in the STEP file ``path`` within ``chord_tolerance`` (``units``)."""
+    if not (chord_tolerance > 0 and math.isfinite(chord_tolerance)):
+        raise JobError(f"chord_tolerance: must be positive, got {chord_tolerance!r}", path)
+    if units not in ("mm", "inch"):
+        raise JobError(f"units: mm or inch expected, not {units!r}", path)
+    try:
+        from OCP.BRep import BRep_Tool
+        from OCP.BRepMesh import BRepMesh_IncrementalMesh
+        from OCP.IFSelect import IFSelect_RetDone
+        from OCP.STEPControl import STEPControl_Reader
+        from OCP.TopAbs import TopAbs_FACE, TopAbs_REVERSED
+        from OCP.TopExp import TopExp_Explorer
+        from OCP.TopLoc import TopLoc_Location
+        from OCP.TopoDS import TopoDS
+    except ImportError:
+        raise JobError(STEP_EXTRA, path) from None
+    scale = 1.0 / 25.4 if units == "inch" else 1.0
+    reader = STEPControl_Reader()
+    with _quiet_stdout() as log:
+        status = reader.ReadFile(str(path))
+        n = reader.TransferRoots() if status == IFSelect_RetDone else 0
+    if status != IFSelect_RetDone or n == 0:
+        detail = next((ln.strip(" *") for ln in log() if "ERR" in ln or "Fail" in ln), "")
+        raise GeometryError("cannot read STEP" + (f": {detail}" if detail else
+                                                  " (no shape in the file)"), path)
+    shape = reader.OneShape()
+    BRepMesh_IncrementalMesh(shape, chord_tolerance / scale, False, 0.5, True)
+    to_face = getattr(TopoDS, "Face_s", None) or TopoDS.Face     # OCP 7.x / 8.x
+    tris: list[np.ndarray] = []
+    explorer = TopExp_Explorer(shape, TopAbs_FACE)
+    nfaces = 0
+    while explorer.More():
+        face = to_face(explorer.Current())
+        explorer.Next()
+        nfaces += 1
+        loc = TopLoc_Location()
+        tri = BRep_Tool.Triangulation_s(face, loc)
+        if tri is None or tri.NbTriangles() == 0:
+            raise GeometryError(f"OpenCASCADE could not mesh face {nfaces}", path)
+        trsf = loc.Transformation()
+        nodes = np.empty((tri.NbNodes(), 3))
+        for k in range(tri.NbNodes()):
+            p = tri.Node(k + 1).Transformed(trsf)
+            nodes[k] = (p.X(), p.Y(), p.Z())
+        idx = np.array([tri.Triangle(k + 1).Get() for k in range(tri.NbTriangles())]) - 1
+        if face.Orientation() == TopAbs_REVERSED:
+            idx = idx[:, ::-1]
+        tris.append(nodes[idx])
+    if not tris:
+        raise GeometryError("the STEP file has no faces", path)
+    return Mesh(np.concatenate(tris) * scale, path.name)
+
+
+class _quiet_stdout:
+    """Send what OpenCASCADE prints on file descriptor 1 to a temporary file; the
+    context value returns its lines, colour codes removed (for error messages)."""
+
+    def __enter__(self):
+        sys.stdout.flush()
+        self._tmp = tempfile.TemporaryFile()
+        self._saved = os.dup(1)
+        os.dup2(self._tmp.fileno(), 1)
+        self._lines: list[str] = []
+        return lambda: self._lines
+
+    def __exit__(self, *exc) -> None:
+        os.dup2(self._saved, 1)
+        os.close(self._saved)
+        self._tmp.seek(0)
+        text = self._tmp.read().decode("utf-8", "replace")
+        self._tmp.close()
+        self._lines = [re.sub(r"\x1b\[[0-9;]*m", "", ln) for ln in text.splitlines()]
