@@ -8,6 +8,10 @@ shank clearance included, see :mod:`.sampler`) never lets the tool touch the sur
 the layer Z never lets it take more than ``stepdown`` at once. Passes run along
 ``angle`` (degrees from +X) ``step_over`` apart; each layer keeps only the stretches
 that still have material above their target (the layer above did not reach them).
+The rows stop up to a step-over short of a wall, so each layer ends with a contour
+pass along the line where the floor rises through the layer (the boundary of what the
+layer can reach, traced on a fine raster with ``contourpy``), leaving an even
+allowance-plus-staircase on steep walls instead of step-over-wide slivers.
 
 Keys (job units; feeds in units per minute): ``surface`` (as for surface-finish),
 ``divisions``, ``tool``, ``stepdown``, ``step_over`` (length; default 0.6 x the tool
@@ -78,10 +82,25 @@ def rough_passes(sampler: Sampler, region, top: float, stepdown: float, step_ove
     touch = np.isfinite(cu).reshape(U.shape) & inside
     if not touch.any():
         return [], []
+    # a fine raster of the same floor for the contour pass of each layer
+    nwf = max(2, int(math.ceil((wmax - wmin) / du)) + 1)
+    wf = np.linspace(wmin, wmax, nwf)
+    Uf, Wf = np.meshgrid(u, wf)
+    xyf = sampler.xy(Uf, Wf)
+    inside_f = ((xyf[..., 0] >= x0 - 1e-9) & (xyf[..., 0] <= x1 + 1e-9)
+                & (xyf[..., 1] >= y0 - 1e-9) & (xyf[..., 1] <= y1 + 1e-9))
+    floor_f, _ = sampler.z_safe(Uf.ravel(), Wf.ravel())
+    _, cuf, _ = sampler.cut(Uf.ravel(), Wf.ravel())
+    touch_f = np.isfinite(cuf).reshape(Uf.shape) & inside_f
+    floor_f = floor_f.reshape(Uf.shape) + allowance
     floor = floor.reshape(U.shape) + allowance
-    lowest = float(floor[touch].min())
+    # the lowest layer reaches the lowest floor of the fine raster too (the rows are
+    # a step-over apart and may all miss a narrow cavity's bottom)
+    lowest = float(min(floor[touch].min(), floor_f[touch_f].min() if touch_f.any()
+                       else np.inf))
     # off the surface (no contact) the layers alone limit the depth
     floor = np.where(touch, floor, lowest)
+    floor_f = np.where(touch_f, floor_f, lowest)
     levels = []
     z = top - stepdown
     while z > lowest - stepdown:
@@ -113,8 +132,41 @@ def rough_passes(sampler: Sampler, region, top: float, stepdown: float, step_ove
                 xyp = sampler.xy(P[:, 0], P[:, 1])
                 passes.append(Pass(np.column_stack([xyp, P[:, 2]]),
                                    np.zeros(len(P), bool)))
+        for P in _layer_contours(sampler, u, wf, floor_f, inside_f, level, above,
+                                 allowance, tolerance, du):
+            xyp = sampler.xy(P[:, 0], P[:, 1])
+            passes.append(Pass(np.column_stack([xyp, P[:, 2]]), np.zeros(len(P), bool)))
         above = level
     return passes, levels
+
+
+def _layer_contours(sampler: Sampler, u: np.ndarray, w: np.ndarray, floor: np.ndarray,
+                    inside: np.ndarray, level: float, above: float, allowance: float,
+                    tolerance: float, spacing: float) -> list[np.ndarray]:
+    """The contour pass of one layer (rows u, w, z): the line where the floor (drop Z
+    plus allowance) rises through the layer's Z, i.e. the boundary of what the layer
+    can reach. The zigzag rows stop up to a step-over short of a wall; this pass takes
+    the wall of every layer down to the allowance. Stretches that would cut nothing
+    (the layer above already reached them) and stretches outside the region are
+    left out. Points are lifted to ``max(level, floor)`` exactly and chords refined."""
+    import contourpy
+    eps = max(0.25 * tolerance, 1e-6)
+    z = np.ma.masked_array(floor, mask=~inside)
+    gen = contourpy.contour_generator(u, w, z, line_type=contourpy.LineType.Separate)
+    out: list[np.ndarray] = []
+    for line in gen.lines(level + eps):
+        if len(line) < 3 or np.hypot(*np.ptp(line, axis=0)) < spacing:
+            continue
+        zs, _ = sampler.z_safe(line[:, 0], line[:, 1])
+        zt = np.maximum(zs + allowance, level)
+        cuts = zt < above - 1e-9
+        for run in _runs(cuts):
+            if len(run) < 2:
+                continue
+            P = np.column_stack([line[run], zt[run]])
+            P = _refine_floor(sampler, P, level, allowance, tolerance)
+            out.append(P)
+    return out
 
 
 def _refine_floor(sampler: Sampler, P: np.ndarray, level: float, allowance: float,
@@ -125,7 +177,7 @@ def _refine_floor(sampler: Sampler, P: np.ndarray, level: float, allowance: floa
         mid = 0.5 * (P[1:] + P[:-1])
         zt, _ = sampler.z_safe(mid[:, 0], mid[:, 1])
         want = np.maximum(zt + allowance, level)
-        seg = np.abs(P[1:, 0] - P[:-1, 0])
+        seg = np.hypot(P[1:, 0] - P[:-1, 0], P[1:, 1] - P[:-1, 1])
         bad = (want - mid[:, 2] > tolerance) & (seg > 1e-3)
         if not bad.any():
             break

@@ -327,8 +327,11 @@ def sample_pass(sampler: Sampler, u: np.ndarray, W: np.ndarray, s: ZigzagSetting
     N = np.concatenate([[0.0], np.cumsum(seg / np.minimum(delta[1:], delta[:-1]))])
     k = max(1, int(math.ceil(N[-1])))
     Ns = np.linspace(0.0, N[-1], k + 1)
-    us = np.interp(Ns, N, u)
-    ws = np.interp(Ns, N, W)
+    # the stations too: w(u) is piecewise linear between them (variable side step), and
+    # a chord across a kink would leave the next pass's scallop wider than planned
+    # (on a flat the Z check cannot see it); _merge drops the collinear ones
+    us = np.union1d(np.interp(Ns, N, u), u)
+    ws = np.interp(us, u, W)
     zs, _ = sampler.z_safe(us, ws)
     P = np.stack([us, ws, zs], axis=1)
     min_len = 1e-3 * max(r, 1e-3)
