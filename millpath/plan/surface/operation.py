@@ -12,7 +12,11 @@ Keys (lengths in the job's units, feeds in units per minute):
 - ``tool`` or ``choose_tool = true`` (from the job's tools, see :mod:`.toolchoice`).
 - ``tolerance``: chord tolerance along the passes; ``scallop``: scallop height.
 - ``angle``: pass direction in degrees from +X; ``side_step``: ``"published"`` or
-  ``"variable"``; ``strategy``: only ``"zigzag"`` is available in this version.
+  ``"variable"``; ``strategy``: ``"zigzag"``, ``"waterline"`` (constant-Z contours,
+  :mod:`.waterline`) or ``"steep-shallow"`` (waterline where the slope is at least
+  ``steep_angle`` degrees, zigzag elsewhere, :mod:`.steep_shallow`); ``stepdown_max``:
+  largest step between waterline levels (default the cutter's corner radius). Waterline
+  scallops are measured along the surface normal (zigzag's vertically).
 - ``feed``, ``plunge_feed``, ``spindle`` (rpm), ``safe_z`` (default: 5 mm / 0.2 in
   above the highest tool position), ``region`` ``[xmin, ymin, xmax, ymax]`` of the tool
   tip (default: the surface's XY extent grown by the cutter radius, so the
@@ -35,7 +39,9 @@ from millpath.plan.surface.cutter import Cutter
 from millpath.plan.surface.dropcutter import MeshHeight, build_index
 from millpath.plan.surface.linking import add_passes
 from millpath.plan.surface.sampler import Sampler
+from millpath.plan.surface.steep_shallow import steep_shallow
 from millpath.plan.surface.toolchoice import choose_tool
+from millpath.plan.surface.waterline import WaterlineSettings, waterline
 from millpath.plan.surface.zigzag import ZigzagSettings, zigzag
 
 PARAMS = {
@@ -48,6 +54,8 @@ PARAMS = {
     "angle": Param("float", 0.0),
     "strategy": Param("str", "zigzag", choices=("zigzag", "waterline", "steep-shallow")),
     "side_step": Param("str", "variable", choices=("published", "variable")),
+    "steep_angle": Param("float", 45.0, doc="degrees: waterline on slopes this steep and up"),
+    "stepdown_max": Param("float", None, positive=True),
     "feed": Param("float", None, positive=True),
     "plunge_feed": Param("float", None, positive=True),
     "spindle": Param("float", 10000.0, positive=True),
@@ -70,9 +78,9 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     if not (region[0] < region[2] and region[1] < region[3]):
         raise JobError("region: xmin < xmax and ymin < ymax expected", file)
     report: dict = {}
-    if params["strategy"] != "zigzag":
-        raise PlanningError(f"strategy {params['strategy']!r} is not available yet "
-                            "(only zigzag)", file)
+    strategy = params["strategy"]
+    if not 0.0 < params["steep_angle"] < 90.0:
+        raise JobError("steep_angle: degrees between 0 and 90 expected", file)
     ext = np.maximum(np.ptp(mesh.triangles[:, :, 0], axis=1),
                      np.ptp(mesh.triangles[:, :, 1], axis=1))
     if params["choose_tool"]:
@@ -112,8 +120,21 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
                            trim_edges=not params["region"])
         return zigzag(sampler, design, s)
 
+    wl = WaterlineSettings(tolerance=tol, scallop=scallop, region=region,
+                           material_tolerance=min(tol, 0.25 * scallop),
+                           stepdown_max=params["stepdown_max"],
+                           min_slope=params["steep_angle"])
     try:
-        res = run(params["side_step"])
+        if strategy == "zigzag":
+            res = run(params["side_step"])
+        elif strategy == "waterline":
+            res = waterline(sampler, wl)
+        else:
+            zs = ZigzagSettings(tolerance=tol, scallop=scallop, region=region,
+                                side_step=params["side_step"],
+                                material_tolerance=min(tol, 0.25 * scallop),
+                                trim_edges=not params["region"])
+            res = steep_shallow(sampler, design, zs, wl, params["steep_angle"])
     except PlanningError as e:
         raise PlanningError(e.message, file) from None
     top = max(float(np.max(p.points[:, 2])) for p in res.passes) if res.passes else hi[2]
@@ -128,25 +149,52 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     tp = Toolpath(units=ctx.units)
     tp.begin(Operation("surface-finish", params["name"], tool.number, params["spindle"],
                        info={"side_step": params["side_step"], "scallop": scallop,
-                             "tolerance": tol}))
+                             "tolerance": tol, "strategy": strategy}))
     links = add_passes(tp, sampler, res.passes, feed=feed, plunge_feed=plunge, safe_z=safe_z,
                        clearance=0.04 if inch else 1.0, link_max=3.0 * cutter.radius,
                        tolerance=tol,
                        approach_z=stock_top if ctx.stock is not None else np.inf)
+    zres = res if strategy == "zigzag" else getattr(res, "zigzag", None)
+    wres = res if strategy == "waterline" else getattr(res, "waterline", None)
+    removed = wres.removed if wres is not None else {}
+    n_lifted = (zres.n_lifted if zres is not None else 0) + removed.get("holder", 0)
     section = {
+        "strategy": strategy,
         "tool": tool.number, "cutter": f"{cutter.kind} D{2 * cutter.radius:g}"
         + (f" r{cutter.corner:g}" if cutter.kind == "bull" else ""),
         "triangles": len(mesh), "region": list(map(float, region)),
         "tolerance": tol, "scallop": scallop, "angle": params["angle"],
         "side_step": params["side_step"],
-        "pass_lines": res.n_lines, "pieces": len(res.passes), "cl_points": res.n_points,
+        "pass_lines": zres.n_lines if zres is not None else 0,
+        "pieces": len(res.passes), "cl_points": res.n_points,
         "cutting_length": round(res.length, 4), "links": links,
         "holder": {"cylinders": [list(c) for c in tool.holder_cylinders()],
-                   "lifted_points": res.n_lifted,
-                   "note": ("points lifted so the shank or holder clears the surface; "
-                            "material is left there") if res.n_lifted else "no contact"},
+                   "lifted_points": n_lifted,
+                   "note": ("points lifted (zigzag) or not cut (waterline) so the shank or "
+                            "holder clears the surface; material is left there")
+                   if n_lifted else "no contact"},
     }
-    if params["compare"]:
+    if wres is not None:
+        dz = -np.diff(wres.levels) if len(wres.levels) > 1 else np.zeros(1)
+        section["waterline"] = {
+            "levels": len(wres.levels), "contours": wres.n_contours,
+            "cl_points": wres.n_points, "cutting_length": round(wres.length, 4),
+            "z_top": round(float(wres.levels[0]), 6) if wres.levels else None,
+            "z_bottom": round(float(wres.levels[-1]), 6) if wres.levels else None,
+            "level_step_min": round(float(dz.min()), 6),
+            "level_step_max": round(float(dz.max()), 6),
+            "scallop_held_from_slope": params["steep_angle"],
+            "max_chord_ratio": round(wres.max_chord_ratio, 4),
+            "points_not_cut": removed,
+            "raster_spacing": round(wres.raster.spacing, 6) if wres.raster else None,
+        }
+    if strategy == "steep-shallow":
+        section["steep_shallow"] = {
+            "steep_angle": params["steep_angle"], "overlap": round(res.overlap, 6),
+            "steep_fraction": round(res.steep_fraction, 4),
+            "zigzag_pieces": res.zigzag_pieces,
+            "zigzag_cutting_length": round(res.length - wres.length, 4)}
+    if params["compare"] and strategy == "zigzag":
         other = "published" if params["side_step"] == "variable" else "variable"
         o = run(other)
         section["compare"] = {

@@ -1,0 +1,136 @@
+"""Steep/shallow finishing: waterline on the steep slopes, zigzag on the shallow ones.
+
+The slope is that of the cutter-location surface (the drop-cutter raster of
+:mod:`.waterline`), which for a ball equals the part surface's slope at the contact
+point; it is measured in degrees from horizontal, its magnitude only (the pass direction
+does not matter). Raster nodes at or above ``steep_angle`` are *steep*. Both strategies
+overlap by ``overlap`` (job units, default half the cutter's effective radius, at least
+two raster cells) across the border:
+
+- waterline (:func:`.waterline.waterline`) cuts where a steep node lies within
+  ``overlap``, and holds its scallop (along the normal) on slopes of ``steep_angle`` and
+  more;
+- zigzag (:func:`.zigzag.zigzag`) passes are kept where a shallow node lies within
+  ``overlap``. A kept piece's ends are carried along their segment up to the border
+  (the new end is a drop-cutter point, the segment verified like the passes), so
+  the coverage does not depend on how far apart the pass points are. Pieces shorter
+  than the cutter radius are dropped.
+
+Every point of either comes from the drop-cutter (holder clearance included); pieces are
+joined by :func:`.linking.add_passes`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.ndimage import distance_transform_edt
+
+from millpath.plan.surface.sampler import Sampler
+from millpath.plan.surface.waterline import (Raster, WaterlineResult, WaterlineSettings,
+                                             _runs, make_raster, waterline)
+from millpath.plan.surface.zigzag import Pass, ZigzagResult, ZigzagSettings, _refine, zigzag
+
+
+@dataclass
+class SteepShallowResult:
+    passes: list[Pass]                 # waterline pieces first (top down), then zigzag
+    waterline: WaterlineResult
+    zigzag: ZigzagResult
+    zigzag_pieces: int                 # kept zigzag pieces
+    steep_fraction: float              # of the valid raster nodes
+    overlap: float
+
+    @property
+    def length(self) -> float:
+        return float(sum(np.linalg.norm(np.diff(p.points, axis=0), axis=1).sum()
+                         for p in self.passes))
+
+    @property
+    def n_points(self) -> int:
+        return int(sum(len(p.points) for p in self.passes))
+
+
+def masks(R: Raster, steep_angle: float, overlap: float) -> tuple[np.ndarray, np.ndarray]:
+    """(waterline mask, zigzag mask) on the raster nodes (see the module docstring)."""
+    steep = R.valid & (R.slope >= steep_angle)
+    h = R.spacing
+    far = np.full(steep.shape, np.inf)
+    to_steep = distance_transform_edt(~steep) * h if steep.any() else far
+    to_shallow = distance_transform_edt(steep) * h if (~steep).any() else far
+    return to_steep <= overlap, to_shallow <= overlap
+
+
+def _extend(sampler: Sampler, R: Raster, mask: np.ndarray, a: np.ndarray, b: np.ndarray,
+            tol: float, tol_m: float) -> np.ndarray | None:
+    """Points after ``a`` (kept) toward ``b`` (not kept) up to the mask's border: the
+    tip point there from the drop-cutter, the segment refined; None if nothing to add."""
+    L = float(np.hypot(*(b[:2] - a[:2])))
+    k = max(2, int(np.ceil(L / (0.5 * R.spacing))))
+    t = np.linspace(0.0, 1.0, k + 1)[1:]
+    xy = a[None, :2] + (b[:2] - a[:2])[None, :] * t[:, None]
+    inside = R.nearest(mask, xy)
+    if not inside[0]:
+        return None
+    n = int(np.argmin(inside)) if not inside.all() else len(inside)
+    end = xy[n - 1]
+    uw = sampler.uw(np.array([a[0], end[0]]), np.array([a[1], end[1]]))
+    z, _ = sampler.z_safe(uw[:, 0], uw[:, 1])
+    if not np.isfinite(z[1]):
+        return None
+    P = _refine(sampler, np.column_stack([uw, [a[2], z[1]]]), tol, tol_m,
+                1e-3 * sampler.cutter.radius)
+    back = sampler.xy(P[1:, 0], P[1:, 1])
+    return np.column_stack([back, P[1:, 2]])
+
+
+def mask_passes(sampler: Sampler, R: Raster, mask: np.ndarray, passes: list[Pass],
+                min_length: float, tol: float, tol_m: float) -> list[Pass]:
+    """The pieces of ``passes`` whose points' nearest raster node is in ``mask``, each
+    carried up to the border along its end segments; pieces shorter than
+    ``min_length`` (XY) dropped."""
+    out: list[Pass] = []
+    for p in passes:
+        P = p.points
+        inside = R.nearest(mask, P[:, :2])
+        if inside.all():
+            out.append(p)
+            continue
+        for run in _runs(inside, False):
+            Q = P[run]
+            lifted = p.lifted[run]
+            i0, i1 = run[0], run[-1]
+            if i1 + 1 < len(P):
+                e = _extend(sampler, R, mask, P[i1], P[i1 + 1], tol, tol_m)
+                if e is not None:
+                    Q = np.concatenate([Q, e])
+                    lifted = np.concatenate([lifted, np.zeros(len(e), bool)])
+            if i0 > 0:
+                e = _extend(sampler, R, mask, P[i0], P[i0 - 1], tol, tol_m)
+                if e is not None:
+                    Q = np.concatenate([e[::-1], Q])
+                    lifted = np.concatenate([np.zeros(len(e), bool), lifted])
+            if len(Q) < 2 or np.hypot(*np.diff(Q[:, :2], axis=0).T).sum() < min_length:
+                continue
+            out.append(Pass(Q, lifted))
+    return out
+
+
+def steep_shallow(sampler: Sampler, design, zs: ZigzagSettings, ws: WaterlineSettings,
+                  steep_angle: float, overlap: float | None = None) -> SteepShallowResult:
+    """Plan both and keep each on its side of ``steep_angle`` (degrees); tip points in XY."""
+    spacing = ws.spacing or sampler.cutter.radius / 8.0
+    R = make_raster(sampler, ws.region, spacing)
+    r_eff = sampler.cutter.corner or sampler.cutter.radius
+    d = overlap if overlap is not None else max(0.5 * r_eff, 2.0 * R.spacing)
+    wl_mask, zz_mask = masks(R, steep_angle, d)
+    ws = WaterlineSettings(**{**ws.__dict__, "min_slope": steep_angle})
+    wres = waterline(sampler, ws, raster=R, keep=wl_mask)
+    zres = zigzag(sampler, design, zs)
+    tol_m = zs.material_tolerance if zs.material_tolerance is not None else zs.tolerance
+    zp = mask_passes(sampler, R, zz_mask, zres.passes, sampler.cutter.radius,
+                     zs.tolerance, tol_m)
+    steep = R.valid & (R.slope >= steep_angle)
+    frac = float(steep.sum() / max(1, R.valid.sum()))
+    return SteepShallowResult(wres.passes + zp, wres, zres, len(zp), frac, d)
