@@ -465,7 +465,9 @@ def waterline(sampler: Sampler, s: WaterlineSettings, raster: Raster | None = No
                 P = lv.refine(P3[:, :2], z)
                 if is_closed:
                     P[-1] = P[0]
-                pieces.extend(_holder_split(sampler, P, z, is_closed, removed))
+                for Pc in _gouge_split(lv, P, z, is_closed, removed):
+                    pieces.extend(_holder_split(sampler, Pc, z, is_closed and Pc is P,
+                                                removed))
         pieces = [_orient(P, R, s.climb) for P in pieces]
         # order: nearest first; closed loops start nearest the current position
         while pieces:
@@ -488,6 +490,25 @@ def waterline(sampler: Sampler, s: WaterlineSettings, raster: Raster | None = No
 
 def _closed(P: np.ndarray) -> bool:
     return len(P) > 3 and bool(np.all(P[0] == P[-1]))
+
+
+def _gouge_split(lv: _Level, P: np.ndarray, z: float, closed: bool,
+                 removed: dict) -> list[np.ndarray]:
+    """``P`` without the points below the drop-cutter Z and the segments whose midpoint
+    is more than the tolerance below it (left only where refinement could not bracket
+    the level); returns ``[P]`` itself when nothing is removed."""
+    if len(P) < 2:
+        return []
+    zp = lv.zc(P)
+    zm = lv.zc(0.5 * (P[1:] + P[:-1]))
+    bad = zp > z + 1e-9
+    seg = zm > z + lv.tol_g
+    removed["unbracketed"] += int(bad.sum())
+    if not (bad.any() or seg.any()):
+        return [P]
+    bad[:-1] |= seg
+    bad[1:] |= seg
+    return [P[run] for run in _runs(~bad, closed) if len(run) >= 2]
 
 
 def _holder_split(sampler: Sampler, P: np.ndarray, z: float, closed: bool,
