@@ -17,6 +17,7 @@ import click
 import numpy as np
 
 from millpath.errors import MillpathError
+from millpath.io.text import read_text
 
 _HELP_HOLDER = (
     "Holder cylinders DIAMETER:LENGTH[,DIAMETER:LENGTH...] stacked upward from the holder "
@@ -28,14 +29,7 @@ _HELP_HOLDER = (
 def read_points(path: Path) -> np.ndarray:
     """``(n, 2)`` x, y rows: comma, semicolon or whitespace separated; ``#`` comments,
     blank lines and one header line before the first row are allowed."""
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise MillpathError("no such points file", path) from None
-    except IsADirectoryError:
-        raise MillpathError("is a folder, not a points file", path) from None
-    except UnicodeDecodeError:
-        raise MillpathError("points file is not UTF-8 text", path) from None
+    text = read_text(path, "points file")
     rows: list[tuple[float, float]] = []
     header_seen = False
     for lineno, line in enumerate(text.splitlines(), 1):

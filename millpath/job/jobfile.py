@@ -28,6 +28,7 @@ from millpath.io.toollib import tools_from_tables
 from millpath.job.schema import Param, validate
 from millpath.model import Machine, Stock, Tool
 from millpath.plan.registry import strategy
+from millpath.io.text import read_text
 
 TOP = {
     "units": Param("str", choices=("mm", "inch")),
@@ -76,12 +77,7 @@ class Job:
 def load_job(path: str | Path) -> Job:
     """Read a job file; raise JobError naming the file and key on any problem."""
     p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise JobError("no such job file", p) from None
-    except UnicodeDecodeError:
-        raise JobError("not a UTF-8 text file", p) from None
+    text = read_text(p, "job file", JobError)
     data = parse_toml(text, p)
     return job_from_dict(data, p)
 

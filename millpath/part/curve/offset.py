@@ -87,7 +87,6 @@ def compensate(start, points, radius: float, side: str = "left",
     opx, opy = px, py
 
     def flush(new_end, check: bool) -> None:
-        nonlocal endpoint
         if check:
             dot = q_dir[0] * (new_end[0] - endpoint[0]) + q_dir[1] * (new_end[1] - endpoint[1])
             if dot < 0:
@@ -283,7 +282,6 @@ def chords_on_offset(vertices, radius: float, side: str, eroded, slack: float) -
     """True for each chord of the closed polygon ``vertices`` whose offset by ``radius``
     (toward ``side``) touches the boundary of ``eroded`` (the cavity eroded by the
     radius, a shapely geometry) within ``slack`` at its middle or at either end."""
-    import shapely
     v = np.asarray(vertices, float)
     w = np.roll(v, -1, axis=0)
     t = w - v

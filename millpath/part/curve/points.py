@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from millpath.errors import GeometryError, JobError
+from millpath.io.text import read_text
 
 _SPLIT = re.compile(r"[,;\s]+")
 
@@ -22,12 +23,7 @@ _SPLIT = re.compile(r"[,;\s]+")
 def read_points_csv(path: str | Path) -> np.ndarray:
     """Points (n, 2) from a CSV file; GeometryError naming FILE:LINE on bad rows."""
     p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise JobError("no such points file", p) from None
-    except UnicodeDecodeError:
-        raise JobError("points file is not UTF-8 text", p) from None
+    text = read_text(p, "points file", JobError)
     pts: list[tuple[float, float]] = []
     first_data = True
     for lineno, raw in enumerate(text.splitlines(), 1):

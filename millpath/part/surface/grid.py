@@ -23,6 +23,7 @@ import numpy as np
 
 from millpath.errors import GeometryError
 from millpath.part.surface.bezier import _grid_triangles
+from millpath.io.text import read_text
 
 
 def _levels(values: np.ndarray, what: str, file) -> tuple[np.ndarray, np.ndarray]:
@@ -93,12 +94,7 @@ class MeasuredGrid:
         """Read ``x,y,z`` rows (comma, semicolon or whitespace separated; a header line
         and ``#`` comments are allowed). Errors name the file and line."""
         p = Path(path)
-        try:
-            text = p.read_text(encoding="utf-8")
-        except FileNotFoundError:
-            raise GeometryError("no such points file", p) from None
-        except UnicodeDecodeError:
-            raise GeometryError("points file is not UTF-8 text", p) from None
+        text = read_text(p, "points file", GeometryError)
         rows: list[list[float]] = []
         for lineno, line in enumerate(text.splitlines(), 1):
             s = line.split("#", 1)[0].strip()

@@ -35,7 +35,7 @@ from millpath.plan.surface.cutter import Cutter
 from millpath.plan.surface.dropcutter import MeshHeight, build_index
 from millpath.plan.surface.linking import add_passes
 from millpath.plan.surface.sampler import Sampler
-from millpath.plan.surface.zigzag import Pass, _refine
+from millpath.plan.surface.zigzag import Pass
 
 PARAMS = {
     "surface": Param("any", doc="STL file, Bezier net table or TOML file with one"),

@@ -30,7 +30,8 @@ from scipy.ndimage import distance_transform_edt
 from millpath.plan.surface.sampler import Sampler
 from millpath.plan.surface.waterline import (Raster, WaterlineResult, WaterlineSettings,
                                              _runs, make_raster, waterline)
-from millpath.plan.surface.zigzag import Pass, ZigzagResult, ZigzagSettings, _refine, zigzag
+from millpath.plan.surface.zigzag import (Pass, ZigzagResult, ZigzagSettings, _refine,
+                                           passes_length, passes_points, zigzag)
 
 
 @dataclass
@@ -44,12 +45,11 @@ class SteepShallowResult:
 
     @property
     def length(self) -> float:
-        return float(sum(np.linalg.norm(np.diff(p.points, axis=0), axis=1).sum()
-                         for p in self.passes))
+        return passes_length(self.passes)
 
     @property
     def n_points(self) -> int:
-        return int(sum(len(p.points) for p in self.passes))
+        return passes_points(self.passes)
 
 
 def masks(R: Raster, steep_angle: float, overlap: float) -> tuple[np.ndarray, np.ndarray]:

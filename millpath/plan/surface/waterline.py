@@ -46,7 +46,8 @@ from millpath.errors import PlanningError
 from millpath.plan.surface.dropcutter import drop
 from millpath.plan.surface.sampler import Sampler
 from millpath.plan.surface.steps import flat_side_step, side_step
-from millpath.plan.surface.zigzag import Pass, _merge, effective_radius
+from millpath.plan.surface.zigzag import (Pass, _merge, effective_radius, passes_length,
+                                           passes_points)
 
 
 @dataclass
@@ -193,12 +194,11 @@ class WaterlineResult:
 
     @property
     def length(self) -> float:
-        return float(sum(np.linalg.norm(np.diff(p.points, axis=0), axis=1).sum()
-                         for p in self.passes))
+        return passes_length(self.passes)
 
     @property
     def n_points(self) -> int:
-        return int(sum(len(p.points) for p in self.passes))
+        return passes_points(self.passes)
 
 
 class _Level:

@@ -62,6 +62,16 @@ class Pass:
     lifted: np.ndarray          # (n,) bool: raised to clear the shank or holder
 
 
+def passes_length(passes: list[Pass]) -> float:
+    """Cutting length along ``passes`` (job units, links excluded)."""
+    return float(sum(np.linalg.norm(np.diff(p.points, axis=0), axis=1).sum() for p in passes))
+
+
+def passes_points(passes: list[Pass]) -> int:
+    """Number of CL points in ``passes``."""
+    return int(sum(len(p.points) for p in passes))
+
+
 @dataclass
 class ZigzagResult:
     passes: list[Pass]
@@ -72,12 +82,11 @@ class ZigzagResult:
     @property
     def length(self) -> float:
         """Total cutting length along the passes (job units, links excluded)."""
-        return float(sum(np.linalg.norm(np.diff(p.points, axis=0), axis=1).sum()
-                         for p in self.passes))
+        return passes_length(self.passes)
 
     @property
     def n_points(self) -> int:
-        return int(sum(len(p.points) for p in self.passes))
+        return passes_points(self.passes)
 
     @property
     def n_lifted(self) -> int:
@@ -311,7 +320,6 @@ def sample_pass(sampler: Sampler, u: np.ndarray, W: np.ndarray, s: ZigzagSetting
     max_step = s.max_step or 2.0 * sampler.cutter.radius
     # CL arc length and the feed step from the curvature along the pass
     seg = np.sqrt(np.diff(u) ** 2 + np.diff(W) ** 2 + np.diff(Z) ** 2)
-    S = np.concatenate([[0.0], np.cumsum(seg)])
     if len(u) >= 3:
         sxy = np.concatenate([[0.0], np.cumsum(np.hypot(np.diff(u), np.diff(W)))])
         ds = np.gradient(sxy)

@@ -1,0 +1,99 @@
+"""The bundled free-form surface examples end to end: planned, simulated against the
+design (gouge, scallop, rapids, holder), posted, interpreted back and accepted by
+LinuxCNC's rs274. Lengths in mm."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import millpath
+from millpath.interpret import interpret
+from millpath.job.jobfile import load_job
+from millpath.pipeline import plan_job
+from millpath.post.linuxcnc import post_with_lines
+from millpath.simulate import simulate_toolpath
+from millpath.verify.roundtrip import compare_toolpath
+
+EXAMPLES = Path(millpath.__file__).parent / "examples"
+
+
+def _run(name: str):
+    job = load_job(EXAMPLES / name / "job.toml")
+    tp, results, stock = plan_job(job)
+    design = results[-1].design
+    res = job.simulation["resolution"]
+    sim = simulate_toolpath(tp, job.tools, stock, resolution=res, design=design,
+                            machine=job.machine)
+    program, lines = post_with_lines(tp, job.tools, title=name)
+    return job, tp, results, sim, program, lines
+
+
+@pytest.fixture(scope="module")
+def mould():
+    return _run("surface-mould")
+
+
+@pytest.fixture(scope="module")
+def cavity():
+    return _run("surface-cavity")
+
+
+def _left_inside(sim, design, box, margin):
+    zm = sim.zmap
+    X, Y = np.meshgrid(zm.xs(), zm.ys())
+    dev = zm.heights - design.height(X.ravel(), Y.ravel()).reshape(X.shape)
+    x0, y0, x1, y1 = box
+    m = (X > x0 + margin) & (X < x1 - margin) & (Y > y0 + margin) & (Y < y1 - margin)
+    return dev[m]
+
+
+def test_mould_is_finished_to_the_scallop_without_gouge(mould):
+    job, tp, results, sim, program, lines = mould
+    res = job.simulation["resolution"]
+    assert sim.max_gouge <= 0.001 + res
+    assert sim.rapids_through_material == 0 and sim.holder_contacts == 0
+    finish = results[-1].report["surface_finish"][0]
+    assert finish["side_step"] == "variable"
+    cmp = finish["compare"]
+    assert cmp["variable"]["pass_lines"] < cmp["published"]["pass_lines"]
+    dev = _left_inside(sim, results[-1].design, (0.0, 0.0, 60.0, 40.0), 2 * res)
+    # measured scallop (vertical) on the finished surface, away from the stock's sides
+    assert dev.max() <= finish["scallop"]
+    assert dev.min() >= -finish["tolerance"]
+
+
+def test_mould_program_round_trips_and_rs274_accepts_it(mould, rs274):
+    from millpath.verify.rs274 import run_rs274
+    job, tp, results, sim, program, lines = mould
+    motions = interpret(program, job.tools, machine_units="mm")
+    assert compare_toolpath(tp, lines, motions, 1e-3) == []
+    r = run_rs274(program, job.tools, table_units="mm")
+    assert r.ok, f"rs274 rejected line {r.error_line}: {r.error}"
+
+
+def test_cavity_short_tool_is_lifted_and_the_chosen_tool_reaches_the_floor(cavity):
+    job, tp, results, sim, program, lines = cavity
+    res = job.simulation["resolution"]
+    assert sim.max_gouge <= 0.001 + res
+    assert sim.rapids_through_material == 0 and sim.holder_contacts == 0
+    short = results[1].report["surface_finish"][0]
+    assert short["tool"] == 1 and short["holder"]["lifted_points"] > 0
+    chosen = results[2].report["surface_finish"][0]
+    assert chosen["tool"] == 2
+    why = {c["tool"]: c for c in chosen["tool_choice"]["candidates"]}
+    assert "concave radius" in why[3]["rejected"] and "holder" in why[1]["rejected"]
+    # the long tool finishes the cavity floor (z = -18) to the scallop
+    floor = _left_inside(sim, results[-1].design, (21.0, 17.0, 29.0, 23.0), 0.0)
+    assert floor.max() <= chosen["scallop"] and floor.min() >= -chosen["tolerance"]
+
+
+def test_cavity_program_round_trips_and_rs274_accepts_it(cavity, rs274):
+    from millpath.verify.rs274 import run_rs274
+    job, tp, results, sim, program, lines = cavity
+    motions = interpret(program, job.tools, machine_units="mm")
+    assert compare_toolpath(tp, lines, motions, 1e-3) == []
+    r = run_rs274(program, job.tools, table_units="mm")
+    assert r.ok, f"rs274 rejected line {r.error_line}: {r.error}"
