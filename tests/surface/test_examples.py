@@ -65,15 +65,6 @@ def test_mould_is_finished_to_the_scallop_without_gouge(mould):
     assert dev.min() >= -finish["tolerance"]
 
 
-def test_mould_program_round_trips_and_rs274_accepts_it(mould, rs274):
-    from millpath.verify.rs274 import run_rs274
-    job, tp, results, sim, program, lines = mould
-    motions = interpret(program, job.tools, machine_units="mm")
-    assert compare_toolpath(tp, lines, motions, 1e-3) == []
-    r = run_rs274(program, job.tools, table_units="mm")
-    assert r.ok, f"rs274 rejected line {r.error_line}: {r.error}"
-
-
 def test_cavity_short_tool_is_lifted_and_the_chosen_tool_reaches_the_floor(cavity):
     job, tp, results, sim, program, lines = cavity
     res = job.simulation["resolution"]
@@ -90,9 +81,10 @@ def test_cavity_short_tool_is_lifted_and_the_chosen_tool_reaches_the_floor(cavit
     assert floor.max() <= chosen["scallop"] and floor.min() >= -chosen["tolerance"]
 
 
-def test_cavity_program_round_trips_and_rs274_accepts_it(cavity, rs274):
+@pytest.mark.parametrize("example", ["mould", "cavity"])
+def test_program_round_trips_and_rs274_accepts_it(example, request, rs274):
     from millpath.verify.rs274 import run_rs274
-    job, tp, results, sim, program, lines = cavity
+    job, tp, results, sim, program, lines = request.getfixturevalue(example)
     motions = interpret(program, job.tools, machine_units="mm")
     assert compare_toolpath(tp, lines, motions, 1e-3) == []
     r = run_rs274(program, job.tools, table_units="mm")

@@ -73,27 +73,14 @@ def rough_passes(sampler: Sampler, region, top: float, stepdown: float, step_ove
     u = np.linspace(umin, umax, max(2, int(math.ceil((umax - umin) / du)) + 1))
     nw = max(1, int(math.ceil((wmax - wmin) / step_over)))
     ws = np.linspace(wmin, wmax, nw + 1)
-    U, W = np.meshgrid(u, ws)
-    xy = sampler.xy(U, W)
-    inside = ((xy[..., 0] >= x0 - 1e-9) & (xy[..., 0] <= x1 + 1e-9)
-              & (xy[..., 1] >= y0 - 1e-9) & (xy[..., 1] <= y1 + 1e-9))
-    floor, _ = sampler.z_safe(U.ravel(), W.ravel())
-    _, cu, _ = sampler.cut(U.ravel(), W.ravel())
-    touch = np.isfinite(cu).reshape(U.shape) & inside
+    inside, floor, touch = _raster(sampler, region, u, ws)
     if not touch.any():
         return [], []
     # a fine raster of the same floor for the contour pass of each layer
-    nwf = max(2, int(math.ceil((wmax - wmin) / du)) + 1)
-    wf = np.linspace(wmin, wmax, nwf)
-    Uf, Wf = np.meshgrid(u, wf)
-    xyf = sampler.xy(Uf, Wf)
-    inside_f = ((xyf[..., 0] >= x0 - 1e-9) & (xyf[..., 0] <= x1 + 1e-9)
-                & (xyf[..., 1] >= y0 - 1e-9) & (xyf[..., 1] <= y1 + 1e-9))
-    floor_f, _ = sampler.z_safe(Uf.ravel(), Wf.ravel())
-    _, cuf, _ = sampler.cut(Uf.ravel(), Wf.ravel())
-    touch_f = np.isfinite(cuf).reshape(Uf.shape) & inside_f
-    floor_f = floor_f.reshape(Uf.shape) + allowance
-    floor = floor.reshape(U.shape) + allowance
+    wf = np.linspace(wmin, wmax, max(2, int(math.ceil((wmax - wmin) / du)) + 1))
+    inside_f, floor_f, touch_f = _raster(sampler, region, u, wf)
+    floor_f = floor_f + allowance
+    floor = floor + allowance
     # the lowest layer reaches the lowest floor of the fine raster too (the rows are
     # a step-over apart and may all miss a narrow cavity's bottom)
     lowest = float(min(floor[touch].min(), floor_f[touch_f].min() if touch_f.any()
@@ -138,6 +125,21 @@ def rough_passes(sampler: Sampler, region, top: float, stepdown: float, step_ove
             passes.append(Pass(np.column_stack([xyp, P[:, 2]]), np.zeros(len(P), bool)))
         above = level
     return passes, levels
+
+
+def _raster(sampler: Sampler, region, u: np.ndarray, w: np.ndarray
+            ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """On the (w, u) grid: inside the region, the tip Z clear of the surface (cutter and
+    holder), and where the cutter touches the surface at all."""
+    x0, y0, x1, y1 = region
+    U, W = np.meshgrid(u, w)
+    xy = sampler.xy(U, W)
+    inside = ((xy[..., 0] >= x0 - 1e-9) & (xy[..., 0] <= x1 + 1e-9)
+              & (xy[..., 1] >= y0 - 1e-9) & (xy[..., 1] <= y1 + 1e-9))
+    floor, _ = sampler.z_safe(U.ravel(), W.ravel())
+    _, cu, _ = sampler.cut(U.ravel(), W.ravel())
+    touch = np.isfinite(cu).reshape(U.shape) & inside
+    return inside, floor.reshape(U.shape), touch
 
 
 def _layer_contours(sampler: Sampler, u: np.ndarray, w: np.ndarray, floor: np.ndarray,

@@ -30,26 +30,18 @@ from scipy.ndimage import distance_transform_edt
 from millpath.plan.surface.sampler import Sampler
 from millpath.plan.surface.waterline import (Raster, WaterlineResult, WaterlineSettings,
                                              _runs, make_raster, waterline)
-from millpath.plan.surface.zigzag import (Pass, ZigzagResult, ZigzagSettings, _refine,
-                                           passes_length, passes_points, zigzag)
+from millpath.plan.surface.zigzag import (Pass, PassStats, ZigzagResult, ZigzagSettings,
+                                           _refine, zigzag)
 
 
 @dataclass
-class SteepShallowResult:
+class SteepShallowResult(PassStats):
     passes: list[Pass]                 # waterline pieces first (top down), then zigzag
     waterline: WaterlineResult
     zigzag: ZigzagResult
     zigzag_pieces: int                 # kept zigzag pieces
     steep_fraction: float              # of the valid raster nodes
     overlap: float
-
-    @property
-    def length(self) -> float:
-        return passes_length(self.passes)
-
-    @property
-    def n_points(self) -> int:
-        return passes_points(self.passes)
 
 
 def masks(R: Raster, steep_angle: float, overlap: float) -> tuple[np.ndarray, np.ndarray]:

@@ -46,8 +46,7 @@ from millpath.errors import PlanningError
 from millpath.plan.surface.dropcutter import drop
 from millpath.plan.surface.sampler import Sampler
 from millpath.plan.surface.steps import flat_side_step, side_step
-from millpath.plan.surface.zigzag import (Pass, _merge, effective_radius, passes_length,
-                                           passes_points)
+from millpath.plan.surface.zigzag import Pass, PassStats, _merge, effective_radius
 
 
 @dataclass
@@ -184,21 +183,13 @@ class WaterlineSettings:
 
 
 @dataclass
-class WaterlineResult:
+class WaterlineResult(PassStats):
     passes: list[Pass]
     levels: list[float]                          # tip Z of each level, top down
     n_contours: int = 0                          # closed or open pieces cut
     removed: dict = field(default_factory=dict)  # points not cut, by reason
     max_chord_ratio: float = 0.0                 # measured CL chord / allowed (<= 1)
     raster: Raster | None = None
-
-    @property
-    def length(self) -> float:
-        return passes_length(self.passes)
-
-    @property
-    def n_points(self) -> int:
-        return passes_points(self.passes)
 
 
 class _Level:

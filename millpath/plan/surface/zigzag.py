@@ -72,21 +72,28 @@ def passes_points(passes: list[Pass]) -> int:
     return int(sum(len(p.points) for p in passes))
 
 
-@dataclass
-class ZigzagResult:
+class PassStats:
+    """Mixin for results holding ``passes``: cutting length (job units, links
+    excluded) and CL point count."""
+
     passes: list[Pass]
-    steps: list[float] = field(default_factory=list)   # XY side step per pass (mean)
-    min_step: float = 0.0
-    n_lines: int = 0                                    # pass lines across the region
 
     @property
     def length(self) -> float:
-        """Total cutting length along the passes (job units, links excluded)."""
         return passes_length(self.passes)
 
     @property
     def n_points(self) -> int:
         return passes_points(self.passes)
+
+
+@dataclass
+class ZigzagResult(PassStats):
+    passes: list[Pass]
+    steps: list[float] = field(default_factory=list)   # XY side step per pass (mean)
+    min_step: float = 0.0
+    n_lines: int = 0                                    # pass lines across the region
+
 
     @property
     def n_lifted(self) -> int:
