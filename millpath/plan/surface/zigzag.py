@@ -15,7 +15,7 @@ Side step, ``side_step = "published"``: every pass is a straight line; the step 
 next is the smallest, over the pass, of the published scallop formula with the local
 curvature across the passes, projected on XY by the cross slope.
 ``side_step = "variable"``: the same formula at each station along the pass, each station
-keeping its own step (smoothed by a running minimum over neighbouring stations), so the
+keeping its own step (held also to the step found halfway to each neighbour), so the
 next pass is a curve ``w(u)`` and no station pays for the worst one.
 In both, the scallop is held under ``h`` measured vertically (the formula gets the
 normal height ``h cos(slope)``), less an allowance for the feed chords on the material
@@ -233,13 +233,28 @@ def pass_lines(sampler: Sampler, design, s: ZigzagSettings) -> tuple[np.ndarray,
         else:
             e = np.where(known, eps, np.inf)
             e = np.where(np.isfinite(e), e, float(eps[known].min()))
-            dW = _runmin(e, 2)                                # each station its own step
+            dW = _between(sampler, u, W, e, r, target, fd)    # each station its own step
         dW = _look_ahead(sampler, u, W, dW, wmax, r, target, fd, s.side_step == "published")
         Wn = np.minimum(W + dW, wmax)
         steps.append(float(np.mean(Wn - W)))
         W = Wn
         lines.append(W.copy())
     return u, lines, steps
+
+
+def _between(sampler: Sampler, u, W, step, r: float, target: float, fd: float) -> np.ndarray:
+    """Each station's step, also held to the steps found halfway to its neighbours (on
+    the chord between their points): the passes are straight between stations, so the
+    surface there counts too, but not what a neighbour meets farther along w."""
+    if len(u) < 2:
+        return np.asarray(step, float)
+    um, wm = 0.5 * (u[1:] + u[:-1]), 0.5 * (W[1:] + W[:-1])
+    em = _station_steps(sampler, um, wm, r, target, fd)
+    em = np.where(np.isfinite(em), em, np.inf)
+    out = np.asarray(step, float).copy()
+    out[1:] = np.minimum(out[1:], em)
+    out[:-1] = np.minimum(out[:-1], em)
+    return out
 
 
 def _look_ahead(sampler: Sampler, u, W, dW, wmax, r: float, target: float,
@@ -259,7 +274,7 @@ def _look_ahead(sampler: Sampler, u, W, dW, wmax, r: float, target: float,
         if uniform:
             new = np.full_like(dW, float(new.min()))
         else:
-            new = _runmin(new, 2)
+            new = _between(sampler, u, Wn, new, r, target, fd)
         if np.allclose(new, dW, rtol=1e-3, atol=0.0):
             break
         dW = new
