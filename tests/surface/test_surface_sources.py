@@ -217,3 +217,38 @@ def test_broken_step_file_is_a_one_line_error(tmp_path):
     with pytest.raises(GeometryError) as e:
         load_surface("junk.stp", 10, tmp_path)
     assert str(e.value).startswith(f"{p}: cannot read STEP") and "\n" not in str(e.value)
+
+
+def test_step_surface_in_an_inch_job_is_planned_in_inches(tmp_path):
+    pytest.importorskip("OCP", reason="STEP surfaces need the optional extra "
+                                      "millpath[step-brep] (cadquery-ocp, 67 MB)")
+    from millpath.job.jobfile import load_job
+    from millpath.pipeline import plan_job
+    _filleted_block_step(tmp_path / "block.step")
+    (tmp_path / "job.toml").write_text("""units = "inch"
+[stock]
+box = [0.0, 0.0, 0.0, 1.575, 1.182, 0.45]
+[[tools]]
+number = 1
+type = "ball"
+diameter = 0.25
+flute_length = 0.75
+stickout = 1.2
+[[operations]]
+type = "surface-finish"
+surface = "block.step"
+tool = 1
+scallop = 0.002
+tolerance = 0.001
+compare = false
+""")
+    job = load_job(tmp_path / "job.toml")
+    tp, results, stock = plan_job(job)
+    # the block's top (10 mm) is 0.3937 in: the passes over the flat top run at that
+    # height (beyond the block the tool drops to its foot, z 0), and nothing is planned
+    # at millimetre size
+    z = np.round([m.end[2] for m in tp.moves if m.kind == "line" and m.end[2] > 0.2], 4)
+    top = BOX[2] / 25.4
+    assert np.sum(np.abs(z - top) < 1e-4) > 20
+    assert not np.any((z > top + 1e-4) & (z < stock.zmax))   # nothing above the top
+    assert max(m.end[0] for m in tp.moves) == pytest.approx(BOX[0] / 25.4 + 0.125, abs=1e-6)

@@ -8,7 +8,8 @@ Keys (lengths in the job's units, feeds in units per minute):
   such a table; Bezier nets are tessellated into ``divisions`` x ``divisions`` cells
   (two triangles each). Also a measured grid (``.csv``/``.xyz``/``.txt`` of x, y, z, or
   ``{ grid = "points.csv", method = "cubic" }``) or a STEP file (optional extra
-  ``millpath[step-brep]``); see :mod:`millpath.part.surface.load`.
+  ``millpath[step-brep]``, meshed within ``chord_tolerance``, default 0.01 mm /
+  0.0004 in, in the job's units); see :mod:`millpath.part.surface.load`.
 - ``tool`` or ``choose_tool = true`` (from the job's tools, see :mod:`.toolchoice`).
 - ``tolerance``: chord tolerance along the passes; ``scallop``: scallop height.
 - ``angle``: pass direction in degrees from +X; ``side_step``: ``"published"`` or
@@ -47,6 +48,8 @@ from millpath.plan.surface.zigzag import ZigzagSettings, zigzag
 PARAMS = {
     "surface": Param("any", doc="STL file, Bezier net table or TOML file with one"),
     "divisions": Param("int", 160, positive=True, doc="Bezier tessellation per direction"),
+    "chord_tolerance": Param("float", None, positive=True,
+                             doc="STEP meshing tolerance (default 0.01 mm / 0.0004 in)"),
     "tool": Param("int", None, positive=True),
     "choose_tool": Param("bool", False),
     "tolerance": Param("float", None, positive=True),
@@ -69,7 +72,9 @@ PARAMS = {
 def plan(ctx: PlanContext, params: dict) -> PlanResult:
     inch = ctx.units == "inch"
     file = ctx.job_file
-    mesh = load_surface(params["surface"], params["divisions"], ctx.base_dir, file)
+    mesh = load_surface(params["surface"], params["divisions"], ctx.base_dir, file,
+                        chord_tolerance=params["chord_tolerance"]
+                        or (0.0004 if ctx.units == "inch" else 0.01), units=ctx.units)
     index = build_index(mesh)
     design = MeshHeight(index)
     lo, hi = mesh.bounds

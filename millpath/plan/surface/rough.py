@@ -40,6 +40,8 @@ from millpath.plan.surface.zigzag import Pass
 PARAMS = {
     "surface": Param("any", doc="STL file, Bezier net table or TOML file with one"),
     "divisions": Param("int", 160, positive=True, doc="Bezier tessellation per direction"),
+    "chord_tolerance": Param("float", None, positive=True,
+                             doc="STEP meshing tolerance (default 0.01 mm / 0.0004 in)"),
     "tool": Param("int", None, positive=True),
     "stepdown": Param("float", None, positive=True),
     "step_over": Param("float", None, positive=True),
@@ -195,7 +197,9 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     if ctx.stock is None:
         raise JobError("surface-rough needs the job's [stock] box (the layers start at its "
                        "top)", file)
-    mesh = load_surface(params["surface"], params["divisions"], ctx.base_dir, file)
+    mesh = load_surface(params["surface"], params["divisions"], ctx.base_dir, file,
+                        chord_tolerance=params["chord_tolerance"]
+                        or (0.0004 if ctx.units == "inch" else 0.01), units=ctx.units)
     if params["tool"] is None:
         raise JobError("tool: give the roughing tool's number", file)
     tool = ctx.tool(params["tool"], "tool")
