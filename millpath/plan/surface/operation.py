@@ -34,22 +34,19 @@ import numpy as np
 from millpath.errors import JobError, PlanningError
 from millpath.job.schema import Param
 from millpath.model.toolpath import Operation, Toolpath
-from millpath.part.surface.load import load_surface
 from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.surface.cutter import Cutter
 from millpath.plan.surface.dropcutter import MeshHeight, build_index
 from millpath.plan.surface.linking import add_passes
 from millpath.plan.surface.sampler import Sampler
+from millpath.plan.surface.source import SURFACE_PARAMS, load_op_surface
 from millpath.plan.surface.steep_shallow import steep_shallow
 from millpath.plan.surface.toolchoice import choose_tool
 from millpath.plan.surface.waterline import WaterlineSettings, waterline
 from millpath.plan.surface.zigzag import ZigzagSettings, zigzag
 
 PARAMS = {
-    "surface": Param("any", doc="STL file, Bezier net table or TOML file with one"),
-    "divisions": Param("int", 160, positive=True, doc="Bezier tessellation per direction"),
-    "chord_tolerance": Param("float", None, positive=True,
-                             doc="STEP meshing tolerance (default 0.01 mm / 0.0004 in)"),
+    **SURFACE_PARAMS,
     "tool": Param("int", None, positive=True),
     "choose_tool": Param("bool", False),
     "tolerance": Param("float", None, positive=True),
@@ -72,9 +69,7 @@ PARAMS = {
 def plan(ctx: PlanContext, params: dict) -> PlanResult:
     inch = ctx.units == "inch"
     file = ctx.job_file
-    mesh = load_surface(params["surface"], params["divisions"], ctx.base_dir, file,
-                        chord_tolerance=params["chord_tolerance"]
-                        or (0.0004 if ctx.units == "inch" else 0.01), units=ctx.units)
+    mesh = load_op_surface(ctx, params)
     index = build_index(mesh)
     design = MeshHeight(index)
     lo, hi = mesh.bounds
@@ -119,11 +114,13 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
                       z_floor=float(lo[2]),
                       holder_clearance=0.04 if inch else 1.0)
 
+    def zz_settings(mode: str) -> ZigzagSettings:
+        return ZigzagSettings(tolerance=tol, scallop=scallop, region=region, side_step=mode,
+                              material_tolerance=min(tol, 0.25 * scallop),
+                              trim_edges=not params["region"])
+
     def run(mode: str):
-        s = ZigzagSettings(tolerance=tol, scallop=scallop, region=region, side_step=mode,
-                           material_tolerance=min(tol, 0.25 * scallop),
-                           trim_edges=not params["region"])
-        return zigzag(sampler, design, s)
+        return zigzag(sampler, design, zz_settings(mode))
 
     wl = WaterlineSettings(tolerance=tol, scallop=scallop, region=region,
                            material_tolerance=min(tol, 0.25 * scallop),
@@ -135,11 +132,8 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         elif strategy == "waterline":
             res = waterline(sampler, wl)
         else:
-            zs = ZigzagSettings(tolerance=tol, scallop=scallop, region=region,
-                                side_step=params["side_step"],
-                                material_tolerance=min(tol, 0.25 * scallop),
-                                trim_edges=not params["region"])
-            res = steep_shallow(sampler, design, zs, wl, params["steep_angle"])
+            res = steep_shallow(sampler, design, zz_settings(params["side_step"]), wl,
+                                params["steep_angle"])
     except PlanningError as e:
         raise PlanningError(e.message, file) from None
     top = max(float(np.max(p.points[:, 2])) for p in res.passes) if res.passes else hi[2]

@@ -29,19 +29,16 @@ import numpy as np
 from millpath.errors import JobError, PlanningError
 from millpath.job.schema import Param
 from millpath.model.toolpath import Operation, Toolpath
-from millpath.part.surface.load import load_surface
 from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.surface.cutter import Cutter
 from millpath.plan.surface.dropcutter import MeshHeight, build_index
 from millpath.plan.surface.linking import add_passes
 from millpath.plan.surface.sampler import Sampler
-from millpath.plan.surface.zigzag import Pass
+from millpath.plan.surface.source import SURFACE_PARAMS, load_op_surface
+from millpath.plan.surface.zigzag import Pass, _inside
 
 PARAMS = {
-    "surface": Param("any", doc="STL file, Bezier net table or TOML file with one"),
-    "divisions": Param("int", 160, positive=True, doc="Bezier tessellation per direction"),
-    "chord_tolerance": Param("float", None, positive=True,
-                             doc="STEP meshing tolerance (default 0.01 mm / 0.0004 in)"),
+    **SURFACE_PARAMS,
     "tool": Param("int", None, positive=True),
     "stepdown": Param("float", None, positive=True),
     "step_over": Param("float", None, positive=True),
@@ -133,13 +130,10 @@ def _raster(sampler: Sampler, region, u: np.ndarray, w: np.ndarray
             ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """On the (w, u) grid: inside the region, the tip Z clear of the surface (cutter and
     holder), and where the cutter touches the surface at all."""
-    x0, y0, x1, y1 = region
     U, W = np.meshgrid(u, w)
-    xy = sampler.xy(U, W)
-    inside = ((xy[..., 0] >= x0 - 1e-9) & (xy[..., 0] <= x1 + 1e-9)
-              & (xy[..., 1] >= y0 - 1e-9) & (xy[..., 1] <= y1 + 1e-9))
-    floor, _ = sampler.z_safe(U.ravel(), W.ravel())
-    _, cu, _ = sampler.cut(U.ravel(), W.ravel())
+    inside = _inside(sampler, region, U, W)
+    zc, cu, _ = sampler.cut(U.ravel(), W.ravel())            # one drop for Z and contact
+    floor = np.maximum(zc, sampler.holder_lift(U.ravel(), W.ravel()))
     touch = np.isfinite(cu).reshape(U.shape) & inside
     return inside, floor.reshape(U.shape), touch
 
@@ -197,9 +191,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     if ctx.stock is None:
         raise JobError("surface-rough needs the job's [stock] box (the layers start at its "
                        "top)", file)
-    mesh = load_surface(params["surface"], params["divisions"], ctx.base_dir, file,
-                        chord_tolerance=params["chord_tolerance"]
-                        or (0.0004 if ctx.units == "inch" else 0.01), units=ctx.units)
+    mesh = load_op_surface(ctx, params)
     if params["tool"] is None:
         raise JobError("tool: give the roughing tool's number", file)
     tool = ctx.tool(params["tool"], "tool")
