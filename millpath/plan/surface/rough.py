@@ -35,6 +35,7 @@ from millpath.plan.surface.dropcutter import MeshHeight, build_index
 from millpath.plan.surface.linking import add_passes
 from millpath.plan.surface.sampler import Sampler
 from millpath.plan.surface.source import SURFACE_PARAMS, load_op_surface
+from millpath.plan.surface.waterline import _runs
 from millpath.plan.surface.zigzag import Pass, _inside
 
 PARAMS = {
@@ -51,14 +52,6 @@ PARAMS = {
     "region": Param("floats", None, length=4),
     "name": Param("str", "surface rough"),
 }
-
-
-def _runs(mask: np.ndarray) -> list[np.ndarray]:
-    """Index runs where ``mask`` holds."""
-    idx = np.nonzero(mask)[0]
-    if len(idx) == 0:
-        return []
-    return np.split(idx, np.nonzero(np.diff(idx) > 1)[0] + 1)
 
 
 def rough_passes(sampler: Sampler, region, top: float, stepdown: float, step_over: float,

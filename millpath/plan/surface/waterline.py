@@ -304,7 +304,7 @@ class _Level:
         return out
 
 
-def _runs(good: np.ndarray, closed: bool) -> list[np.ndarray]:
+def _runs(good: np.ndarray, closed: bool = False) -> list[np.ndarray]:
     """Index runs where ``good`` holds; a closed polyline (last = first) wraps around."""
     n = len(good)
     if good.all():

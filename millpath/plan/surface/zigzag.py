@@ -94,7 +94,6 @@ class ZigzagResult(PassStats):
     min_step: float = 0.0
     n_lines: int = 0                                    # pass lines across the region
 
-
     @property
     def n_lifted(self) -> int:
         return int(sum(int(p.lifted.sum()) for p in self.passes))
