@@ -8,7 +8,6 @@ contact point ``cx,cy,cz`` (with ``--contact``).
 
 from __future__ import annotations
 
-import csv
 import io
 import math
 from pathlib import Path
@@ -17,7 +16,7 @@ import click
 import numpy as np
 
 from millpath.errors import MillpathError
-from millpath.io.text import read_text
+from millpath.io.text import read_number_rows
 
 _HELP_HOLDER = (
     "Holder cylinders DIAMETER:LENGTH[,DIAMETER:LENGTH...] stacked upward from the holder "
@@ -29,33 +28,7 @@ _HELP_HOLDER = (
 def read_points(path: Path) -> np.ndarray:
     """``(n, 2)`` x, y rows: comma, semicolon or whitespace separated; ``#`` comments,
     blank lines and one header line before the first row are allowed."""
-    text = read_text(path, "points file")
-    rows: list[tuple[float, float]] = []
-    header_seen = False
-    for lineno, line in enumerate(text.splitlines(), 1):
-        s = line.split("#", 1)[0].strip()
-        if not s:
-            continue
-        if "," in s or ";" in s:
-            fields = [f.strip() for f in next(csv.reader([s.replace(";", ",")]))]
-        else:
-            fields = s.split()
-        try:
-            vals = [float(f) for f in fields]
-        except ValueError:
-            if not rows and not header_seen:
-                header_seen = True
-                continue
-            raise MillpathError(f"expected two numbers x, y, got {s!r}", path, lineno) from None
-        if len(vals) != 2:
-            raise MillpathError(f"expected two numbers x, y, got {len(vals)} fields",
-                                path, lineno)
-        if not all(math.isfinite(v) for v in vals):
-            raise MillpathError("NaN or infinite coordinate", path, lineno)
-        rows.append((vals[0], vals[1]))
-    if not rows:
-        raise MillpathError("points file has no x, y rows", path)
-    return np.array(rows, dtype=float)
+    return read_number_rows(path, "x, y")
 
 
 def parse_holder(spec: str, tool_length: float) -> tuple[tuple[float, float, float], ...]:

@@ -16,14 +16,13 @@ the grid the nearest edge value is used.
 
 from __future__ import annotations
 
-import csv
 from pathlib import Path
 
 import numpy as np
 
 from millpath.errors import GeometryError
 from millpath.part.surface.bezier import _grid_triangles
-from millpath.io.text import read_text
+from millpath.io.text import read_number_rows
 
 
 def _levels(values: np.ndarray, what: str, file) -> tuple[np.ndarray, np.ndarray]:
@@ -94,29 +93,8 @@ class MeasuredGrid:
         """Read ``x,y,z`` rows (comma, semicolon or whitespace separated; a header line
         and ``#`` comments are allowed). Errors name the file and line."""
         p = Path(path)
-        text = read_text(p, "points file", GeometryError)
-        rows: list[list[float]] = []
-        for lineno, line in enumerate(text.splitlines(), 1):
-            s = line.split("#", 1)[0].strip()
-            if not s:
-                continue
-            fields = next(csv.reader([s.replace(";", ",")])) if ("," in s or ";" in s) else s.split()
-            fields = [f.strip() for f in fields if f.strip()]
-            try:
-                vals = [float(f) for f in fields]
-            except ValueError:
-                if not rows:       # a header line
-                    continue
-                raise GeometryError(f"expected three numbers x, y, z, got {s!r}", p,
-                                    lineno) from None
-            if len(vals) != 3:
-                raise GeometryError(f"expected three numbers x, y, z, got {len(vals)}", p, lineno)
-            if not all(np.isfinite(vals)):
-                raise GeometryError("NaN or infinite coordinate", p, lineno)
-            rows.append(vals)
-        if not rows:
-            raise GeometryError("points file has no x, y, z rows", p)
-        return cls(np.array(rows), method=method, file=p)
+        rows = read_number_rows(p, "x, y, z", GeometryError)
+        return cls(rows, method=method, file=p)
 
     @property
     def bounds(self) -> tuple[float, float, float, float]:
