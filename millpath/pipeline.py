@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import bisect
 import json
+import math
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -50,9 +51,12 @@ class RunResult:
 
 
 def plan_job(job: Job) -> tuple[Toolpath, list[PlanResult], Stock]:
-    """Plan every operation of ``job`` and join their toolpaths in order."""
+    """Plan every operation of ``job`` and join their toolpaths in order. Jobs with a
+    pocket or profile operation or a ``rest`` key carry the in-process stock from
+    operation to operation (``ctx.remaining``, see :func:`advance_stock`)."""
     ctx = PlanContext(units=job.units, stock=job.stock, machine=job.machine, tools=job.tools,
                       base_dir=job.base_dir, job_file=job.path)
+    carry = any(t in ("pocket", "profile") or p.get("rest") for t, p in job.operations)
     total = Toolpath(job.units)
     results: list[PlanResult] = []
     for i, (op_type, params) in enumerate(job.operations):
@@ -67,6 +71,8 @@ def plan_job(job: Job) -> tuple[Toolpath, list[PlanResult], Stock]:
             res.toolpath.check_finite()
         except ValueError as e:
             raise PlanningError(f"operations[{i}]: {e}", job.path) from None
+        if carry and ctx.stock is not None:
+            ctx.remaining = advance_stock(job, ctx.stock, ctx.remaining, res.toolpath)
         total.extend(res.toolpath)
         results.append(res)
     stock = job.stock or ctx.stock
@@ -76,6 +82,40 @@ def plan_job(job: Job) -> tuple[Toolpath, list[PlanResult], Stock]:
     if not total.moves:
         raise PlanningError("the job's operations produced no moves", job.path)
     return total, results, stock
+
+
+def advance_stock(job: Job, stock: Stock, remaining, tp: Toolpath):
+    """Sweep one operation's toolpath into the in-process stock (created on first use,
+    cells a 40th of the smallest tool diameter, at most about 4 million) and store
+    what it measured (air cuts, engagement) in each of its operations' ``info``."""
+    from millpath.simulate.inprocess import InProcessStock
+    if remaining is None:
+        d = min((t.diameter for t in job.tools.values()), default=1.0)
+        w, h, _ = stock.size
+        res = max(d / 40.0, math.sqrt(w * h / 4e6))
+        if job.simulation.get("resolution"):
+            res = min(res, float(job.simulation["resolution"]))
+        remaining = InProcessStock(stock, res)
+    if any(m.kind == "comp" for m in tp.moves):
+        from millpath.interpret import interpret
+        from millpath.post.linuxcnc import post_with_lines
+        program, move_lines = post_with_lines(tp, job.tools, title="in-process stock")
+        motions = interpret(program, job.tools, machine_units=job.units)
+        keys = [(line, i) for i, line in enumerate(move_lines) if line is not None]
+        lines = [l for l, _ in keys]
+        src = [keys[max(bisect.bisect_right(lines, mo.line) - 1, 0)][1] for mo in motions]
+    else:
+        from millpath.simulate.path import toolpath_motions
+        motions, src = toolpath_motions(tp)
+    entry = np.zeros(len(tp.moves) + 1, bool)
+    for op_i, op in enumerate(tp.ops):
+        for a, b in op.info.get("entry_moves", []):
+            entry[a:b] = True
+    stats = remaining.cut(motions, [tp.moves[k].op for k in src], [bool(entry[k]) for k in src],
+                          job.tools, job.machine, len(tp.ops))
+    for op, st in zip(tp.ops, stats):
+        op.info["in_process"] = st.to_json()
+    return remaining
 
 
 def _fit(job: Job, tp: Toolpath) -> Toolpath:
@@ -160,7 +200,8 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False)
             c[m.kind] += 1
     report["operations"] = [
         {"type": o.type, "name": o.name, "tool": o.tool, "spindle": o.spindle,
-         "moves": counts_by_op.get(i, {}), "cycle_time_s": round(op_secs[i], 3)}
+         "moves": counts_by_op.get(i, {}), "cycle_time_s": round(op_secs[i], 3),
+         **({"in_process": o.info["in_process"]} if "in_process" in o.info else {})}
         for i, o in enumerate(tp.ops)]
     for r in results:
         for k, v in r.report.items():

@@ -14,7 +14,7 @@ Per level (job units; ``R`` tool radius, ``D`` diameter):
    in it, otherwise by a retract and a feed down where the column is clear.
 
 The engagement limit per step is ``engagement * D * ds`` of area, less ``margin``
-(default 5 %) for the raster's counting error.
+(default 8 %) for the raster's counting error.
 """
 
 from __future__ import annotations
@@ -61,10 +61,14 @@ def approach(M, A, gx, gy, h, R, x, y, ux, uy, limit):
 
 
 def clear_level(M: np.ndarray, A: np.ndarray, gx: float, gy: float, h: float, R: float,
-                engagement: float, *, helix_radius: float, start=None,
-                margin: float = 0.05, max_passes: int = 2000) -> LevelResult:
+                engagement: float, *, helix_radius: float, start=None, S=None,
+                margin: float = 0.08, max_passes: int = 2000) -> LevelResult:
     """Walker passes clearing the material raster ``M`` (modified: cleared) with the tool
-    centre kept in ``A``. ``start``: the tool's (x, y) before the level, if known."""
+    centre kept in ``A``. ``S`` (default: ``M``): the part of ``M`` passes are started
+    for (material the clean-up rings would otherwise take); engagement is always
+    counted on ``M``. ``start``: the tool's (x, y) before the level, if known."""
+    if S is None:
+        S = M.copy()
     D = 2 * R
     ds = R / 4.0
     amax = engagement * (1.0 - margin) * D * ds / (h * h)
@@ -74,9 +78,9 @@ def clear_level(M: np.ndarray, A: np.ndarray, gx: float, gy: float, h: float, R:
     dist_A = ndimage.distance_transform_edt(A) * h      # room round allowed centres
     passes: list[Pass] = []
     pos = start
-    tried = np.zeros_like(block_any(M, f))
+    tried = np.zeros_like(block_any(S, f))
     for _ in range(max_passes):
-        Mc = block_any(M, f)
+        Mc = block_any(S, f)
         if not Mc.any():
             break
         dist = ndimage.distance_transform_edt(~Mc) * hc
@@ -112,7 +116,7 @@ def clear_level(M: np.ndarray, A: np.ndarray, gx: float, gy: float, h: float, R:
             kind = "jump"
             if pos is not None and segment_clear(M, A, gx, gy, h, R, pos[0], pos[1], x, y):
                 kind = "link"
-            n = walk(M, A, gx, gy, h, R, x, y, heading, ds, amax, len(buf) - 1,
+            n = walk(M, S, A, gx, gy, h, R, x, y, heading, ds, amax, len(buf) - 1,
                      int(2 * math.pi * R / ds) + 4, buf)
             if n <= 1:
                 tried[max(cj - 1, 0):cj + 2, max(ci - 1, 0):ci + 2] = True
@@ -121,7 +125,7 @@ def clear_level(M: np.ndarray, A: np.ndarray, gx: float, gy: float, h: float, R:
             pos = (float(buf[n - 1, 0]), float(buf[n - 1, 1]))
             continue
         # no cleared space next to material: bore a new start with a helix
-        full = A & M
+        full = A & S
         if not full.any():
             break
         score = np.where(full, dist_A, -1.0)
@@ -132,8 +136,9 @@ def clear_level(M: np.ndarray, A: np.ndarray, gx: float, gy: float, h: float, R:
             break
         cx, cy = gx + (i + 0.5) * h, gy + (j + 0.5) * h
         cut_disk(M, gx, gy, h, R + rh, cx, cy)
-        n = walk(M, A, gx, gy, h, R, cx + rh, cy, math.pi / 2, ds, amax, len(buf) - 1,
+        cut_disk(S, gx, gy, h, R + rh, cx, cy)
+        n = walk(M, S, A, gx, gy, h, R, cx + rh, cy, math.pi / 2, ds, amax, len(buf) - 1,
                  int(2 * math.pi * R / ds) + 4, buf)
         passes.append(Pass("helix", buf[:max(n, 1), :2].copy(), (cx, cy), rh))
         pos = (float(buf[max(n, 1) - 1, 0]), float(buf[max(n, 1) - 1, 1]))
-    return LevelResult(passes, int(M.sum()))
+    return LevelResult(passes, int(S.sum()))

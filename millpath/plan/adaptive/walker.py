@@ -87,9 +87,10 @@ def allowed(A, gx, gy, h, x, y):
 
 
 @njit(cache=True)
-def walk(M, A, gx, gy, h, R, x, y, heading, ds, amax, max_steps, idle_max, out):
+def walk(M, S, A, gx, gy, h, R, x, y, heading, ds, amax, max_steps, idle_max, out):
     """Walk from (x, y) (whose disk is already cleared) with initial ``heading``
-    (radians). ``amax``: the most cells a step may remove. Writes the positions (including
+    (radians). ``amax``: the most cells of ``M`` a step may remove; ``S`` (the
+    material a next pass is looked for in) is cleared along with ``M``. Writes the positions (including
     the start) into ``out`` (k, 3: x, y, cells removed by the step into it) and
     returns k."""
     K = 25
@@ -153,6 +154,7 @@ def walk(M, A, gx, gy, h, R, x, y, heading, ds, amax, max_steps, idle_max, out):
         qx = x + ds * math.cos(best_a)
         qy = y + ds * math.sin(best_a)
         crescent(M, gx, gy, h, R, x, y, qx, qy, True)
+        crescent(S, gx, gy, h, R, x, y, qx, qy, True)
         x = qx
         y = qy
         heading = best_a

@@ -35,13 +35,15 @@ def adaptive_level(w, em, ctx, pocket, free, tool, z: float, z_from: float,
     raster = Raster.around(pocket.bounds, h, R + 2 * h)
     heights = stock_heights(ctx.remaining, raster, full_top)
     A = raster.inside(free, margin=h)
-    reach = ndimage.distance_transform_edt(~A) * h <= R - 2 * h    # the rest: clean-up ring
+    dist_A = ndimage.distance_transform_edt(~A) * h
+    reach = dist_A <= R + h
     inner = raster.inside(offset(pocket, -allow) if allow > 0 else pocket)
     M = (heights > z + threshold) & reach & inner
+    S = M & (dist_A <= R - 2 * h)      # passes are not started for the last cells: clean-up
     air = heights <= z + 1e-9 * max(1.0, abs(z))
     start = w.pos[:2] if (w.pos is not None and abs(w.pos[2] - z) < 1e-9) else None
     res = clear_level(M, A, raster.gx, raster.gy, h, R, engagement,
-                      helix_radius=helix_radius, start=start)
+                      helix_radius=helix_radius, start=start, S=S)
     for p in res.passes:
         pts = p.pts
         i0 = len(w.tp.moves)
@@ -59,12 +61,19 @@ def adaptive_level(w, em, ctx, pocket, free, tool, z: float, z_from: float,
                 w.ramp_open(pts, z_from, z)
         em.mark_entry(i0)
         w.polyline(pts, z)
-    # clean-up ring on the free area's boundary (the walker stops a cell short of it)
-    field = MaterialField(np.where(M | ~inner, heights, np.minimum(heights, z)), raster, z,
-                          threshold, R) if ctx.remaining is not None else None
-    cuts = [Cut(r, True, p) for p in polygons(free) for r in rings(p)]
-    cuts = order_nearest(cuts, w.pos[:2] if w.pos else None)
-    em.level(cuts, z, z_from, field)
+    # clean-up rings toward the free area's boundary (the walker stops short of it, and
+    # where it could not keep the engagement): from the inside out, 0.3 of the width of
+    # cut apart, each only where it meets material the walker left
+    left = np.where(M, np.maximum(heights, z + 1.0), z)
+    field = MaterialField(left, raster, z, 0.5, R)
+    if field.material.any():
+        s = 0.3 * engagement * D
+        k_max = int(math.ceil((2 * h + engagement * D) / s))
+        for k in range(k_max, -1, -1):
+            ring_area = offset(free, -k * s) if k else free
+            cuts = [Cut(r, True, p) for p in polygons(ring_area) for r in rings(p)]
+            cuts = order_nearest(cuts, w.pos[:2] if w.pos else None)
+            em.level(cuts, z, z_from, field)
     return res.left_cells
 
 
