@@ -48,13 +48,14 @@ class LevelResult:
 
 
 def approach(M, A, gx, gy, h, R, x, y, ux, uy, limit):
-    """Move from (x, y) along (ux, uy) in steps of ``h`` while the tool disk stays free
-    of material and the centre allowed; the last such position."""
+    """Move from (x, y) along (ux, uy) in steps of ``h`` while the tool disk (one cell
+    larger: cells are not points) stays free of material and the centre allowed; the
+    last such position."""
     for _ in range(int(limit / h) + 1):
         qx, qy = x + ux * h, y + uy * h
         if not allowed(A, gx, gy, h, qx, qy):
             break
-        if crescent(M, gx, gy, h, R, x, y, qx, qy, False) > 0:
+        if crescent(M, gx, gy, h, R + h, x, y, qx, qy, False) > 0:
             break
         x, y = qx, qy
     return x, y
@@ -100,7 +101,7 @@ def clear_level(M: np.ndarray, A: np.ndarray, gx: float, gy: float, h: float, R:
                 order = np.arange(len(cx))
             for k in order[:40]:
                 x, y = float(cx[k]), float(cy[k])
-                if crescent(M, gx, gy, h, R, x + 1e9, y, x, y, False) > 0:
+                if crescent(M, gx, gy, h, R + h, x + 1e9, y, x, y, False) > 0:
                     tried[jj[k], ii[k]] = True
                     continue
                 g = np.array([gxd[jj[k], ii[k]], gyd[jj[k], ii[k]]])
@@ -114,7 +115,7 @@ def clear_level(M: np.ndarray, A: np.ndarray, gx: float, gy: float, h: float, R:
         if cand is not None:
             x, y, heading, cj, ci = cand
             kind = "jump"
-            if pos is not None and segment_clear(M, A, gx, gy, h, R, pos[0], pos[1], x, y):
+            if pos is not None and segment_clear(M, A, gx, gy, h, R + h, pos[0], pos[1], x, y):
                 kind = "link"
             n = walk(M, S, A, gx, gy, h, R, x, y, heading, ds, amax, len(buf) - 1,
                      int(2 * math.pi * R / ds) + 4, buf)
