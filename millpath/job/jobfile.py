@@ -9,6 +9,7 @@ Layout::
     [stock]        box = [xmin, ymin, zmin, xmax, ymax, zmax]
     [machine]      rapid, max_feed (units/min), acceleration (units/s^2)
     [simulation]   resolution (job units), enabled (bool)
+    [limits]       max_extent (job units), max_layers, max_passes   (millpath.model.limits)
     [[tools]]      number, type, diameter, ...   (see millpath.io.toollib)
     [[operations]] type = "...", tool = N, ...   (keys per strategy)
 
@@ -27,6 +28,7 @@ from millpath.errors import JobError
 from millpath.io.toollib import tools_from_tables
 from millpath.job.schema import Param, validate
 from millpath.model import Machine, Stock, Tool
+from millpath.model.limits import Limits, count_needed
 from millpath.plan.registry import strategy
 from millpath.io.text import read_text
 
@@ -39,6 +41,7 @@ TOP = {
     "stock": Param("table", None),
     "machine": Param("table", None),
     "simulation": Param("table", None),
+    "limits": Param("table", None),
     "tools": Param("list", []),
     "operations": Param("list"),
 }
@@ -49,6 +52,14 @@ MACHINE = {
     "max_feed": Param("float", None, positive=True),
     "acceleration": Param("float", None, positive=True),
 }
+LIMITS = {
+    "max_extent": Param("float", None, positive=True, doc="largest stock side (job units)"),
+    "max_layers": Param("int", None, positive=True, doc="depth passes of one operation"),
+    "max_passes": Param("int", None, positive=True, doc="side-by-side passes of one operation"),
+}
+#: operation keys that set a depth per layer / a distance between side-by-side passes
+LAYER_KEYS = ("stepdown", "step_down", "stepdown_max", "step")
+PASS_KEYS = ("stepover", "step_over")
 SIMULATION = {
     "resolution": Param("float", None, positive=True),
     "enabled": Param("bool", True),
@@ -68,6 +79,7 @@ class Job:
     fit: str = "none"
     fit_tolerance: float = 0.005
     simulation: dict[str, Any] = field(default_factory=dict)
+    limits: Limits = field(default_factory=Limits)
 
     @property
     def base_dir(self) -> Path:
@@ -103,6 +115,11 @@ def job_from_dict(data: dict, path: Path | None = None) -> Job:
     base = path.parent if path else Path.cwd()
     top = validate(data, TOP, "", path, base)
     units = top["units"]
+    limits = Limits.default_for(units)
+    if top["limits"] is not None:
+        lim = validate(top["limits"], LIMITS, "limits", path)
+        limits = Limits(**{k: lim[k] if lim[k] is not None else getattr(limits, k)
+                           for k in Limits.keys()})
     stock = None
     if top["stock"] is not None:
         st = validate(top["stock"], STOCK, "stock", path)
@@ -110,6 +127,11 @@ def job_from_dict(data: dict, path: Path | None = None) -> Job:
             stock = Stock.from_box(st["box"])
         except ValueError as e:
             raise JobError(f"stock.box: {e}", path) from None
+        side = max(stock.size)
+        if side > limits.max_extent:
+            raise JobError(f"stock.box: a side of {side:g} {units} is larger than the "
+                           f"{limits.max_extent:g} {units} limit (wrong units? raise "
+                           f"[limits] max_extent if the machine is that big)", path)
     machine = Machine.default_for(units)
     if top["machine"] is not None:
         m = validate(top["machine"], MACHINE, "machine", path)
@@ -133,8 +155,32 @@ def job_from_dict(data: dict, path: Path | None = None) -> Job:
         if "tool" in params and isinstance(params["tool"], int) and params["tool"] not in tools:
             raise JobError(f"{where}.tool: tool {params['tool']} is not in the job's [[tools]]",
                            path)
+        _check_work(params, stock, limits, units, where, path)
         ops.append((op["type"], params))
     default_tol = 0.0002 if units == "inch" else 0.005
     return Job(path=path, units=units, name=top["name"] or (path.stem if path else "job"),
                stock=stock, machine=machine, tools=tools, operations=ops, fit=top["fit"],
-               fit_tolerance=top["fit_tolerance"] or default_tol, simulation=sim)
+               fit_tolerance=top["fit_tolerance"] or default_tol, simulation=sim,
+               limits=limits)
+
+
+def _check_work(params: dict[str, Any], stock: Stock | None, limits: Limits, units: str,
+                where: str, path: Path | None) -> None:
+    """Refuse an operation whose steps would make more layers or passes than the limits
+    allow, measured over the stock (or the operation's own depth), before planning."""
+    if stock is not None:
+        depth, across = stock.size[2], max(stock.size[0], stock.size[1])
+    else:
+        depth, across = params.get("depth") or 0.0, 0.0
+    for keys, span, what, limit, name in (
+            (LAYER_KEYS, depth, "layers", limits.max_layers, "max_layers"),
+            (PASS_KEYS, across, "passes", limits.max_passes, "max_passes")):
+        for key in keys:
+            step = params.get(key)
+            if not isinstance(step, float) or span <= 0:
+                continue
+            n = count_needed(span, step)
+            if n > limit:
+                raise JobError(f"{where}.{key}: {span:g} {units} at {step:g} {units} a step "
+                               f"needs {n:g} {what}, more than the limit of {limit} "
+                               f"(raise [limits] {name} if you mean it)", path)

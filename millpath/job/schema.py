@@ -35,10 +35,18 @@ def _is_num(v: Any) -> bool:
     return isinstance(v, (int, float)) and not isinstance(v, bool)
 
 
+def _finite(v: Any, key: str, file: str | None) -> bool:
+    """Whether the number ``v`` is finite; an integer too large for a float is an error."""
+    try:
+        return math.isfinite(float(v))
+    except OverflowError:
+        raise JobError(f"{key}: the number {str(v)[:12]}... is too large", file) from None
+
+
 def _check_number(v: Any, key: str, p: Param, file: str | None) -> float:
     if not _is_num(v):
         raise JobError(f"{key}: expected a number, got {type(v).__name__} {v!r}", file)
-    if not math.isfinite(v):
+    if not _finite(v, key, file):
         raise JobError(f"{key}: must be finite, got {v!r}", file)
     if p.positive and v <= 0:
         raise JobError(f"{key}: must be positive, got {v!r}", file)
@@ -50,7 +58,7 @@ def _check_number(v: Any, key: str, p: Param, file: str | None) -> float:
 def _floats(v: Any, key: str, file: str | None) -> list[float]:
     if not isinstance(v, list) or not all(_is_num(x) for x in v):
         raise JobError(f"{key}: expected a list of numbers", file)
-    if not all(math.isfinite(x) for x in v):
+    if not all(_finite(x, key, file) for x in v):
         raise JobError(f"{key}: numbers must be finite", file)
     return [float(x) for x in v]
 
