@@ -18,15 +18,13 @@ Relative paths inside the file are resolved from the job file's folder.
 
 from __future__ import annotations
 
-import re
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from millpath.errors import JobError
 from millpath.io.toollib import tools_from_tables
-from millpath.job.schema import Param, validate
+from millpath.io.schema import Param, parse_toml, validate
 from millpath.model import Machine, Stock, Tool
 from millpath.model.limits import Limits, count_needed
 from millpath.plan.registry import strategy
@@ -92,23 +90,6 @@ def load_job(path: str | Path) -> Job:
     text = read_text(p, "job file", JobError)
     data = parse_toml(text, p)
     return job_from_dict(data, p)
-
-
-def parse_toml(text: str, path: Path | None) -> dict:
-    """tomllib.loads with errors as JobError naming the file and line."""
-    try:
-        return tomllib.loads(text)
-    except tomllib.TOMLDecodeError as e:
-        msg = str(e)
-        line = None
-        m = re.search(r"\s*\(at line (\d+), column \d+\)", msg)
-        if m:
-            line = int(m.group(1))
-            msg = msg[:m.start()] + msg[m.end():]
-        elif "(at end of document)" in msg:
-            line = text.count("\n") + (0 if text.endswith("\n") else 1)
-            msg = msg.replace(" (at end of document)", " at end of file")
-        raise JobError(f"invalid TOML: {msg}", path, line) from None
 
 
 def job_from_dict(data: dict, path: Path | None = None) -> Job:

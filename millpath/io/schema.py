@@ -1,4 +1,5 @@
-"""Validation of TOML tables against small schemas, with errors naming key and file.
+"""TOML input: parsing with errors naming file and line, and validation of tables
+against small schemas, with errors naming key and file.
 
 A schema maps each allowed key to a :class:`Param`. Unknown keys, missing required
 keys, wrong types, NaN and out-of-range values raise :class:`JobError`.
@@ -7,6 +8,8 @@ keys, wrong types, NaN and out-of-range values raise :class:`JobError`.
 from __future__ import annotations
 
 import math
+import re
+import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable
@@ -134,3 +137,20 @@ def validate(table: Any, schema: dict[str, Param], where: str, file: str | Path 
                 raise JobError(f"{name}: {msg}", f)
         out[key] = v
     return out
+
+
+def parse_toml(text: str, path: Path | None) -> dict:
+    """tomllib.loads with errors as JobError naming the file and line."""
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        msg = str(e)
+        line = None
+        m = re.search(r"\s*\(at line (\d+), column \d+\)", msg)
+        if m:
+            line = int(m.group(1))
+            msg = msg[:m.start()] + msg[m.end():]
+        elif "(at end of document)" in msg:
+            line = text.count("\n") + (0 if text.endswith("\n") else 1)
+            msg = msg.replace(" (at end of document)", " at end of file")
+        raise JobError(f"invalid TOML: {msg}", path, line) from None
