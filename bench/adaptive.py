@@ -22,7 +22,7 @@ import time
 from pathlib import Path
 
 from millpath.job.jobfile import load_job
-from millpath.job.schema import validate
+from millpath.io.schema import validate
 from millpath.model import Machine, Stock, Tool
 from millpath.model.toolpath import arc_geometry
 from millpath.plan.base import PlanContext

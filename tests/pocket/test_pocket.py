@@ -12,7 +12,7 @@ import pytest
 import shapely
 from shapely.geometry import Polygon, box
 
-from millpath.job.schema import validate
+from millpath.io.schema import validate
 from millpath.model import Machine, Stock, Tool
 from millpath.plan.base import PlanContext
 from millpath.plan.pocket import operation as pocket

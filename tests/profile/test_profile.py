@@ -14,7 +14,7 @@ from scipy import ndimage
 from shapely.geometry import Polygon
 
 from millpath.interpret import interpret
-from millpath.job.schema import validate
+from millpath.io.schema import validate
 from millpath.model import Machine, Stock, Tool
 from millpath.plan.base import PlanContext
 from millpath.plan.profile import operation as profile

@@ -33,7 +33,7 @@ import shapely
 from shapely.geometry import Point
 
 from millpath.errors import JobError, PlanningError
-from millpath.job.schema import Param
+from millpath.io.schema import Param
 from millpath.model import Operation, Toolpath
 from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.pocket.design import PocketDesign
@@ -52,23 +52,23 @@ def _fraction(v) -> str | None:
 PARAMS = {
     **GEOMETRY_PARAMS,
     "tool": Param("int", positive=True, doc="flat or bull end mill"),
-    "top": Param("float", None, doc="Z of the pocket top (default: stock top)"),
-    "depth": Param("float", positive=True, doc="below top"),
-    "stepdown": Param("float", positive=True, doc="depth per level"),
+    "top": Param("float", None, doc="Z of the pocket top (default: stock top)", unit="length"),
+    "depth": Param("float", positive=True, doc="below top", unit="length"),
+    "stepdown": Param("float", positive=True, doc="depth per level", unit="length"),
     "strategy": Param("str", "offset", choices=("offset", "zigzag", "adaptive")),
-    "stepover": Param("float", None, positive=True, doc="default 0.4 D"),
-    "angle": Param("float", 0.0, doc="zigzag line angle from X, degrees"),
-    "engagement": Param("float", 0.15, check=_fraction, doc="adaptive: width of cut / D"),
-    "finish_allowance": Param("float", 0.0, nonneg=True),
+    "stepover": Param("float", None, positive=True, doc="default 0.4 D", unit="length"),
+    "angle": Param("float", 0.0, doc="zigzag line angle from X, degrees", unit="deg"),
+    "engagement": Param("float", 0.15, check=_fraction, doc="adaptive: width of cut / D", unit="ratio"),
+    "finish_allowance": Param("float", 0.0, nonneg=True, unit="length"),
     "entry": Param("str", "helix", choices=("helix", "ramp")),
-    "helix_radius": Param("float", None, positive=True, doc="default 0.5 x tool radius"),
-    "ramp_angle": Param("float", 3.0, positive=True),
+    "helix_radius": Param("float", None, positive=True, doc="default 0.5 x tool radius", unit="length"),
+    "ramp_angle": Param("float", 3.0, positive=True, unit="deg"),
     "direction": Param("str", "climb", choices=("climb", "conventional")),
     "rest": Param("bool", False),
-    "feed": Param("float", positive=True),
-    "plunge_feed": Param("float", None, positive=True),
-    "spindle": Param("float", 0.0),
-    "safe_z": Param("float", None),
+    "feed": Param("float", positive=True, unit="feed"),
+    "plunge_feed": Param("float", None, positive=True, unit="feed"),
+    "spindle": Param("float", 0.0, unit="rpm"),
+    "safe_z": Param("float", None, unit="length"),
 }
 
 

@@ -33,7 +33,7 @@ from shapely.geometry import LineString, Polygon
 from shapely.geometry.polygon import orient
 
 from millpath.errors import JobError, PlanningError
-from millpath.job.schema import Param
+from millpath.io.schema import Param
 from millpath.model import Operation, Toolpath
 from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.profile.leads import leads, start_on_longest
@@ -48,19 +48,19 @@ PARAMS = {
     "side": Param("str", choices=("outside", "inside")),
     "compensation": Param("str", "cam", choices=("cam", "control")),
     "direction": Param("str", "climb", choices=("climb", "conventional")),
-    "lead_radius": Param("float", None, positive=True),
-    "top": Param("float", None),
-    "depth": Param("float", positive=True),
-    "stepdown": Param("float", positive=True),
-    "tabs": Param("int", 0, nonneg=True),
-    "tab_height": Param("float", 0.0, nonneg=True),
-    "tab_width": Param("float", None, positive=True),
+    "lead_radius": Param("float", None, positive=True, unit="length"),
+    "top": Param("float", None, unit="length"),
+    "depth": Param("float", positive=True, unit="length"),
+    "stepdown": Param("float", positive=True, unit="length"),
+    "tabs": Param("int", 0, nonneg=True, unit="count"),
+    "tab_height": Param("float", 0.0, nonneg=True, unit="length"),
+    "tab_width": Param("float", None, positive=True, unit="length"),
     "rest": Param("bool", False),
-    "feed": Param("float", positive=True),
-    "plunge_feed": Param("float", None, positive=True),
-    "spindle": Param("float", 0.0),
-    "safe_z": Param("float", None),
-    "ramp_angle": Param("float", 3.0, positive=True),
+    "feed": Param("float", positive=True, unit="feed"),
+    "plunge_feed": Param("float", None, positive=True, unit="feed"),
+    "spindle": Param("float", 0.0, unit="rpm"),
+    "safe_z": Param("float", None, unit="length"),
+    "ramp_angle": Param("float", 3.0, positive=True, unit="deg"),
 }
 
 

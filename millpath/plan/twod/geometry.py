@@ -10,18 +10,18 @@ from __future__ import annotations
 from shapely.geometry import Polygon
 
 from millpath.errors import JobError
-from millpath.job.schema import Param
+from millpath.io.schema import Param
 from millpath.part.drawing import Region, read_dxf, region_from_polygon, regions_from_loops
 
 GEOMETRY_PARAMS = {
     "dxf": Param("path", None, doc="DXF drawing of the contours"),
     "layer": Param("str", None, doc="DXF layer (default: all layers)"),
     "join_tolerance": Param("float", None, positive=True,
-                            doc="largest gap closed between entity ends (default 10 x tolerance)"),
+                            doc="largest gap closed between entity ends (default 10 x tolerance)", unit="length"),
     "polygon": Param("points", None, doc="outer contour [[x, y], ...]"),
     "islands": Param("list", None, doc="islands [[[x, y], ...], ...] inside the polygon"),
     "tolerance": Param("float", None, positive=True,
-                       doc="chordal tolerance (default 0.01 mm / 0.0005 in)"),
+                       doc="chordal tolerance (default 0.01 mm / 0.0005 in)", unit="length"),
 }
 
 
