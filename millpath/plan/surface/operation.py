@@ -63,6 +63,9 @@ PARAMS = {
     "region": Param("floats", None, length=4),
     "compare": Param("bool", True),
     "name": Param("str", "surface finish"),
+    "rest": Param("bool", False, doc="cut only where earlier operations left material"),
+    "rest_allowance": Param("float", None, nonneg=True, unit="length",
+                            doc="rest: stock thinner than this is left (default: scallop)"),
 }
 
 
@@ -149,7 +152,15 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     tp.begin(Operation("surface-finish", params["name"], tool.number, params["spindle"],
                        info={"side_step": params["side_step"], "scallop": scallop,
                              "tolerance": tol, "strategy": strategy}))
-    links = add_passes(tp, sampler, res.passes, feed=feed, plunge_feed=plunge, safe_z=safe_z,
+    passes, rest_info = res.passes, None
+    if params["rest"] and ctx.remaining is not None:
+        from millpath.plan.surface.rest import rest_passes
+        thr = params["rest_allowance"] if params["rest_allowance"] is not None else scallop
+        passes, rest_info = rest_passes(res.passes, ctx.remaining, tool, thr)
+        rest_info.update(allowance=thr, cutting_length=round(
+            float(sum(np.linalg.norm(np.diff(p.points, axis=0), axis=1).sum()
+                      for p in passes)), 4))
+    links = add_passes(tp, sampler, passes, feed=feed, plunge_feed=plunge, safe_z=safe_z,
                        clearance=0.04 if inch else 1.0, link_max=3.0 * cutter.radius,
                        tolerance=tol,
                        approach_z=stock_top if ctx.stock is not None else np.inf)
@@ -173,6 +184,8 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
                             "holder clears the surface; material is left there")
                    if n_lifted else "no contact"},
     }
+    if rest_info is not None:
+        section["rest"] = rest_info
     if wres is not None:
         dz = -np.diff(wres.levels) if len(wres.levels) > 1 else np.zeros(1)
         section["waterline"] = {
