@@ -190,7 +190,8 @@ def _field(ctx, free, R, z, threshold, stock_top, top) -> MaterialField | None:
     h = R / 8.0
     raster = Raster.around(free.bounds, h, R + 2 * h)
     heights = stock_heights(ctx.remaining, raster, stock_top if stock_top is not None else top)
-    return MaterialField(heights, raster, z, threshold, R)
+    reach = raster.inside(offset(free, R), margin=h)
+    return MaterialField(heights, raster, z, threshold, R, reach)
 
 
 def _finish(tp, ctx, params, regions, tool, top, floor, safe, upper, clearance, stepover,

@@ -4,7 +4,8 @@ Built from the planning context's ``remaining`` stock (``height(x, y)``: top of 
 material left by earlier operations, job units) or, for the first operation, a full
 block. ``material`` marks cells whose stock top is above ``z + threshold``;
 ``touch`` marks the tool-centre positions whose disk of radius ``R`` (plus one cell)
-meets such a cell. Cells are ``h`` wide; lengths in job units.
+meets such a cell; ``within`` limits the material to cells the tool can reach (corners
+it cannot enter are not worth a visit). Cells are ``h`` wide; lengths in job units.
 """
 
 from __future__ import annotations
@@ -67,11 +68,13 @@ class MaterialField:
     """Material above one Z, and the tool positions that meet it."""
 
     def __init__(self, heights: np.ndarray, raster: Raster, z: float, threshold: float,
-                 radius: float):
+                 radius: float, within: np.ndarray | None = None):
         self.raster = raster
         self.heights = heights
         self.z = z
         self.material = heights > z + threshold
+        if within is not None:            # material the tool can reach at all
+            self.material &= within
         self.radius = radius
         if self.material.all():
             self.dist = np.zeros(self.material.shape)
