@@ -9,6 +9,8 @@ Layout::
     [stock]        box = [xmin, ymin, zmin, xmax, ymax, zmax]
     [machine]      rapid, max_feed (units/min), acceleration (units/s^2)
     [simulation]   resolution (job units), enabled (bool)
+    [reference]    a document's published numbers the job reproduces (free-form
+                   table, copied into report.json as "reference")
     [[tools]]      number, type, diameter, ...   (see millpath.io.toollib)
     [[operations]] type = "...", tool = N, ...   (keys per strategy)
 
@@ -34,6 +36,7 @@ TOP = {
     "units": Param("str", choices=("mm", "inch")),
     "name": Param("str", ""),
     "description": Param("str", ""),
+    "reference": Param("table", None),  # a document's published numbers, copied to the report
     "fit": Param("str", "none", choices=("none", "arcs", "arcs+cubics")),
     "fit_tolerance": Param("float", None, positive=True),
     "stock": Param("table", None),
@@ -68,6 +71,7 @@ class Job:
     fit: str = "none"
     fit_tolerance: float = 0.005
     simulation: dict[str, Any] = field(default_factory=dict)
+    reference: dict[str, Any] | None = None     # published numbers the job reproduces
 
     @property
     def base_dir(self) -> Path:
@@ -137,4 +141,5 @@ def job_from_dict(data: dict, path: Path | None = None) -> Job:
     default_tol = 0.0002 if units == "inch" else 0.005
     return Job(path=path, units=units, name=top["name"] or (path.stem if path else "job"),
                stock=stock, machine=machine, tools=tools, operations=ops, fit=top["fit"],
-               fit_tolerance=top["fit_tolerance"] or default_tol, simulation=sim)
+               fit_tolerance=top["fit_tolerance"] or default_tol, simulation=sim,
+               reference=top["reference"])
