@@ -159,3 +159,21 @@ def test_rs274_accepts_the_thesis_programs(gp, name, rs274):
     assert r.ok, f"{name}: rs274 rejected line {r.error_line}: {r.error}"
     if not res.toolpath.counts()["cubic"]:
         assert compare_toolpath(res.toolpath, lines, r.motions, 1.5e-4) == []
+
+
+def test_the_printed_cmm_points_are_too_few_for_a_measured_grid(shared_dir):
+    """§4.5 / Fig. 24 prints 12 measured points (with elisions) of a 0.3 in grid: 3 of
+    its 9 columns, not a bottom (pocket-measured explains why it uses other data)."""
+    text = (shared_dir / SEED).read_text()
+    start = text.index("Measured points are")
+    part = text[start:text.index("Figure 24. An Example", start)]
+    pts = np.array([[float(v) for v in m]
+                    for m in re.findall(r"\((-?[\d.]+),\s*(-?[\d.]+),\s*(-?[\d.]+)\)", part)])
+    assert len(pts) == 12
+    assert np.allclose(pts[:, :2] / 0.3, np.round(pts[:, :2] / 0.3))     # on the 0.3 grid
+    nx = round((pts[:, 0].max() - pts[:, 0].min()) / 0.3) + 1
+    ny = round((pts[:, 1].max() - pts[:, 1].min()) / 0.3) + 1
+    assert (nx, ny) == (9, 7)
+    assert sorted(set(pts[:, 0].tolist())) == [0.0, 0.9, 2.4]
+    assert len(pts) < nx * ny
+    assert "3 of the grid's 9 columns" in (EXAMPLE.parent / "pocket-measured" / "job.toml").read_text()
