@@ -39,7 +39,7 @@ import numpy as np
 import shapely
 
 from millpath.errors import GeometryError, JobError
-from millpath.job.schema import Param
+from millpath.io.schema import Param
 from millpath.part.surface import BezierPatch, MeasuredGrid
 from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.gridpocket.cells import pocket_polygon, polygon_problem
@@ -106,10 +106,16 @@ PARAMS: dict[str, Param] = {
     "grid": Param("floats", None, length=2, check=_grid_problem, doc="[dx, dy] cell size"),
     "depths": Param("floats", None, check=_depths_problem, doc="floor Z of each layer"),
     "step": Param("float", None, positive=True, doc="uniform depth of cut"),
-    "grid_centre": Param("floats", None, length=2, doc="[x, y] of one cell centre"),
-    "navigation": Param("str", "wall-first", choices=("wall-first", "straight-first")),
+    "grid_centre": Param("floats", None, length=2, unit="length",
+                         doc="[x, y] of one cell centre the grid is anchored to "
+                             "(default: cells tile the bounding box from its corner)"),
+    "navigation": Param("str", "wall-first", choices=("wall-first", "straight-first"),
+                        doc="direction priority of the main path: the thesis's "
+                            "(turn towards the wall first) or straight on first"),
     "motion": Param("str", "line", choices=("line", "arc", "bezier")),
-    "bezier_parameters": Param("str", "chord", choices=("chord", "uniform")),
+    "bezier_parameters": Param("str", "chord", choices=("chord", "uniform"),
+                               doc="cubic fit parameters: chord length, or the thesis's "
+                                   "uniform u1 = 1/(n-1)"),
     "tolerance": Param("float", None, positive=True, doc="fitting tolerance"),
     "zigzag": Param("bool", True, doc="X and Y zigzag clean-up"),
     "feed": Param("float", positive=True, doc="roughing feed"),
