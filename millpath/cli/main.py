@@ -16,7 +16,7 @@ import click
 from millpath import __version__
 from millpath.errors import MillpathError
 
-COMMANDS = ("run", "demo", "check", "simulate", "features", "drop", "fit")
+COMMANDS = ("run", "demo", "check", "simulate", "features", "drop", "fit", "view")
 
 
 class _Group(click.Group):
