@@ -379,6 +379,7 @@ function applyVisibility() {
   if (surface) { surface.visible = layer.surface; skirt.visible = layer.surface; }
   if (overlay) overlay.visible = layer.design;
   stockBox.visible = layer.box;
+  axes.visible = layer.box;
   toolAnchor.visible = layer.tool;
   for (const m of markers) { m.g.visible = layer.markers; m.div.style.display = layer.markers ? '' : 'none'; }
   requestRender();
@@ -438,19 +439,44 @@ function setColourBy(mode) {
 
 // ---- views ---------------------------------------------------------------------------------
 const VIEWS = { top: [0, -1e-4, 1], front: [0, -1, 0], iso: [1, -1, 0.9], right: [1, 0, 0] };
+function freeLeft() {                       // pixels on the left covered by the panel
+  const panel = $('panel');
+  const w = host.clientWidth;
+  if (!panel || panel.hidden || w < 700) return 0;
+  return Math.min(panel.getBoundingClientRect().right + 8, w / 2);
+}
+function layoutCamera() {
+  // centre the picture in the part of the window the panel leaves free
+  const w = host.clientWidth, h = host.clientHeight;
+  camera.aspect = w / h;
+  const left = freeLeft();
+  if (left > 0) camera.setViewOffset(w, h, -left / 2, 0, w, h); else camera.clearViewOffset();
+  camera.updateProjectionMatrix();
+}
 function fit(dirArr) {
+  // look along dir at the bounds' centre from the nearest distance that shows all eight
+  // corners of the bounds in the free part of the window
+  layoutCamera();
   const c = bounds.getCenter(new THREE.Vector3());
-  const r = bounds.getSize(new THREE.Vector3()).length() / 2 || 1;
   const dir = dirArr ? new THREE.Vector3(...dirArr).normalize()
     : camera.position.clone().sub(controls.target).normalize();
-  const fov = THREE.MathUtils.degToRad(camera.fov);
-  const aspect = camera.aspect;
-  const half = Math.min(fov / 2, Math.atan(Math.tan(fov / 2) * aspect));
-  const dist = (r / Math.sin(half)) * 1.02;
+  const right = new THREE.Vector3().crossVectors(camera.up, dir);
+  if (right.lengthSq() < 1e-12) right.set(1, 0, 0);
+  right.normalize();
+  const up = new THREE.Vector3().crossVectors(dir, right).normalize();
+  const w = host.clientWidth, h = host.clientHeight;
+  const tanV = Math.tan(THREE.MathUtils.degToRad(camera.fov) / 2) * 0.92;
+  const tanH = tanV * Math.max(w - freeLeft(), 1) / h;
+  let dist = 0;
+  const p = new THREE.Vector3();
+  for (let k = 0; k < 8; k++) {
+    p.set(k & 1 ? bounds.max.x : bounds.min.x, k & 2 ? bounds.max.y : bounds.min.y,
+      k & 4 ? bounds.max.z : bounds.min.z).sub(c);
+    const x = p.dot(right), y = p.dot(up), z = p.dot(dir);
+    dist = Math.max(dist, Math.abs(x) / tanH + z, Math.abs(y) / tanV + z);
+  }
+  dist = Math.max(dist, 1e-6);
   camera.position.copy(c).addScaledVector(dir, dist);
-  camera.near = dist / 200;
-  camera.far = dist * 20;
-  camera.updateProjectionMatrix();
   controls.target.copy(c);
   controls.update();
   requestRender();
@@ -504,6 +530,11 @@ function setPlaying(on) {
 // ---- rendering ------------------------------------------------------------------------------
 const tmp = new THREE.Vector3();
 function render() {
+  // depth range from the camera's distance to the scene, so zooming never clips
+  const d = camera.position.distanceTo(bounds.getCenter(tmp));
+  camera.near = Math.max(d - size, d * 0.01, size * 1e-4);
+  camera.far = d + size * 2;
+  camera.updateProjectionMatrix();
   sun.position.copy(camera.position);
   sun.target.position.copy(controls.target);
   renderer.render(scene, camera);
@@ -521,9 +552,8 @@ function render() {
   }
 }
 window.addEventListener('resize', () => {
-  camera.aspect = host.clientWidth / host.clientHeight;
-  camera.updateProjectionMatrix();
   renderer.setSize(host.clientWidth, host.clientHeight);
+  layoutCamera();
   requestRender();
 });
 
@@ -596,10 +626,19 @@ function buildPanel() {
 Object.assign(api, {
   moves: M,
   operations: ops.length,
-  get move() { return cur; },
-  get selected() { return selected; },
   setMove, select, fit: (name) => fit(name ? VIEWS[name] : null), setColourBy, pickAt,
   toolTip: () => toolAnchor.position.toArray(),
+  // bounding boxes of the shown tool relative to its tip: the cutter, and everything
+  toolBox: () => {
+    const g = toolMeshes.get(api.shownTool);
+    if (!g) return null;
+    toolAnchor.updateMatrixWorld(true);
+    const rel = (obj) => {
+      const b = new THREE.Box3().setFromObject(obj);
+      return [b.min.sub(toolAnchor.position).toArray(), b.max.sub(toolAnchor.position).toArray()];
+    };
+    return { cutter: rel(g.children[0]), all: rel(g) };
+  },
   motionLine: (k) => mLine[k],
   motionEnd: (k) => Array.from(pts.slice(mLast[k] * 3, mLast[k] * 3 + 3)),
   // client pixel of the middle of motion k's polyline (for clicking it)
@@ -614,6 +653,8 @@ Object.assign(api, {
   },
 });
 
+Object.defineProperty(api, 'move', { get: () => cur });          // live, unlike Object.assign
+Object.defineProperty(api, 'selected', { get: () => selected });
 buildPanel();
 colourSurface(D.tolerance);
 setColourBy('operation');
