@@ -563,8 +563,10 @@ function buildPanel() {
   const v = D.verification;
   const rows = [['program', `${D.program_name}, ${M} moves, ${units}`]];
   if (v) {
-    if (v.max_gouge !== null && v.max_gouge !== undefined) rows.push(['max gouge', `${fmt(v.max_gouge)} ${units}`]);
-    if (v.max_left !== null && v.max_left !== undefined) rows.push(['max left', `${fmt(v.max_left)} ${units}`]);
+    // the same figures as the markers (the report rounds them to 6 decimals)
+    const g = S && sDev ? S.max_gouge : v.max_gouge, l = S && sDev ? S.max_left : v.max_left;
+    if (g !== null && g !== undefined) rows.push(['max gouge', `${fmt(g)} ${units}`]);
+    if (l !== null && l !== undefined) rows.push(['max left', `${fmt(l)} ${units}`]);
     rows.push(['removed', `${fmt(v.removed_volume, 6)} ${units}³`]);
     rows.push(['rapids in material', String(v.rapids_through_material)]);
     rows.push(['holder contacts', String(v.holder_contacts)]);
