@@ -100,6 +100,8 @@ def simulate_program(program: Path, tools_path: Path | None, stock_text: str,
     if not program.is_file():
         raise MillpathError("program not found", program)
     stock = parse_stock(stock_text)
+    if design_path is not None and not design_path.is_file():
+        raise MillpathError("design file not found", design_path)
     tools, tool_arg = read_tools(tools_path, "mm")
     res = interpret_program(program, tool_arg, "mm")
     units = res.units
