@@ -126,6 +126,9 @@ def simulate_program(program: Path, tools_path: Path | None, stock_text: str,
             resolution = min(resolution, min(tools[t].diameter for t in used) / 10.0)
     if not (resolution > 0 and math.isfinite(resolution)):
         raise MillpathError(f"--resolution must be a positive length, not {resolution}")
-    r = simulate_motions(motions, tools, stock, resolution=resolution, design=design,
-                         machine=Machine.default_for(units), progress=progress)
+    try:
+        r = simulate_motions(motions, tools, stock, resolution=resolution, design=design,
+                             machine=Machine.default_for(units), progress=progress)
+    except ValueError as e:                    # --resolution too fine, a tool's shape
+        raise MillpathError(str(e), program) from None
     return SimulatedProgram(units, motions, tools, stock, design, resolution, r)
