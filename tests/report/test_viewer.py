@@ -99,7 +99,8 @@ def open_page(browser, html: Path, size=(1280, 800)):
 
 def screenshot(page, path: Path) -> np.ndarray:
     import matplotlib.image as mpimg
-    page.wait_for_timeout(200)
+    page.evaluate("window.millpathViewer.nextFrame()")
+    page.wait_for_timeout(100)
     page.screenshot(path=str(path))
     return (mpimg.imread(str(path))[:, :, :3] * 255).round().astype(int)
 
@@ -241,7 +242,7 @@ def test_clicking_a_move_selects_it_and_shows_line_and_feed(demo_run, browser):
         page.add_style_tag(content="#panel { display: none !important; }")
         page.evaluate("() => { document.getElementById('show-rapids').click();"
                       " window.millpathViewer.fit('top'); }")
-        page.wait_for_timeout(200)
+        page.evaluate("window.millpathViewer.nextFrame()")
         # a long straight feed move whose middle no other feed move at its height or
         # above passes near (in XY): from the top, the click can only be on it
         feeds = []
@@ -277,7 +278,9 @@ def test_clicking_a_move_selects_it_and_shows_line_and_feed(demo_run, browser):
         assert k >= 0
         x, y = page.evaluate(f"window.millpathViewer.screenOf({k})")
         page.mouse.click(x, y)
-        assert page.evaluate("window.millpathViewer.selected") == k
+        assert page.evaluate("window.millpathViewer.selected") == k, (
+            x, y, line, lines[line - 1], page.evaluate(f"window.millpathViewer.pickAt({x}, {y})"),
+            page.evaluate(f"document.elementFromPoint({x}, {y}).id"))
         assert page.locator("#selection").is_visible()
         assert int(page.locator("#sel-line").inner_text()) == line
         assert page.locator("#sel-text").inner_text().strip() == lines[line - 1].strip()

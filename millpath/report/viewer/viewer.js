@@ -486,6 +486,7 @@ function fit(dirArr) {
 const raycaster = new THREE.Raycaster();
 function pickAt(clientX, clientY) {
   const rect = renderer.domElement.getBoundingClientRect();
+  camera.updateMatrixWorld();               // the view may have changed since the last frame
   const ndc = new THREE.Vector2(((clientX - rect.left) / rect.width) * 2 - 1,
     -((clientY - rect.top) / rect.height) * 2 + 1);
   raycaster.setFromCamera(ndc, camera);
@@ -529,6 +530,7 @@ function setPlaying(on) {
 
 // ---- rendering ------------------------------------------------------------------------------
 const tmp = new THREE.Vector3();
+let frameWaiters = [];
 function render() {
   // depth range from the camera's distance to the scene, so zooming never clips
   const d = camera.position.distanceTo(bounds.getCenter(tmp));
@@ -545,6 +547,10 @@ function render() {
     m.div.style.left = `${((tmp.x + 1) / 2) * rect.width}px`;
     m.div.style.top = `${((1 - tmp.y) / 2) * rect.height}px`;
   }
+  api.frames = (api.frames || 0) + 1;
+  const waiting = frameWaiters;
+  frameWaiters = [];
+  for (const resolve of waiting) resolve(api.frames);
   if (!api.ready) {
     api.ready = true;
     api.readyMs = performance.now();
@@ -630,6 +636,8 @@ Object.assign(api, {
   operations: ops.length,
   setMove, select, fit: (name) => fit(name ? VIEWS[name] : null), setColourBy, pickAt,
   toolTip: () => toolAnchor.position.toArray(),
+  // a promise of the next frame drawn (with everything changed so far)
+  nextFrame: () => new Promise((resolve) => { frameWaiters.push(resolve); requestRender(); }),
   // bounding boxes of the shown tool relative to its tip: the cutter, and everything
   toolBox: () => {
     const g = toolMeshes.get(api.shownTool);
@@ -648,6 +656,7 @@ Object.assign(api, {
     const a = mFirst[k], b = mLast[k];
     const p = a + Math.floor((b - a) / 2);
     const q = Math.min(p + 1, b);
+    camera.updateMatrixWorld();
     tmp.set((pts[p * 3] + pts[q * 3]) / 2, (pts[p * 3 + 1] + pts[q * 3 + 1]) / 2,
       (pts[p * 3 + 2] + pts[q * 3 + 2]) / 2).project(camera);
     const rect = renderer.domElement.getBoundingClientRect();
