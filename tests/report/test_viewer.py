@@ -162,7 +162,17 @@ def test_page_draws_toolpath_and_stock_without_errors(demo_run, browser, tmp_pat
         # the tool path alone
         page.evaluate("""() => { for (const id of ['show-surface', 'show-box', 'show-tool',
                               'show-markers']) document.getElementById(id).click(); }""")
-        path_only = off_background(screenshot(page, tmp_path / "path.png"))
+        path_img = screenshot(page, tmp_path / "path.png")
+        path_only = off_background(path_img)
+        # coloured by feed instead of by operation: the same pixels, other colours
+        page.evaluate("() => document.querySelector('input[name=colour][value=feed]').click()")
+        feed_img = screenshot(page, tmp_path / "path-feed.png")
+        page.evaluate("() => document.querySelector('input[name=colour][value=operation]')"
+                      ".click()")
+        # every operation hidden in the operations list: no tool path left
+        page.evaluate("() => document.querySelectorAll('#ops input').forEach(b => b.click())")
+        ops_hidden = off_background(screenshot(page, tmp_path / "ops-hidden.png"))
+        page.evaluate("() => document.querySelectorAll('#ops input').forEach(b => b.click())")
         # the stock alone
         page.evaluate("""() => { for (const id of ['show-surface', 'show-feeds', 'show-rapids'])
                               document.getElementById(id).click(); }""")
@@ -177,6 +187,10 @@ def test_page_draws_toolpath_and_stock_without_errors(demo_run, browser, tmp_pat
     h, w = nothing.shape
     assert nothing.sum() == 0
     assert path_only.sum() > 2000                      # lines: a few thousand pixels
+    assert ops_hidden.sum() == 0
+    changed = np.abs(feed_img - path_img).max(axis=2) > 30
+    assert changed[path_only].mean() > 0.3 and not changed[~off_background(feed_img)
+                                                           & ~path_only].any()
     assert stock_only.sum() > 0.15 * h * w             # the block fills a good part
     assert off_background(full).sum() > stock_only.sum()
     # the tool path is drawn where the stock is (same camera): mostly inside its picture
@@ -227,6 +241,21 @@ def test_slider_puts_the_tool_at_the_move_it_names(demo_run, browser, job):
             tools_seen.add(tool)
         assert checked >= 20
         assert len(tools_seen) >= 2
+        # Play runs the program from the start, move by move, with the tool following
+        page.locator("#slider").fill("0")
+        page.select_option("#speed", "50")
+        page.locator("#play").click()
+        page.wait_for_function("window.millpathViewer.move >= 5", timeout=60_000)
+        page.locator("#play").click()
+        k = page.evaluate("window.millpathViewer.move")
+        assert 5 <= k < moves - 1
+        page.wait_for_timeout(300)
+        assert page.evaluate("window.millpathViewer.move") == k           # paused
+        line = int(page.locator("#line-no").inner_text())
+        assert page.evaluate(f"window.millpathViewer.motionLine({k})") == line
+        pos, _, _, simple, _ = ref[line]
+        if simple:
+            assert np.allclose(page.evaluate("window.millpathViewer.toolTip()"), pos, atol=1e-4)
         assert not log["errors"] and not [m for m in log["console"] if m[0] == "error"]
     finally:
         page.close()

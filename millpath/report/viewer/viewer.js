@@ -623,7 +623,9 @@ function buildPanel() {
   $('sel-go').addEventListener('click', () => { if (selected >= 0) setMove(selected); });
   $('sel-close').addEventListener('click', () => select(-1));
   window.addEventListener('keydown', (e) => {
-    if (e.target instanceof HTMLInputElement && e.target.type === 'number') return;
+    // the slider, number fields and menus handle their own keys
+    if (e.target instanceof HTMLSelectElement) return;
+    if (e.target instanceof HTMLInputElement && (e.target.type === 'number' || e.target.type === 'range')) return;
     if (e.key === 'ArrowRight') setMove(cur + 1);
     else if (e.key === 'ArrowLeft') setMove(cur - 1);
     else if (e.key === ' ') { e.preventDefault(); setPlaying(!playing); }
