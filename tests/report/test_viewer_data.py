@@ -218,3 +218,18 @@ def test_view_program_error_names_file_and_line(slot_files):
     assert r.exit_code == 1 and r.output.count("\n") == 1
     assert r.output.startswith(f"millpath: error: {d / 'bad.ngc'}:")
     assert not out.exists()
+
+
+def test_program_text_cannot_break_out_of_the_page(tmp_path):
+    from millpath.model.stock import Stock
+    from millpath.report.viewer import write_view
+    program = "(</script><!--<script>alert(1)</script> see http://example.com)\nG0 X1 Y2 Z3\n"
+    mo = [Motion("traverse", 2, (0.0, 0.0, 3.0), (1.0, 2.0, 3.0), tool=0)]
+    out = write_view(tmp_path / "v.html", program=program, motions=mo, tools={},
+                     stock=Stock(0, 0, -1, 10, 10, 0), units="mm", title="<b>t</b>")
+    text = out.read_text()
+    block = re.search(r'id="millpath-data">(.*?)</script>', text, re.S).group(1)
+    assert "<" not in block and "/" not in block.replace("\\/", "")
+    assert json.loads(block)["program"] == program
+    assert "<title>&lt;b&gt;t&lt;/b&gt;</title>" in text
+    assert text.count("</script>") == 3            # import map, data, viewer script

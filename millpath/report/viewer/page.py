@@ -4,8 +4,9 @@ The page is ``template.html`` with the style sheet, the viewer script, the scene
 and three.js inlined. three.js's ES modules (``vendor/``, unchanged) are reached through
 an import map of ``data:`` URLs, so the page loads nothing but itself: no CDN, no
 external script, style sheet or font. The scene data is a JSON block whose typed arrays
-are base64 (little-endian) strings; every ``/`` in it is written ``\\/`` (same JSON
-value) so that no ``</script>`` can close the block early.
+are base64 (little-endian) strings; every ``/`` in it is written ``\\/`` and every
+``<`` as ``\\u003c`` (same JSON values), so no text of the program (a comment holding
+``</script>`` or ``<!--``) can end or change the block.
 """
 
 from __future__ import annotations
@@ -61,7 +62,8 @@ def render_page(data: dict[str, Any], *, title: str, units: str, version: str) -
         "THREE_VERSION": THREE_VERSION,
         "STYLE": _asset("viewer.css"),
         "IMPORTMAP": import_map(),
-        "DATA": json.dumps(data, separators=(",", ":"), allow_nan=False).replace("/", "\\/"),
+        "DATA": json.dumps(data, separators=(",", ":"), allow_nan=False)
+        .replace("/", "\\/").replace("<", "\\u003c"),
         "APP": _asset("viewer.js"),
     }
     return re.sub(r"\{\{([A-Z_]+)\}\}", lambda m: parts[m.group(1)], _asset("template.html"))
