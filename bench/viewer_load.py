@@ -6,7 +6,8 @@ Figures: the CPU seconds millpath spends writing view.html inside ``millpath run
 the page in Chromium: wall seconds from navigation to the first frame drawn (best of
 ``--repeat``) with the page's own phase timings, and the seconds the renderer's main
 thread is busy (DevTools Performance metrics TaskDuration / ScriptDuration; SwiftShader's
-drawing in the GPU process is not in them), side by side with an empty page. The machine's load average is printed:
+drawing in the GPU process is not in them), side by side with an empty page, and the
+time per frame while orbiting (``orbit_frame_ms``: ten frames, each drawn and read back). The machine's load average is printed:
 SwiftShader draws on the CPU, so on a shared machine wall times grow with the load; a
 browser with a GPU draws the surface far faster.
 
@@ -82,6 +83,9 @@ def page_load(url: str, repeat: int) -> tuple[float, dict, dict]:
                 timings = page.evaluate("window.millpathViewer.timings")
                 m = {x["name"]: x["value"] for x in cdp.send("Performance.getMetrics")["metrics"]}
                 busy = {k: round(m[k], 2) for k in ("TaskDuration", "ScriptDuration") if k in m}
+                if page.evaluate("typeof window.millpathViewer.frameMs") == "function":
+                    timings["orbit_frame_ms"] = round(
+                        page.evaluate("window.millpathViewer.frameMs(10)"), 1)
             page.close()
         b.close()
     return best, timings, busy

@@ -638,6 +638,20 @@ Object.assign(api, {
   operations: ops.length,
   setMove, select, fit: (name) => fit(name ? VIEWS[name] : null), setColourBy, pickAt,
   toolTip: () => toolAnchor.position.toArray(),
+  // milliseconds per frame while orbiting the camera about the target by n small steps
+  // (each frame drawn and read back, so the GPU work is included)
+  frameMs: (n = 10) => {
+    const gl = renderer.getContext();
+    const px = new Uint8Array(4);
+    const t0 = performance.now();
+    for (let i = 0; i < n; i++) {
+      camera.position.sub(controls.target).applyAxisAngle(camera.up, 0.05).add(controls.target);
+      camera.lookAt(controls.target);
+      render();
+      gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, px);
+    }
+    return (performance.now() - t0) / n;
+  },
   // a promise of the next frame drawn (with everything changed so far)
   nextFrame: () => new Promise((resolve) => { frameWaiters.push(resolve); requestRender(); }),
   // bounding boxes of the shown tool relative to its tip: the cutter, and everything
