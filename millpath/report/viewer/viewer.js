@@ -64,11 +64,27 @@ const OP_COLOURS = ['#1f77b4', '#ff7f0e', '#2ca02c', '#d62728', '#9467bd', '#8c5
 const FEED_STOPS = ['#30123b', '#4686fb', '#1ae4b6', '#a2fc3c', '#fabb39', '#e4460a', '#7a0403'].map(srgb);
 
 // ---- renderer, camera, controls -----------------------------------------------------
+function softwareGL() {
+  try {
+    const gl = document.createElement('canvas').getContext('webgl2');
+    if (!gl) return false;
+    const info = gl.getExtension('WEBGL_debug_renderer_info');
+    const name = String(gl.getParameter(info ? info.UNMASKED_RENDERER_WEBGL : gl.RENDERER));
+    const lose = gl.getExtension('WEBGL_lose_context');
+    if (lose) lose.loseContext();
+    return /swiftshader|llvmpipe|softpipe|software/i.test(name);
+  } catch (e) {
+    return false;
+  }
+}
 THREE.Object3D.DEFAULT_UP.set(0, 0, 1);
 const host = $('view');
 let renderer;
 try {
-  renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+  // multisampling costs a software renderer (SwiftShader, llvmpipe) about 4x per frame:
+  // keep it for GPUs only
+  api.softwareGL = softwareGL();
+  renderer = new THREE.WebGLRenderer({ antialias: !api.softwareGL, preserveDrawingBuffer: true });
 } catch (e) {
   $('status').textContent = 'WebGL is not available in this browser: ' + e.message;
   throw e;
