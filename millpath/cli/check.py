@@ -65,7 +65,9 @@ def _lengths(motions: MotionList) -> tuple[np.ndarray, np.ndarray]:
     start, end, center = a["start"], a["end"], a["center"]
     kind, rot, plane = a["kind"], a["rotation"], a["plane"]
     n = len(kind)
-    length = np.linalg.norm(end - start, axis=1) if n else np.zeros(0)
+    d = end - start
+    # hypot: no overflow for coordinates near the float limit
+    length = np.hypot(np.hypot(d[:, 0], d[:, 1]), d[:, 2]) if n else np.zeros(0)
     axes = np.array([(0, 1, 2), (2, 0, 1), (1, 2, 0)])
     for i in np.nonzero(kind == KINDS.index("arc"))[0]:
         a1, a2, an = axes[plane[i]]
@@ -159,4 +161,5 @@ def command(program: Path, tools: Path | None, machine_units: str, as_json: bool
     click.echo(f"  feed length {s['feed_length']:.3f} {u}, rapid length "
                f"{s['rapid_length']:.3f} {u}")
     t = s["cycle_time_s"]
-    click.echo(f"  cycle time {int(t // 60)}:{t % 60:04.1f} (rapids at {RAPID[u]:g} {u}/min)")
+    clock = f"{int(t // 60)}:{t % 60:04.1f}" if math.isfinite(t) else "too long to express"
+    click.echo(f"  cycle time {clock} (rapids at {RAPID[u]:g} {u}/min)")

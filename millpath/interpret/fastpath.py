@@ -36,14 +36,14 @@ class FastPath:
         self.blk = Block(0, "")
         self.k = 0
 
-    def run(self, lines: list[str], k: int, base: int = 0) -> int:
+    def run(self, lines: list[str], k: int, base: int = 0, stop: int | None = None) -> int:
         """Execute ``lines[k:]`` (line ``k`` is source line ``base + k + 1``) while they
         have the simple shape; return the index of the first line the general reader must
         handle (or ``len(lines)``)."""
         match = self.match
         m = self.m
         one = self.groups
-        end_k = len(lines)
+        end_k = len(lines) if stop is None else stop
         try:
             return self._loop(lines, k, end_k, match, m, one, base)
         except GCodeError as e:

@@ -16,7 +16,7 @@ from millpath.interpret.arcs import arc_center_ijk, arc_center_r
 from millpath.interpret.comp import CompMixin
 from millpath.interpret.cycles import CycleMixin, CYCLES
 from millpath.interpret.errors import GCodeError
-from millpath.interpret.lexer import AXES, Block
+from millpath.interpret.lexer import AXES, Block, c_int
 from millpath.interpret.store import KIND_CODE, PACK, MotionList, PLANE_CODE
 
 PLANE_AXES = {"XY": (0, 1, 2), "XZ": (2, 0, 1), "YZ": (1, 2, 0)}
@@ -272,7 +272,7 @@ class Machine(CompMixin, CycleMixin):
                                  "G89 or M50 M51 M52 M53 M62 M63 M64 M65 M66 M98 or user M "
                                  "code to use it")
             p = w["p"]
-            pv = math.floor(p + 0.5)
+            pv = c_int(p + 0.5)                        # rs274's round_to_int
             if (motion in (20, 30) or m.get(7) == 19) and abs(pv - p) > 0.001:
                 raise GCodeError("P value not an integer with M19 G2 or G3")
             if motion in (20, 30) and pv < 1:
