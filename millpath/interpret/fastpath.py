@@ -1,8 +1,9 @@
 """Fast path for the commonest block shapes:
 ``[N..] [G0-3] [X] [Y] [Z] [I] [J] [K] [R] [F] [(comment) | ;comment]``.
 
-One regular expression recognizes such a line (words in this order, plain numbers, no
-parameters or expressions) and hands its values straight to the machine's motion code,
+A regular expression recognizes such a line (plain numbers, no parameters or
+expressions; one tried first for the words in this order, a second for any order and
+case) and hands its values straight to the machine's motion code,
 skipping the general reader and the block checks, which cannot fail for these words
 when the motion is G0-G3. Any other line goes to the general reader, so behaviour and
 errors are the same either way; only the time differs.
@@ -24,7 +25,23 @@ _FAST = re.compile(r"[ \t]*+(?:[Nn][ \t]*+\d++(?:\.\d*+)?+[ \t]*+)?+"
                    r"(?:[Gg]0*([0-3])(?![\d.])[ \t]*+)?+"
                    + "".join(rf"(?:[{u}{u.lower()}][ \t]*+{_NUM}[ \t]*+)?+" for u in "XYZIJKRF")
                    + r"(?:\([^()]*+\)[ \t]*+|;.*+)?+\r?")
+# The same words in any order and case (``G`` with spaces before its digits too): each
+# alternative refuses a second word of its letter later on the line (before a comment),
+# so a duplicate goes to the general reader, which reports it. Groups come out in the
+# order of ``_FAST``'s.
+_W = r"[ \t]*+"
+_FREE = re.compile(
+    rf"{_W}(?:[Nn]{_W}\d++(?:\.\d*+)?+{_W})?+(?:(?:"
+    + "|".join([rf"[Gg]{_W}0*+([0-3])(?![\d.])(?![^(;]*[Gg])"]
+               + [rf"[{u}{u.lower()}]{_W}{_NUM}(?![^(;]*[{u}{u.lower()}])" for u in "XYZIJKRF"])
+    + rf"){_W})*+(?:\([^()]*+\){_W}|;.*+)?+\r?")
 _LETTERS = "xyzijkrf"
+
+
+def match_simple(line: str):
+    """Regex match of a simple motion line (words G0-G3 X Y Z I J K R F, plain numbers,
+    any order and case), or None; ``groups()`` are (g, x, y, z, i, j, k, r, f)."""
+    return _FAST.fullmatch(line) or _FREE.fullmatch(line)
 
 
 class FastPath:
@@ -32,9 +49,25 @@ class FastPath:
 
     def __init__(self, machine) -> None:
         self.m = machine
-        self.match = _FAST.fullmatch
+        self.match = match_simple
+        self.sampled = None
+        self.first, self.second = _FAST.fullmatch, _FREE.fullmatch
         self.blk = Block(0, "")
         self.k = 0
+
+    def order(self, lines: list[str]):
+        """The two regexes, the one most of ``lines`` match in full tried first (from a
+        sample of 200 lines; both accept every line of the ordered shape)."""
+        if self.sampled is not lines:
+            self.sampled = lines
+            step = max(len(lines) // 200, 1)
+            sample = lines[::step]
+            hits = sum(1 for s in sample if _FAST.fullmatch(s))
+            if hits >= 0.7 * len(sample):
+                self.first, self.second = _FAST.fullmatch, _FREE.fullmatch
+            else:
+                self.first, self.second = _FREE.fullmatch, _FAST.fullmatch
+        return self.first, self.second
 
     def run(self, lines: list[str], k: int, base: int = 0, stop: int | None = None) -> int:
         """Execute ``lines[k:]`` (line ``k`` is source line ``base + k + 1``) while they
@@ -76,10 +109,14 @@ class FastPath:
         moved = False
         straight = False
         try:
+            first, second = self.order(lines)
             while k < end_k:
-                mt = match(lines[k])
+                line = lines[k]
+                mt = first(line)
                 if mt is None:
-                    return k
+                    mt = second(line)
+                    if mt is None:
+                        return k
                 g, x, y, z, i, j, kk, r, f = mt.groups()
                 if g is None:
                     code = mode if (x is not None or y is not None or z is not None) else -1
