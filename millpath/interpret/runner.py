@@ -62,6 +62,7 @@ def _run_flow(text: str, machine: Machine) -> tuple[str, MotionList, tuple[int, 
     percent = None
     k = 0
     n = 0
+    executed = 0
     try:
         flow = Flow(lines, machine)
         while k < len(lines):
@@ -77,6 +78,9 @@ def _run_flow(text: str, machine: Machine) -> tuple[str, MotionList, tuple[int, 
             elif percent and raw.strip().startswith("%"):
                 machine.flush_comp(n)
                 return machine.units, machine.store, None
+            executed += 1
+            if not executed & 0xFFFF:
+                machine.store.flush()
             if k in flow.ol:
                 if len(raw) > MAX_LINE:
                     raise GCodeError("Command too long")
@@ -95,10 +99,13 @@ def _run_flow(text: str, machine: Machine) -> tuple[str, MotionList, tuple[int, 
     return machine.units, machine.store, (max(len(lines), 1), msg)
 
 
-def run_program(text: str, tools, machine_units: str
+def run_program(text: str, tools, machine_units: str, sink=None
                 ) -> tuple[str, MotionList, tuple[int, str] | None]:
-    """Interpret ``text``; returns (units at the end, motions, (line, message) or None)."""
+    """Interpret ``text``; returns (units at the end, motions, (line, message) or None).
+    With ``sink``, motion streams to it (see :class:`MotionList`); the records not yet
+    handed over stay in the returned list."""
     machine = Machine(load_tools(tools), machine_units)
+    machine.store.sink = sink
     from millpath.interpret.oword import has_owords
     if has_owords(text):
         return _run_flow(text, machine)
@@ -135,6 +142,7 @@ def run_program(text: str, tools, machine_units: str
                 if machine.ended:
                     return machine.units, machine.store, None
             base += total
+            machine.store.flush()
     except GCodeError as e:
         return machine.units, machine.store, (getattr(e, "line", None) or n, e.message)
     last = max(base, 1)

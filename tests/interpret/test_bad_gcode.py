@@ -123,3 +123,33 @@ def test_messages_match_rs274(name, rs274, tmp_path):
     assert message in out, out
     # rs274 prints the failing line (truncated to its buffer)
     assert out[out.index(message) + 1].strip()[:200] == text.splitlines()[line - 1][:200]
+
+
+def _peak_mb(args, cwd) -> tuple[int, float, str]:
+    """Exit status, peak resident MB and stdout of one ``millpath`` child."""
+    import os
+    with open(cwd / "out.txt", "w") as out:
+        p = subprocess.Popen([sys.executable, "-m", "millpath.cli.main", *args], cwd=cwd,
+                             stdout=out, stderr=subprocess.DEVNULL)
+        _, status, ru = os.wait4(p.pid, 0)
+    return os.waitstatus_to_exitcode(status), ru.ru_maxrss / 1024, (cwd / "out.txt").read_text()
+
+
+@pytest.mark.slow
+def test_check_memory_does_not_grow_with_motion(tmp_path):
+    """``check`` streams motion into its summary: on a 1,000,000-move program it peaks
+    at its 10-line peak plus a small multiple of the program text, not plus the 100 MB
+    its motion records would take (the issue's bound: 10,000,000 lines under 1 GB)."""
+    lines = ["G21 F1000", "G0 X0 Y0 Z1"]
+    lines += [f"G1 X{i % 1000}.5 Y{i % 7}" for i in range(1_000_000)]
+    lines.append("M2")
+    text = "\n".join(lines) + "\n"
+    (tmp_path / "long.ngc").write_text(text)
+    (tmp_path / "short.ngc").write_text("\n".join(lines[:10] + ["M2"]) + "\n")
+    status, base, _ = _peak_mb(["check", "short.ngc"], tmp_path)
+    assert status == 0
+    status, peak, out = _peak_mb(["check", "long.ngc"], tmp_path)
+    assert status == 0
+    assert "feed 1000000" in out
+    text_mb = len(text) / (1 << 20)
+    assert peak - base < 3 * text_mb + 20, (base, peak, text_mb)
