@@ -89,7 +89,7 @@ class FastPath:
         # Machine state lives in locals inside the loop; it is written back before any
         # call into the machine (``one``) and on leaving, and read again after. Arcs
         # outside G17 go through the machine's own code.
-        comp_line = False
+        comp_line = comp_arcs = False
 
         def load():
             simple = (not m.comp_side and m.dist_abs and m.feed_mode == 0)
@@ -97,9 +97,11 @@ class FastPath:
                        and m.plane == "XY")
             units = m.units
             c, o = m.cur, m.out
-            nonlocal comp_line
+            nonlocal comp_line, comp_arcs
             comp_line = (m.comp_side and m.comp_radius > 0.0 and not m.comp_first
                          and m.dist_abs and m.feed_mode == 0)
+            comp_arcs = (comp_line and m.plane == "XY" and not m.ijk_abs
+                         and not m.arc_not_allowed)
             return (c[0], c[1], c[2], o[0], o[1], o[2], m.feed_rate, m.motion_mode, simple,
                     arcs_ok, PLANE_CODE[m.plane], m._state_idx, RADIUS_TOLERANCE[units],
                     SPIRAL_TOLERANCE[units])
@@ -146,6 +148,36 @@ class FastPath:
                         del buf[mark:]
                         raise
                     # straight_comp2 changes only the position (and the feed set above)
+                    c, o = m.cur, m.out
+                    cx, cy, cz, ox, oy, oz = c[0], c[1], c[2], o[0], o[1], o[2]
+                    feed, mode = m.feed_rate, code
+                    k += 1
+                    continue
+                if (comp_arcs and code >= 20 and kk is None and (f is None or f[0] != "-")
+                        and ((r is None) != (i is None and j is None))
+                        and (r is None or x is not None or y is not None)):
+                    # G2/G3 in G17 with compensation on (not the entry move): arc_comp2
+                    m.out, m.feed_rate = [ox, oy, oz], feed
+                    if f is not None:
+                        m.feed_rate = float(f)
+                    if m.feed_rate == 0.0:
+                        return k
+                    prog = m.prog
+                    end = [prog[0] if x is None else float(x),
+                           prog[1] if y is None else float(y),
+                           prog[2] if z is None else float(z)]
+                    m.motion_mode = code
+                    m.cycle_il_flag = False
+                    self.k = k
+                    mark = len(buf)
+                    try:
+                        m.arc_comp2(code, base + k + 1, None if r is None else float(r), end,
+                                    0.0 if i is None else float(i),
+                                    0.0 if j is None else float(j),
+                                    -1 if code == 20 else 1, m.feed_rate)
+                    except GCodeError:
+                        del buf[mark:]
+                        raise
                     c, o = m.cur, m.out
                     cx, cy, cz, ox, oy, oz = c[0], c[1], c[2], o[0], o[1], o[2]
                     feed, mode = m.feed_rate, code

@@ -817,7 +817,7 @@ class Machine(CompMixin, CycleMixin):
             if self.comp_first:
                 self.arc_comp1(code, blk, end, off1, off2, turn, feed)
             else:
-                self.arc_comp2(code, blk, end, off1, off2, turn, feed)
+                self.arc_comp2(code, blk.line, w.get("r"), end, off1, off2, turn, feed)
             return
         a1, a2, an = self.axes
         c = self.cur
