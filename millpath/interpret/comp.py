@@ -131,6 +131,25 @@ class CompMixin:
         pcode = PLANE_CODE[self.plane]
         buf = self.store.buf
         o = self.out
+        if a1 == 0:
+            # XY: plane coordinates are x, y, z; pack the queued moves as they are
+            o0, o1, o2 = o
+            for q in self.queue:
+                t = q[0]
+                if t == "S":
+                    buf += PACK(o0, o1, o2, q[6], q[7], q[8], q[9], 0.0, 0.0, 0.0,
+                                q[1], q[2], 0, pcode, q[10])
+                    o0, o1, o2 = q[6], q[7], q[8]
+                elif t == "A":
+                    buf += PACK(o0, o1, o2, q[3], q[4], q[8], q[9], q[5], q[6], o2,
+                                T_ARC, q[1], q[7], pcode, q[10])
+                    o0, o1, o2 = q[3], q[4], q[8]
+                else:
+                    buf += PACK(o0, o1, o2, o0, o1, o2, 0.0, q[2], 0.0, 0.0,
+                                T_DWELL, q[1], 0, pcode, q[3])
+            self.out = [o0, o1, o2]
+            self.queue = []
+            return
         for q in self.queue:
             if q[0] == "S":
                 e = [0.0, 0.0, 0.0]
@@ -478,5 +497,9 @@ class CompMixin:
             self.set_endpoint(cx, cy)
             self.enqueue_arc(line, find_turn(opx, opy, centerx, centery, turn, end_x, end_y),
                              new_end_x, new_end_y, centerx, centery, turn, end_z, feed)
-        self._set_program(end_x, end_y, end_z)
-        self._set_current(new_end_x, new_end_y, end_z)
+        if self.axes[0] == 0:
+            self.prog = [end_x, end_y, end_z]
+            self.cur = [new_end_x, new_end_y, end_z]
+        else:
+            self._set_program(end_x, end_y, end_z)
+            self._set_current(new_end_x, new_end_y, end_z)
