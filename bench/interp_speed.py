@@ -101,15 +101,21 @@ def generate_comp(n_lines: int, seed: int = 3) -> str:
 
 
 def _measure(cmd: list[str], env: dict) -> dict:
-    """CPU, wall and peak memory of ``cmd`` (stdout to /dev/null)."""
+    """CPU, wall and peak memory of ``cmd`` (stdout to /dev/null). The child runs under
+    GNU time, whose %M is the command's own peak (a child forked from this process
+    would inherit this process's high-water mark in ``ru_maxrss``)."""
     with open(os.devnull, "w") as null:
         t0 = time.perf_counter()
-        p = subprocess.Popen(cmd, stdout=null, stderr=subprocess.PIPE,
-                             stdin=subprocess.DEVNULL, env=env)
+        p = subprocess.Popen(["/usr/bin/time", "-f", "@@peak %M", *cmd], stdout=null,
+                             stderr=subprocess.PIPE, stdin=subprocess.DEVNULL, env=env)
         err = p.stderr.read().decode(errors="replace")
         _, status, ru = os.wait4(p.pid, 0)
         wall = time.perf_counter() - t0
-    return {"cpu": ru.ru_utime + ru.ru_stime, "wall": wall, "rss_mb": ru.ru_maxrss / 1024,
+    peak = [s for s in err.splitlines() if s.startswith("@@peak ")]
+    err = "\n".join(s for s in err.splitlines() if not s.startswith("@@peak ")
+                    and not s.startswith("Command exited"))
+    return {"cpu": ru.ru_utime + ru.ru_stime, "wall": wall,
+            "rss_mb": int(peak[-1].split()[1]) / 1024 if peak else float("nan"),
             "status": os.waitstatus_to_exitcode(status), "stderr": err}
 
 

@@ -15,7 +15,8 @@ import re
 from math import hypot
 
 from millpath.interpret.errors import GCodeError
-from millpath.interpret.arcs import RADIUS_TOLERANCE, SPIRAL_RELATIVE, SPIRAL_TOLERANCE
+from millpath.interpret.arcs import (RADIUS_TOLERANCE, SPIRAL_RELATIVE, SPIRAL_TOLERANCE,
+                                     arc_center_r)
 from millpath.interpret.lexer import Block
 from millpath.interpret.store import PACK, PLANE_CODE
 
@@ -104,10 +105,10 @@ class FastPath:
                          and not m.arc_not_allowed)
             return (c[0], c[1], c[2], o[0], o[1], o[2], m.feed_rate, m.motion_mode, simple,
                     arcs_ok, PLANE_CODE[m.plane], m._state_idx, RADIUS_TOLERANCE[units],
-                    SPIRAL_TOLERANCE[units])
+                    SPIRAL_TOLERANCE[units], units)
 
         (cx, cy, cz, ox, oy, oz, feed, mode, simple, arcs_ok, pcode, state, rtol,
-         stol) = load()
+         stol, units) = load()
         moved = False
         straight = False
         try:
@@ -184,7 +185,7 @@ class FastPath:
                     k += 1
                     continue
                 if (not simple or code < 0 or code > 30
-                        or (code >= 20 and (r is not None or not arcs_ok))):
+                        or (code >= 20 and not arcs_ok)):
                     m.cur, m.out = [cx, cy, cz], [ox, oy, oz]
                     m.feed_rate, m.motion_mode = feed, mode
                     if moved:
@@ -196,7 +197,7 @@ class FastPath:
                     self.k = k
                     ok = one(g, x, y, z, i, j, kk, r, f, base + k + 1)
                     (cx, cy, cz, ox, oy, oz, feed, mode, simple, arcs_ok, pcode, state, rtol,
-                     stol) = load()
+                     stol, units) = load()
                     if not ok:
                         return k
                     k += 1
@@ -222,18 +223,26 @@ class FastPath:
                                     0, base + k + 1, 0, pcode, state)
                     straight = True
                 else:
-                    # G2/G3 in G17 with incremental I/J: convert_arc2, inlined
-                    if kk is not None or (i is None and j is None) or feed == 0.0:
-                        return k
-                    c1 = cx if i is None else cx + float(i)
-                    c2 = cy if j is None else cy + float(j)
-                    r1 = hypot(c1 - cx, c2 - cy)
-                    r2 = hypot(c1 - ex, c2 - ey)
-                    if r1 < rtol or r2 < rtol:
-                        return k
-                    err = abs(r1 - r2)
-                    if err > stol and err > SPIRAL_RELATIVE * max(r1, r2):
-                        return k
+                    if r is not None:
+                        # G2/G3 in G17 with R: convert_arc2 with arc_center_r
+                        if (kk is not None or i is not None or j is not None or feed == 0.0
+                                or (x is None and y is None)):
+                            return k
+                        self.k = k                      # the line of an error
+                        c1, c2 = arc_center_r(code == 20, units, cx, cy, ex, ey, float(r))
+                    else:
+                        # G2/G3 in G17 with incremental I/J: convert_arc2, inlined
+                        if kk is not None or (i is None and j is None) or feed == 0.0:
+                            return k
+                        c1 = cx if i is None else cx + float(i)
+                        c2 = cy if j is None else cy + float(j)
+                        r1 = hypot(c1 - cx, c2 - cy)
+                        r2 = hypot(c1 - ex, c2 - ey)
+                        if r1 < rtol or r2 < rtol:
+                            return k
+                        err = abs(r1 - r2)
+                        if err > stol and err > SPIRAL_RELATIVE * max(r1, r2):
+                            return k
                     buf += pack(ox, oy, oz, ex, ey, ez, feed, c1, c2, cz,
                                 2, base + k + 1, -1 if code == 20 else 1, pcode, state)
                 ox = cx = ex
