@@ -1,6 +1,7 @@
 """``millpath check PROGRAM.ngc``: interpret a G-code program as LinuxCNC would.
 
-Prints a summary (moves by kind, bounding box, feed length, estimated cycle time) or,
+Prints a summary (moves by kind, bounding box of the motion (without the point where the
+machine starts), feed length, estimated cycle time) or,
 with ``--json``, one JSON object ``{"units", "moves", "error"}``. Exits 1 on a G-code
 error, after printing the motion before the failing block (``--json``) or the error.
 """
@@ -104,6 +105,7 @@ class Summary:
     def __init__(self) -> None:
         self.counts = np.zeros(len(KINDS), dtype=np.int64)
         self.lo = np.full(3, np.inf)
+        self.first = True
         self.hi = np.full(3, -np.inf)
         self.feed_length = 0.0
         self.rapid_length = 0.0
@@ -119,7 +121,12 @@ class Summary:
         self.counts += np.bincount(kind, minlength=len(KINDS))
         moving = kind != KINDS.index("dwell")
         if np.any(moving):
-            pts = np.vstack([a["start"][moving], a["end"][moving], _arc_points(a)])
+            # the box of the motion: the point where the machine starts is not part of it
+            starts = moving.copy()
+            if self.first:
+                starts[np.flatnonzero(moving)[0]] = False
+                self.first = False
+            pts = np.vstack([a["start"][starts], a["end"][moving], _arc_points(a)])
             self.lo = np.minimum(self.lo, pts.min(axis=0))
             self.hi = np.maximum(self.hi, pts.max(axis=0))
         traverse = kind == KINDS.index("traverse")
