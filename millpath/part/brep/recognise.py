@@ -305,7 +305,9 @@ def _corner_radius(region, keep, faces: list[FaceInfo], ids: list[int]) -> float
 
 def _classify(region, keep, depth: float) -> tuple[str, dict]:
     """('closed pocket' | 'open pocket' | 'slot' | 'step', parameters in mm)."""
-    boundary = region.boundary
+    # openings in the floor (holes, deeper pockets) are not open sides: outer rings only
+    boundary = shapely.union_all([shapely.LinearRing(g.exterior.coords)
+                                  for g in getattr(region, "geoms", [region])])
     wall = keep.buffer(0.01)
     closed = boundary.intersection(wall).length
     total = boundary.length

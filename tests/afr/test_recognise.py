@@ -1,0 +1,229 @@
+"""Feature recognition on STEP solids: fixtures built with OpenCASCADE (AP214 and
+AP242), the real AP203 solids of ../shared, planning, and verification of the machined
+stock against the solid itself (rays cast on the B-rep, not the recognised features)."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytest.importorskip("OCP")
+sys.path.insert(0, str(Path(__file__).parent))
+import builder  # noqa: E402
+
+from millpath.errors import MillpathError  # noqa: E402
+from millpath.job.schema import validate  # noqa: E402
+from millpath.model import Machine, Stock, Tool  # noqa: E402
+from millpath.plan.base import PlanContext  # noqa: E402
+from millpath.plan.features.operation import PARAMS, plan  # noqa: E402
+from millpath.plan.features.solid import load_solid  # noqa: E402
+
+TOL = 0.01
+TOOLS = {
+    1: Tool(1, "flat", 10.0, flutes=3, flute_length=35, stickout=50),
+    2: Tool(2, "flat", 6.0, flutes=3, flute_length=35, stickout=50),
+    3: Tool(3, "drill", 8.0, flute_length=45, stickout=60),
+    4: Tool(4, "drill", 8.5, flute_length=45, stickout=60),
+    5: Tool(5, "drill", 6.0, point_angle=118.0, flute_length=45, stickout=60),
+    6: Tool(6, "drill", 12.0, point_angle=90.0, flute_length=20, stickout=40),  # countersink
+    7: Tool(7, "ball", 10.0, flute_length=25, stickout=50),
+    8: Tool(8, "drill", 10.0, flute_length=45, stickout=60),
+}
+
+
+@pytest.fixture(scope="module")
+def parts(tmp_path_factory):
+    d = tmp_path_factory.mktemp("afr")
+    out = {}
+    for name in ("holes_plate", "pockets_plate", "narrow_slot"):
+        shape = getattr(builder, name)()
+        for schema in ("AP214", "AP242"):
+            out[(name, schema)] = builder.write_step(shape, d / f"{name}_{schema}.step", schema)
+        out[name] = shape
+    return out
+
+
+def kinds(sp):
+    return sorted((f.type, f.name, f.description) for f in sp.part.features)
+
+
+@pytest.mark.parametrize("schema", ["AP214", "AP242"])
+def test_holes_of_every_kind_are_recognised(parts, schema):
+    sp = load_solid(parts[("holes_plate", schema)])
+    holes = {(round(f.placement.origin[0]), round(f.placement.origin[1]), f.name):
+             (f.params["diameter"], round(f.params["depth"], 3), f.texts["bottom"])
+             for f in sp.part.features if f.type == "ROUND_HOLE"}
+    tip = 3.0 / np.tan(np.radians(59.0))
+    assert holes == {
+        (15, 15, "hole"): (8.0, 30.0, "through"),
+        (40, 15, "hole"): (10.0, 12.0, "flat"),
+        (65, 15, "hole"): (6.0, round(15.0 + tip, 3), "conical"),
+        (90, 15, "hole"): (10.0, 15.0, "spherical"),
+        (20, 55, "counterbore"): (16.0, 6.0, "flat"),
+        (20, 55, "hole"): (8.5, 24.0, "through"),
+        (60, 55, "countersink"): (12.0, 6.0, "conical"),
+        (60, 55, "hole"): (6.0, 27.0, "through"),
+    }
+    comp = sorted(f.name for f in sp.part.features if f.type == "COMPOSITE_HOLE")
+    assert comp == ["counterbored hole", "countersunk hole"]
+    assert all(f.faces for f in sp.part.features)
+    assert sp.shapes.skipped == []
+
+
+@pytest.mark.parametrize("schema", ["AP214", "AP242"])
+def test_pockets_slots_steps_islands_are_recognised(parts, schema):
+    sp = load_solid(parts[("pockets_plate", schema)])
+    f = {(round(x.placement.origin[0]), round(x.placement.origin[1])): x
+         for x in sp.part.features if x.type in ("POCKET", "SLOT", "STEP")}
+    a = f[(40, 30)]                                   # pocket with island + counterbore
+    assert (a.type, a.name, a.texts["islands"]) == ("POCKET", "closed pocket", "1")
+    assert (a.params["depth"], a.params["corner radius"]) == (10.0, 6.0)
+    b, nested = f[(110, 25)], None
+    nested = [x for x in sp.part.features if x.type == "POCKET" and x.params["depth"] == 5.0]
+    assert b.name == "closed pocket" and b.params["depth"] == 8.0
+    assert len(nested) == 1 and "level" in nested[0].texts         # in pocket B's floor
+    slot = [x for x in sp.part.features if x.type == "SLOT"]
+    assert len(slot) == 1 and slot[0].params["width"] == pytest.approx(10.0)
+    assert slot[0].name == "open slot"                 # it breaks into pocket C
+    step = [x for x in sp.part.features if x.type == "STEP"]
+    assert len(step) == 1 and step[0].params["depth"] == 5.0
+    cb = [x for x in sp.part.features if x.type == "COMPOSITE_HOLE"]
+    assert len(cb) == 1                                 # counterbore in pocket A's floor
+    hole = [x for x in sp.part.features if x.id in cb[0].children and x.name == "counterbore"]
+    assert hole[0].placement.origin[2] == pytest.approx(20.0)
+
+
+def _ctx(units="mm", stock=None, base=Path(".")):
+    return PlanContext(units=units, stock=stock, machine=Machine.default_for(units),
+                       tools=TOOLS, base_dir=base)
+
+
+def machined_vs_solid(path, shape, res, **over):
+    """Plan, simulate, and compare the Z-map with rays cast on the solid."""
+    from millpath.simulate import simulate_toolpath
+    ctx = _ctx(base=path.parent)
+    r = plan(ctx, validate({"step": path.name, **over}, PARAMS, "op", None, path.parent))
+    sim = simulate_toolpath(r.toolpath, TOOLS, r.stock, resolution=res, design=r.design)
+    zm = sim.zmap
+    xs, ys = zm.xs()[::3], zm.ys()[::3]
+    X, Y = np.meshgrid(xs, ys)
+    truth = builder.top_heights(shape, X.ravel(), Y.ravel(), r.stock.zmax)
+    truth = np.maximum(truth, zm.zmin)
+    got = zm.heights[::3, ::3].ravel()
+    return r, sim, got, truth
+
+
+@pytest.mark.slow
+def test_holes_plate_is_machined_to_the_solid(parts):
+    r, sim, got, truth = machined_vs_solid(parts[("holes_plate", "AP242")],
+                                           parts["holes_plate"], 0.25)
+    rep = r.report["features"]
+    assert rep["unmachinable"] == []
+    strat = {p["id"]: p["strategy"] for p in rep["planned"]}
+    assert sorted(strat.values()).count("drill") >= 4
+    assert sim.rapids_through_material == 0 and sim.holder_contacts == 0
+    assert np.min(got - truth) >= -TOL - 1e-3          # nothing below the solid
+    assert np.max(got - truth) <= TOL + 1e-3           # every feature cut to the solid
+    assert sim.max_gouge <= TOL + 1e-3                 # and against the solid's own mesh
+
+
+@pytest.mark.slow
+def test_pockets_plate_is_machined_to_the_solid(parts):
+    r, sim, got, truth = machined_vs_solid(parts[("pockets_plate", "AP214")],
+                                           parts["pockets_plate"], 0.25)
+    assert r.report["features"]["unmachinable"] == []
+    assert np.min(got - truth) >= -TOL - 1e-3
+    assert np.max(got - truth) <= TOL + 1e-3
+    assert sim.rapids_through_material == 0
+
+
+def test_narrow_slot_is_listed_and_the_rest_is_machined(parts):
+    path = parts[("narrow_slot", "AP214")]
+    ctx = PlanContext(units="mm", stock=None, machine=Machine(), tools={1: TOOLS[1], 2: TOOLS[2]},
+                      base_dir=path.parent)
+    r = plan(ctx, validate({"step": path.name}, PARAMS, "op", None, path.parent))
+    (u,) = r.report["features"]["unmachinable"]
+    assert u["kind"] == "no tool" and "narrower than the smallest flat end mill" in u["reason"]
+    assert [p["type"] for p in r.report["features"]["planned"]] == ["POCKET"]
+
+
+def test_shared_hole_model_25_cylinder_faces(shared_dir):
+    sp = load_solid(shared_dir / "step" / "hole_model.stp")
+    from millpath.part.brep.faces import face_table
+    cyl = {f.id for f in face_table(sp.solid) if f.kind == "cylinder"}
+    assert len(cyl) == 25
+    explained = {i for f in sp.part.features for i in f.faces} | \
+        {u.id for u in sp.shapes.skipped if u.kind == "face"}
+    assert cyl <= explained
+    holes = [f for f in sp.part.features if f.type == "ROUND_HOLE"]
+    assert len(holes) == 29            # 24 holes, two countersinks, one counterbore ...
+    assert sum(1 for f in sp.part.features if f.type == "COMPOSITE_HOLE") == 3
+
+
+@pytest.mark.slow
+def test_shared_simple_block_against_its_raw_piece(shared_dir):
+    from millpath.simulate import simulate_toolpath
+    d = shared_dir / "step"
+    ctx = _ctx(base=d)
+    r = plan(ctx, validate({"step": "simple_block_workpiece.stp",
+                            "stock_step": "simple_block_rawpiece.stp"}, PARAMS, "op", None, d))
+    assert r.stock.box == (0.0, 0.0, 0.0, 100.0, 100.0, 25.0)
+    sim = simulate_toolpath(r.toolpath, TOOLS, r.stock, resolution=0.5, design=r.design)
+    # SOURCES.md: the workpiece's volume is 231,000 mm3 of the 100 x 100 x 25 block
+    assert sim.removed_volume == pytest.approx(250000.0 - 231000.0, abs=1.0)
+    assert sim.max_gouge <= TOL and sim.max_left <= TOL
+
+
+def test_part_bigger_than_the_stock(parts):
+    path = parts[("narrow_slot", "AP214")]
+    ctx = _ctx(stock=Stock.from_box([0, 0, 0, 50, 40, 20]), base=path.parent)
+    with pytest.raises(MillpathError, match=r"MANIFOLD_SOLID_BREP #\d+: the part .* is bigger "
+                                            r"than the job's stock"):
+        plan(ctx, validate({"step": path.name}, PARAMS, "op", None, path.parent))
+
+
+def test_no_solid_and_open_shell_are_one_line_errors(tmp_path):
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
+    from OCP.gp import gp_Dir, gp_Pln, gp_Pnt
+    from millpath.part.brep.reader import read_solids
+    face = BRepBuilderAPI_MakeFace(gp_Pln(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), 0, 10, 0, 10).Face()
+    p = builder.write_step(face, tmp_path / "face.step")
+    with pytest.raises(MillpathError, match="open shell|no solid") as e:
+        read_solids(p)
+    assert str(p) in str(e.value) and "\n" not in str(e.value)
+    empty = tmp_path / "empty.step"
+    empty.write_text("ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION((''),'2;1');\n"
+                     "FILE_NAME('','',(''),(''),'','','');\nFILE_SCHEMA(('AP214'));\nENDSEC;\n"
+                     "DATA;\nENDSEC;\nEND-ISO-10303-21;\n")
+    with pytest.raises(MillpathError, match="no solid|cannot read"):
+        read_solids(empty)
+
+
+def test_cli_lists_recognised_features_with_faces(parts):
+    from click.testing import CliRunner
+    from millpath.cli.main import cli
+    res = CliRunner().invoke(cli, ["features", str(parts[("holes_plate", "AP214")]), "--json"])
+    assert res.exit_code == 0, res.output
+    doc = json.loads(res.output)
+    assert doc["solid"]["faces"] == 18
+    assert {f["type"] for f in doc["features"]} == {"ROUND_HOLE", "COMPOSITE_HOLE",
+                                                     "PLANAR_FACE"}
+    assert all(f["faces"] for f in doc["features"])
+    res = CliRunner().invoke(cli, ["features", str(parts[("holes_plate", "AP214")])])
+    assert res.exit_code == 0 and "countersunk hole" in res.output
+
+
+def test_setup_axis_turns_the_part(parts, tmp_path):
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_Transform
+    from OCP.gp import gp_Ax1, gp_Dir, gp_Pnt, gp_Trsf
+    t = gp_Trsf()
+    t.SetRotation(gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(1, 0, 0)), -np.pi / 2)   # +Z -> +Y
+    turned = BRepBuilderAPI_Transform(parts["holes_plate"], t, True).Shape()
+    p = builder.write_step(turned, tmp_path / "turned.step")
+    assert not any(f.type == "ROUND_HOLE" for f in load_solid(p).part.features)
+    sp = load_solid(p, setup="+Y")
+    assert sum(1 for f in sp.part.features if f.type == "ROUND_HOLE") == 8
