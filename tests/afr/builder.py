@@ -145,7 +145,10 @@ def many_holes(n_side: int):
             else:
                 tools += [cylinder(x, y, 16, 4.0, 5), cylinder(x, y, -1, 2.0, 22)]
     from OCP.BRepAlgoAPI import BRepAlgoAPI_Cut
-    from OCP.TopTools import TopTools_ListOfShape
+    try:
+        from OCP.TopTools import TopTools_ListOfShape
+    except ImportError:                       # OCP 8
+        from OCP.collections import List_TopoDS_Shape as TopTools_ListOfShape
     args, tl = TopTools_ListOfShape(), TopTools_ListOfShape()
     args.Append(p)
     for t in tools:

@@ -99,7 +99,7 @@ def face_table(solid) -> list[FaceInfo]:
                              GeomAbs_Torus)
     from OCP.gp import gp_Pnt, gp_Vec
     from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE
-    from OCP.TopExp import TopExp
+    from OCP.TopExp import TopExp, TopExp_Explorer
     from OCP.TopoDS import TopoDS
     fmap = shape_map()
     TopExp.MapShapes_s(solid, TopAbs_FACE, fmap)
@@ -156,10 +156,15 @@ def face_table(solid) -> list[FaceInfo]:
                 radial = w - info.axis * float(w @ info.axis)
                 info.concave = float(nn @ radial) < 0
         out.append(info)
-    emap = ancestor_map()
-    TopExp.MapShapesAndUniqueAncestors_s(solid, TopAbs_EDGE, TopAbs_FACE, emap)
-    for k in range(1, emap.Extent() + 1):
-        ids = [fmap.FindIndex(s) for s in emap.FindFromIndex(k)]
+    emap = shape_map()
+    TopExp.MapShapes_s(solid, TopAbs_EDGE, emap)
+    owners: dict[int, list[int]] = {}
+    for info in out:
+        ex = TopExp_Explorer(info.face, TopAbs_EDGE)
+        while ex.More():
+            owners.setdefault(emap.FindIndex(ex.Current()), []).append(info.id)
+            ex.Next()
+    for ids in owners.values():
         for x in ids:
             for y in ids:
                 if x != y:

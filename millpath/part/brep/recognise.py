@@ -101,20 +101,24 @@ def recognise(solid, stock_box=None, scale: float = 1.0) -> Recognition:
     ups = [f for f in faces if f.horizontal() == 1 and f.id not in claimed]
     levels = sorted({round(f.zmin, 6) for f in ups} | {round(zmin, 6)})
     shadows = Shadows(solid, levels)
+    corners = [f for f in faces if f.kind == "cylinder" and f.concave and f.vertical_axis()
+               and f.uspan < 2 * math.pi - 1e-3]
     for group in _floor_groups(ups):
         z = float(np.mean([f.zmin for f in group]))
         ids = [f.id for f in group]
         claimed.update(ids)
-        region = shapely.union_all([edges_region(f.face) for f in group])
         if z >= zmax - Z_TOL:
             fid = new_id()
             depth = sb[5] - zmax
+            cx = (min(f.box[0] for f in group) + max(f.box[3] for f in group)) / 2.0
+            cy = (min(f.box[1] for f in group) + max(f.box[4] for f in group)) / 2.0
             feats.append(Feature(fid, "PLANAR_FACE", "top face", "faced from the stock top"
                                  if depth > Z_TOL else "at the stock top: nothing to face", 0,
-                                 _placement(*_centre(region), z, k),
-                                 {"removal depth": depth * k}, faces=ids))
+                                 _placement(cx, cy, z, k), {"removal depth": depth * k},
+                                 faces=ids))
             continue
-        _floor_feature(group, z, region, faces, by_id, shadows, zmax, feats, out, new_id,
+        region = shapely.union_all([edges_region(f.face) for f in group])
+        _floor_feature(group, z, region, corners, by_id, shadows, zmax, feats, out, new_id,
                        k, claimed)
 
     # outer profile and through openings -------------------------------------------------
@@ -143,7 +147,7 @@ def recognise(solid, stock_box=None, scale: float = 1.0) -> Recognition:
                                  _placement(*_centre(hole), zmax, k),
                                  {"depth": (zmax - zmin) * k}))
             out.shapes.append(_general(fid, hole, outline, zmax, zmax - zmin, "through",
-                                       0.0, _corner_radius(hole, outline, faces, []), k,
+                                       0.0, _corner_radius(hole, outline, corners), k,
                                        name="through pocket"))
 
     # what no feature explains -----------------------------------------------------------
@@ -215,7 +219,7 @@ def _floor_groups(ups: list[FaceInfo]) -> list[list[FaceInfo]]:
     return groups
 
 
-def _floor_feature(group, z, region, faces, by_id, shadows: Shadows, zmax, feats, out,
+def _floor_feature(group, z, region, corners, by_id, shadows: Shadows, zmax, feats, out,
                    new_id, k, claimed) -> None:
     ids = [f.id for f in group]
     # floor fillets: concave horizontal-axis cylinders / tori along the floor's edges
@@ -244,7 +248,7 @@ def _floor_feature(group, z, region, faces, by_id, shadows: Shadows, zmax, feats
         out.skipped.append(Unmachinable(fid, "POCKET", "the floor is under material "
                                         "(an undercut): not reachable from +Z"))
         return
-    corner = _corner_radius(region, keep, faces, ids + fillet_ids)
+    corner = _corner_radius(region, keep, corners)
     name, params = _classify(region, keep, z_top - z)
     islands = _islands(region, keep)
     params = {key: v * k for key, v in params.items()}
@@ -273,8 +277,10 @@ def _general(fid, region, keep, z_top, depth, bottom, fr, corner, k, name) -> Po
     return p
 
 
-def _corner_radius(region, keep, faces: list[FaceInfo], ids: list[int]) -> float:
-    """Smallest concave corner of the walls around ``region`` (mm; 1e9: none)."""
+def _corner_radius(region, keep, corners: list[FaceInfo]) -> float:
+    """Smallest concave corner of the walls around ``region`` (mm; 1e9: none):
+    0 at a sharp corner of ``keep`` next to the region, else the smallest radius of the
+    partial concave vertical cylinders (``corners``) beside it."""
     near = region.buffer(0.05)
     r = 1e9
     for g in (keep.geoms if hasattr(keep, "geoms") else [keep]):
@@ -294,9 +300,8 @@ def _corner_radius(region, keep, faces: list[FaceInfo], ids: list[int]) -> float
             if len(sharp) and shapely.intersects_xy(near, sharp[:, 0], sharp[:, 1]).any():
                 return 0.0
     x0, y0, x1, y1 = near.bounds
-    for f in faces:
-        if f.kind == "cylinder" and f.concave and f.vertical_axis() \
-                and f.uspan < 2 * math.pi - 1e-3 and f.box[0] >= x0 and f.box[3] <= x1 \
+    for f in corners:
+        if f.box[0] >= x0 and f.box[3] <= x1 \
                 and f.box[1] >= y0 and f.box[4] <= y1 \
                 and near.intersects(Point(f.centre[0], f.centre[1]).buffer(f.radius + 0.01)):
             r = min(r, f.radius)

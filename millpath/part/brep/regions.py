@@ -64,15 +64,21 @@ def _edges(shape) -> list:
 
 
 def loops_region(lines: list[LineString]):
-    """The region enclosed by closed loops of ``lines`` (even-odd nesting)."""
+    """The region enclosed by closed loops of ``lines``, by even-odd nesting: a face of
+    the loops' arrangement is material when an odd number of loops encloses it."""
     lines = [ln for ln in lines if ln.length > 1e-9]
     if not lines:
         return Polygon()
     merged = shapely.node(shapely.set_precision(shapely.MultiLineString(lines), 1e-7))
     faces = list(polygonize(list(getattr(merged, "geoms", [merged]))))
-    out = Polygon()
-    for f in faces:
-        out = out.symmetric_difference(Polygon(f.exterior))
+    if len(faces) <= 1:
+        return faces[0] if faces else Polygon()
+    shells = [Polygon(f.exterior) for f in faces]
+    pts = [f.representative_point() for f in faces]
+    tree = shapely.STRtree(shells)
+    inside, _ = tree.query(pts, predicate="within")
+    depth = np.bincount(inside, minlength=len(faces))
+    out = shapely.union_all([f for f, d in zip(faces, depth) if d % 2 == 1])
     return shapely.make_valid(out) if not out.is_valid else out
 
 
