@@ -131,6 +131,36 @@ def narrow_slot():
     return unify(cut(p, box(10, 5, 15, 50, 8, 21), rounded_rect(20, 15, 40, 35, 12, 9, 4.0)))
 
 
+def fillet_pocket():
+    """80 x 60 x 25 block with a 50 x 30 pocket (corner r 6, 8 deep) whose floor meets
+    its walls in a 1.5 mm fillet, and a free-form (B-spline) dimple 2 mm deep in the top
+    at (70, 52), which is reported, not machined."""
+    from OCP.BRepFilletAPI import BRepFilletAPI_MakeFillet
+    from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE
+    from OCP.TopExp import TopExp_Explorer
+    from OCP.TopoDS import TopoDS
+    p = cut(box(0, 0, 0, 80, 60, 25), rounded_rect(15, 15, 65, 45, 17, 9, 6.0))
+    p = unify(p)
+    mk = BRepFilletAPI_MakeFillet(p)
+    ex = TopExp_Explorer(p, TopAbs_FACE)
+    while ex.More():
+        f = TopoDS.Face(ex.Current())
+        ex.Next()
+        from OCP.BRepAdaptor import BRepAdaptor_Surface
+        from OCP.GeomAbs import GeomAbs_Plane
+        a = BRepAdaptor_Surface(f)
+        if a.GetType() == GeomAbs_Plane and abs(a.Plane().Axis().Direction().Z()) > 0.5 \
+                and abs(a.Plane().Location().Z() - 17.0) < 1e-9:
+            e = TopExp_Explorer(f, TopAbs_EDGE)
+            while e.More():
+                mk.Add(1.5, TopoDS.Edge(e.Current()))
+                e.Next()
+    mk.Build()
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_NurbsConvert
+    dimple = BRepBuilderAPI_NurbsConvert(sphere(70.0, 52.0, 27.0, 4.0), True).Shape()
+    return cut(mk.Shape(), dimple)
+
+
 def many_holes(n_side: int):
     """A plate with ``n_side`` x ``n_side`` counterbored holes and pockets (benchmarks)."""
     pitch = 12.0

@@ -32,6 +32,7 @@ TOOLS = {
     6: Tool(6, "drill", 12.0, point_angle=90.0, flute_length=20, stickout=40),  # countersink
     7: Tool(7, "ball", 10.0, flute_length=25, stickout=50),
     8: Tool(8, "drill", 10.0, flute_length=45, stickout=60),
+    9: Tool(9, "bull", 10.0, corner_radius=1.5, flutes=3, flute_length=30, stickout=50),
 }
 
 
@@ -39,7 +40,7 @@ TOOLS = {
 def parts(tmp_path_factory):
     d = tmp_path_factory.mktemp("afr")
     out = {}
-    for name in ("holes_plate", "pockets_plate", "narrow_slot"):
+    for name in ("holes_plate", "pockets_plate", "narrow_slot", "fillet_pocket"):
         shape = getattr(builder, name)()
         for schema in ("AP214", "AP242"):
             out[(name, schema)] = builder.write_step(shape, d / f"{name}_{schema}.step", schema)
@@ -148,6 +149,29 @@ def test_pockets_plate_is_machined_to_the_solid(parts):
     assert sim.rapids_through_material == 0
 
 
+def test_floor_fillet_and_free_form_face(parts):
+    sp = load_solid(parts[("fillet_pocket", "AP242")])
+    (p,) = [f for f in sp.part.features if f.type == "POCKET"]
+    assert (p.params["depth"], p.params["corner radius"], p.params["floor radius"]) == \
+        (8.0, 6.0, 1.5)
+    (u,) = sp.shapes.skipped
+    assert u.kind == "face" and u.reason.startswith("free-form face: use surface operations")
+
+
+@pytest.mark.slow
+def test_fillet_pocket_is_machined_with_a_bull_nose(parts):
+    r, sim, got, (lo, hi) = machined_vs_solid(parts[("fillet_pocket", "AP242")],
+                                              parts["fillet_pocket"], 0.2, step=3)
+    (p,) = r.report["features"]["planned"]
+    assert TOOLS[p["tool"]].type == "bull"
+    assert np.min(got - lo) >= -TOL - 1e-3
+    zm = sim.zmap
+    X, Y = np.meshgrid(zm.xs()[::3], zm.ys()[::3])
+    dimple = np.hypot(X.ravel() - 70.0, Y.ravel() - 52.0) < 4.0    # free-form: not cut
+    assert np.max((got - hi)[~dimple]) <= TOL + 1e-3
+    assert np.max((got - hi)[dimple]) > 1.0
+
+
 def test_narrow_slot_is_listed_and_the_rest_is_machined(parts):
     path = parts[("narrow_slot", "AP214")]
     ctx = PlanContext(units="mm", stock=None, machine=Machine(), tools={1: TOOLS[1], 2: TOOLS[2]},
@@ -237,3 +261,11 @@ def test_setup_axis_turns_the_part(parts, tmp_path):
     assert not any(f.type == "ROUND_HOLE" for f in load_solid(p).part.features)
     sp = load_solid(p, setup="+Y")
     assert sum(1 for f in sp.part.features if f.type == "ROUND_HOLE") == 8
+
+
+def test_missing_opencascade_names_the_extra(parts, monkeypatch):
+    from millpath.part.brep.reader import read_solids
+    monkeypatch.setitem(sys.modules, "OCP", None)          # import OCP -> ImportError
+    with pytest.raises(MillpathError, match=r"millpath\[step-brep\]") as e:
+        read_solids(parts[("holes_plate", "AP214")])
+    assert "holes_plate_AP214.step" in str(e.value)

@@ -112,7 +112,10 @@ def face_table(solid) -> list[FaceInfo]:
         kind = kinds.get(a.GetType(), "free-form")
         info = FaceInfo(i, kind, f)
         b = Bnd_Box()
-        BRepBndLib.Add_s(f, b, False)
+        if kind == "free-form":           # poles' box is loose: the optimal one
+            BRepBndLib.AddOptimal_s(f, b, False, False)
+        else:
+            BRepBndLib.Add_s(f, b, False)
         b.SetGap(0.0)
         lo, hi = b.CornerMin(), b.CornerMax()
         info.box = (lo.X(), lo.Y(), lo.Z(), hi.X(), hi.Y(), hi.Z())

@@ -56,12 +56,12 @@ class BrepFile:
     bodies: list[Body]
 
 
-def occ():
+def occ(path=None) -> None:
     """Import check for OpenCASCADE; raises a one-line error naming the extra."""
     try:
         import OCP  # noqa: F401
     except ImportError:
-        raise MillpathError(STEP_BREP_EXTRA) from None
+        raise MillpathError(STEP_BREP_EXTRA, path) from None
 
 
 class quiet_stdout:
@@ -137,7 +137,7 @@ def free_edges(solid) -> int:
 
 def read_solids(path: str | Path, setup: str = "+Z") -> BrepFile:
     """The solids of the STEP file ``path`` (mm, turned so ``setup`` points up)."""
-    occ()
+    occ(path)
     from OCP.BRepBuilderAPI import BRepBuilderAPI_Transform
     from OCP.IFSelect import IFSelect_RetDone
     from OCP.STEPControl import STEPControl_Reader

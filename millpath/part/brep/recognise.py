@@ -235,13 +235,13 @@ def _floor_feature(group, z, region, corners, by_id, shadows: Shadows, zmax, fea
     claimed.update(fillet_ids)
     if fillets:
         region = shapely.union_all([region] + [edges_region(g.face) for g in fillets])
-    keep = shadows.above(z + fr)
+    keep = _near(shadows.above(z + fr), region)
     walls = [by_id[n] for f in group + fillets for n in f.neighbours
              if (by_id[n].vertical_wall() or by_id[n].kind in ("cylinder", "torus"))
              and by_id[n].zmax > z + Z_TOL]
     z_top = max([w.zmax for w in walls if w.zmax > z + Z_TOL], default=zmax)
     fid = new_id()
-    covered = region.intersection(shadows.above(z)).area
+    covered = region.intersection(_near(shadows.above(z), region)).area
     if covered > 0.5 * region.area:
         feats.append(Feature(fid, "POCKET", "floor under material", "", 0,
                              _placement(*_centre(region), z, k), {}, faces=ids))
@@ -262,9 +262,23 @@ def _floor_feature(group, z, region, corners, by_id, shadows: Shadows, zmax, fea
     ftype = {"slot": "SLOT", "step": "STEP"}.get(name.split()[-1], "POCKET")
     feats.append(Feature(fid, ftype, name, f"floor at z {z * k:.6g}", 0,
                          _placement(*_centre(region), z_top, k), params, texts,
-                         faces=ids + fillet_ids + sorted({w.id for w in walls})))
+                         faces=ids + fillet_ids + sorted({w.id for w in walls}
+                                                         - set(fillet_ids) - set(ids))))
     out.shapes.append(_general(fid, region, keep, z_top, z_top - z, "planar", fr, corner, k,
                                name=name))
+
+
+#: how far around a floor the material above it is kept in its shape (mm): the tool
+#: centre stays within a radius of the floor, so material beyond two radii of the floor
+#: does not matter (tools up to 50 mm in diameter)
+KEEP_MARGIN = 100.0
+
+
+def _near(keep, region):
+    """``keep`` within :data:`KEEP_MARGIN` of ``region``'s bounds."""
+    x0, y0, x1, y1 = region.bounds
+    m = KEEP_MARGIN
+    return keep.intersection(sbox(x0 - m, y0 - m, x1 + m, y1 + m))
 
 
 def _general(fid, region, keep, z_top, depth, bottom, fr, corner, k, name) -> PocketShape:

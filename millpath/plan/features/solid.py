@@ -40,7 +40,7 @@ def bounds_mm(shape) -> tuple:
     from OCP.Bnd import Bnd_Box
     from OCP.BRepBndLib import BRepBndLib
     b = Bnd_Box()
-    BRepBndLib.Add_s(shape, b, False)
+    BRepBndLib.AddOptimal_s(shape, b, False, False)
     b.SetGap(0.0)
     lo, hi = b.CornerMin(), b.CornerMax()
     return (lo.X(), lo.Y(), lo.Z(), hi.X(), hi.Y(), hi.Z())
