@@ -269,3 +269,36 @@ def test_missing_opencascade_names_the_extra(parts, monkeypatch):
     with pytest.raises(MillpathError, match=r"millpath\[step-brep\]") as e:
         read_solids(parts[("holes_plate", "AP214")])
     assert "holes_plate_AP214.step" in str(e.value)
+
+
+def test_several_bodies_need_body_and_inch_files_keep_their_units(parts, tmp_path):
+    from OCP.BRep import BRep_Builder
+    from OCP.Interface import Interface_Static
+    from OCP.TopoDS import TopoDS_Compound
+    from millpath.part.brep.reader import read_solids
+    comp = TopoDS_Compound()
+    bb = BRep_Builder()
+    bb.MakeCompound(comp)
+    bb.Add(comp, parts["narrow_slot"])
+    bb.Add(comp, builder.cut(builder.box(100, 0, 0, 140, 40, 10),
+                             builder.cylinder(120, 20, -1, 5.0, 12)))
+    Interface_Static.SetCVal_s("write.step.unit", "INCH")
+    try:
+        p = builder.write_step(comp, tmp_path / "two.step")
+    finally:
+        Interface_Static.SetCVal_s("write.step.unit", "MM")
+    assert len(read_solids(p).bodies) == 2
+    with pytest.raises(MillpathError, match=r"2 solids .* body = N"):
+        load_solid(p)
+    sp = load_solid(p, body=2)
+    assert sp.part.units.length == "inch"
+    (h,) = [f for f in sp.part.features if f.type == "ROUND_HOLE"]
+    assert h.params["diameter"] == pytest.approx(10.0 / 25.4)
+    assert h.placement.origin[0] == pytest.approx(120.0 / 25.4)
+    ctx = _ctx(base=tmp_path)
+    r = plan(ctx, validate({"step": p.name, "body": 2}, PARAMS, "op", None, tmp_path))
+    assert r.stock.box == pytest.approx((100.0, 0.0, 0.0, 140.0, 40.0, 10.0), abs=1e-6)
+    (d,) = [m for m in r.toolpath.moves if m.kind == "drill"]
+    assert (d.end[0], d.end[1]) == pytest.approx((120.0, 20.0))
+    with pytest.raises(MillpathError, match="body 3"):
+        load_solid(p, body=3)
