@@ -302,3 +302,34 @@ def test_several_bodies_need_body_and_inch_files_keep_their_units(parts, tmp_pat
     assert (d.end[0], d.end[1]) == pytest.approx((120.0, 20.0))
     with pytest.raises(MillpathError, match="body 3"):
         load_solid(p, body=3)
+
+
+@pytest.mark.slow
+def test_larger_stock_is_faced_and_the_outer_profile_cut(parts):
+    from millpath.simulate import simulate_toolpath
+    path = parts[("narrow_slot", "AP214")]
+    tools = {1: TOOLS[1], 2: TOOLS[2]}
+    stock = Stock.from_box([-6, -6, 0, 66, 46, 22])
+    ctx = PlanContext(units="mm", stock=stock, machine=Machine(), tools=tools,
+                      base_dir=path.parent)
+    r = plan(ctx, validate({"step": path.name}, PARAMS, "op", None, path.parent))
+    rep = r.report["features"]
+    kinds = sorted(p["type"] for p in rep["planned"])
+    assert kinds == ["FACE", "POCKET", "POCKET"]                   # face, profile, pocket
+    assert [u["kind"] for u in rep["unmachinable"]] == ["no tool"]  # the 3 mm slot
+    sim = simulate_toolpath(r.toolpath, tools, stock, resolution=0.25, design=r.design)
+    zm = sim.zmap
+    X, Y = np.meshgrid(zm.xs()[::3], zm.ys()[::3])
+    x, y = X.ravel(), Y.ravel()
+    truth = np.maximum(builder.top_heights(parts["narrow_slot"], x, y, 22.0), zm.zmin)
+    got = zm.heights[::3, ::3].ravel()
+    wall = np.zeros_like(got, dtype=bool)     # cells within a cell of a vertical wall
+    for xw in (0.0, 60.0, 10.0, 50.0, 20.0, 40.0):
+        wall |= np.abs(x - xw) < 0.25
+    for yw in (0.0, 40.0, 5.0, 8.0, 15.0, 35.0):
+        wall |= np.abs(y - yw) < 0.25
+    slot = (x > 9.5) & (x < 50.5) & (y > 4.5) & (y < 8.5)
+    ok = ~wall & ~slot
+    assert np.max(np.abs(got - truth)[ok]) <= TOL + 1e-3
+    assert np.all(got[slot & ~wall] >= truth[slot & ~wall] - TOL)
+    assert sim.max_gouge <= TOL + 1e-3

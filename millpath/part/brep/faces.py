@@ -15,10 +15,6 @@ from typing import Any
 
 import numpy as np
 
-#: surface kinds (others are reported as free-form)
-KINDS = ("plane", "cylinder", "cone", "sphere", "torus")
-
-
 @dataclass
 class FaceInfo:
     id: int
@@ -133,12 +129,9 @@ def face_table(solid) -> list[FaceInfo]:
         elif kind in ("cylinder", "cone", "sphere", "torus"):
             g = {"cylinder": a.Cylinder, "cone": a.Cone, "sphere": a.Sphere,
                  "torus": a.Torus}[kind]()
-            ax = g.Position().Direction() if kind != "sphere" else g.Position().Direction()
-            info.axis = _vec(ax)
+            info.axis = _vec(g.Position().Direction())
             info.centre = _vec(g.Location())
-            if kind == "cylinder":
-                info.radius = g.Radius()
-            elif kind == "sphere":
+            if kind in ("cylinder", "sphere"):
                 info.radius = g.Radius()
             elif kind == "torus":
                 info.radius, info.major = g.MinorRadius(), g.MajorRadius()
@@ -173,14 +166,6 @@ def face_table(solid) -> list[FaceInfo]:
                 if x != y:
                     out[x - 1].neighbours.add(y)
     return out
-
-
-def face_area(face) -> float:
-    from OCP.BRepGProp import BRepGProp
-    from OCP.GProp import GProp_GProps
-    g = GProp_GProps()
-    BRepGProp.SurfaceProperties_s(face, g)
-    return g.Mass()
 
 
 def angle_step(radius: float, sagitta: float) -> float:
