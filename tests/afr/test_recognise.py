@@ -229,6 +229,11 @@ def test_no_solid_and_open_shell_are_one_line_errors(tmp_path):
     with pytest.raises(MillpathError, match="open shell|no solid") as e:
         read_solids(p)
     assert str(p) in str(e.value) and "\n" not in str(e.value)
+    from click.testing import CliRunner
+    from millpath.cli.main import cli
+    res = CliRunner().invoke(cli, ["features", str(p)])
+    assert res.exit_code == 1
+    assert res.output.startswith(f"millpath: error: {p}: ") and res.output.count("\n") == 1
     empty = tmp_path / "empty.step"
     empty.write_text("ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION((''),'2;1');\n"
                      "FILE_NAME('','',(''),(''),'','','');\nFILE_SCHEMA(('AP214'));\nENDSEC;\n"
@@ -333,3 +338,19 @@ def test_larger_stock_is_faced_and_the_outer_profile_cut(parts):
     assert np.max(np.abs(got - truth)[ok]) <= TOL + 1e-3
     assert np.all(got[slot & ~wall] >= truth[slot & ~wall] - TOL)
     assert sim.max_gouge <= TOL + 1e-3
+
+
+def test_solid_with_an_open_shell_is_refused(parts, tmp_path):
+    import re
+    from millpath.part.brep.reader import read_solids
+    text = parts[("narrow_slot", "AP214")].read_text()
+    m = re.search(r"CLOSED_SHELL\('[^']*',\(#\d+,", text)
+    assert m is not None
+    broken = text[:m.start()] + re.sub(r"\(#\d+,", "(", text[m.start():m.end()]) + \
+        text[m.end():]
+    p = tmp_path / "open.step"
+    p.write_text(broken)
+    # OpenCASCADE makes a shell of it (or a solid with free edges): either way one line
+    with pytest.raises(MillpathError, match=r"MANIFOLD_SOLID_BREP #\d+: the (part is an open "
+                                            r"shell|solid's shell is open)"):
+        read_solids(p)

@@ -173,7 +173,8 @@ def read_solids(path: str | Path, setup: str = "+Z") -> BrepFile:
             ex.Next()
     if not solids:
         if shape is not None and not shape.IsNull() and TopExp_Explorer(shape, TopAbs_SHELL).More():
-            what = shell_ents[0] if shell_ents else "shell"
+            what = (shell_ents[0] if shell_ents else solid_ents[0][0] if solid_ents
+                    else "shell")
             raise BrepError(f"{what}: the part is an open shell (surfaces), not a closed "
                             "solid: machine it with surface operations", p)
         raise BrepError("no solid in the file (no MANIFOLD_SOLID_BREP or BREP_WITH_VOIDS)", p)
