@@ -99,7 +99,8 @@ def recognise(solid, stock_box=None, scale: float = 1.0) -> Recognition:
     # floors -----------------------------------------------------------------------------
     by_id = {f.id: f for f in faces}
     ups = [f for f in faces if f.horizontal() == 1 and f.id not in claimed]
-    levels = sorted({round(f.zmin, 6) for f in ups} | {round(zmin, 6)})
+    levels = sorted({round(f.zmin, 6) for f in ups if f.zmin < zmax - Z_TOL}
+                    | {round(zmin, 6)})      # nothing is above the top: no section there
     shadows = Shadows(solid, levels)
     corners = [f for f in faces if f.kind == "cylinder" and f.concave and f.vertical_axis()
                and f.uspan < 2 * math.pi - 1e-3]
@@ -235,13 +236,13 @@ def _floor_feature(group, z, region, corners, by_id, shadows: Shadows, zmax, fea
     claimed.update(fillet_ids)
     if fillets:
         region = shapely.union_all([region] + [edges_region(g.face) for g in fillets])
-    keep = _near(shadows.above(z + fr), region)
+    keep = shadows.above(z + fr, _near(region))
     walls = [by_id[n] for f in group + fillets for n in f.neighbours
              if (by_id[n].vertical_wall() or by_id[n].kind in ("cylinder", "torus"))
              and by_id[n].zmax > z + Z_TOL]
     z_top = max([w.zmax for w in walls if w.zmax > z + Z_TOL], default=zmax)
     fid = new_id()
-    covered = region.intersection(_near(shadows.above(z), region)).area
+    covered = region.intersection(shadows.above(z, _near(region))).area
     if covered > 0.5 * region.area:
         feats.append(Feature(fid, "POCKET", "floor under material", "", 0,
                              _placement(*_centre(region), z, k), {}, faces=ids))
@@ -274,11 +275,11 @@ def _floor_feature(group, z, region, corners, by_id, shadows: Shadows, zmax, fea
 KEEP_MARGIN = 100.0
 
 
-def _near(keep, region):
-    """``keep`` within :data:`KEEP_MARGIN` of ``region``'s bounds."""
+def _near(region) -> tuple[float, float, float, float]:
+    """``region``'s bounds grown by :data:`KEEP_MARGIN`."""
     x0, y0, x1, y1 = region.bounds
     m = KEEP_MARGIN
-    return keep.intersection(sbox(x0 - m, y0 - m, x1 + m, y1 + m))
+    return (x0 - m, y0 - m, x1 + m, y1 + m)
 
 
 def _general(fid, region, keep, z_top, depth, bottom, fr, corner, k, name) -> PocketShape:
