@@ -354,3 +354,19 @@ def test_solid_with_an_open_shell_is_refused(parts, tmp_path):
     with pytest.raises(MillpathError, match=r"MANIFOLD_SOLID_BREP #\d+: the (part is an open "
                                             r"shell|solid's shell is open)"):
         read_solids(p)
+
+
+def test_flat_bottomed_hole_is_never_just_drilled(parts):
+    path = parts[("holes_plate", "AP214")]
+    tools = {8: TOOLS[8], 3: TOOLS[3]}                  # 10 and 8 mm drills, no end mill
+    ctx = PlanContext(units="mm", stock=None, machine=Machine(), tools=tools,
+                      base_dir=path.parent)
+    r = plan(ctx, validate({"step": path.name}, PARAMS, "op", None, path.parent))
+    rep = r.report["features"]
+    flat = [f.id for f in load_solid(path).part.features
+            if f.type == "ROUND_HOLE" and f.texts["bottom"] == "flat"
+            and f.params["diameter"] == 10.0]
+    assert flat and all(p["id"] not in flat for p in rep["planned"])
+    (u,) = [u for u in rep["unmachinable"] if u["id"] == flat[0]]
+    assert "pointed drill" in u["reason"]
+    assert any(p["strategy"] == "drill" and p["tool"] == 3 for p in rep["planned"])

@@ -217,6 +217,9 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     for s in shapes:
         if isinstance(s, HoleShape):
             strat, tool, note = hole_tool(s, tools, tol)
+            if solid is not None and s.bottom == "flat" and strat == "drill":
+                strat, tool, note = "", None, ("flat bottom: no end mill smaller than the "
+                                               "hole (a pointed drill would leave its cone)")
         elif isinstance(s, SlotShape):
             strat, tool, note = slot_tool(s, tools, tol)
         elif isinstance(s, FaceShape):
