@@ -90,6 +90,7 @@ def test_pockets_slots_steps_islands_are_recognised(parts, schema):
     slot = [x for x in sp.part.features if x.type == "SLOT"]
     assert len(slot) == 1 and slot[0].params["width"] == pytest.approx(10.0)
     assert slot[0].name == "open slot"                 # it breaks into pocket C
+    assert sorted(slot[0].texts["ends"].split(", ")) == ["open", "radiused"]
     step = [x for x in sp.part.features if x.type == "STEP"]
     assert len(step) == 1 and step[0].params["depth"] == 5.0
     cb = [x for x in sp.part.features if x.type == "COMPOSITE_HOLE"]
@@ -179,6 +180,9 @@ def test_narrow_slot_is_listed_and_the_rest_is_machined(parts):
     r = plan(ctx, validate({"step": path.name}, PARAMS, "op", None, path.parent))
     (u,) = r.report["features"]["unmachinable"]
     assert u["kind"] == "no tool" and "narrower than the smallest flat end mill" in u["reason"]
+    (slot,) = [f for f in load_solid(path).part.features if f.type == "SLOT"]
+    assert (slot.name, slot.texts["ends"], slot.params["width"]) == ("slot", "flat, flat",
+                                                                      pytest.approx(3.0))
     assert [p["type"] for p in r.report["features"]["planned"]] == ["POCKET"]
 
 

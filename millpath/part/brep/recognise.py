@@ -252,10 +252,12 @@ def _floor_feature(group, z, region, corners, by_id, shadows: Shadows, zmax, fea
     corner = _corner_radius(region, keep, corners)
     name, params = _classify(region, keep, z_top - z)
     islands = _islands(region, keep)
+    texts = {}
+    if "ends" in params:
+        texts["ends"] = ", ".join(params.pop("ends"))
     params = {key: v * k for key, v in params.items()}
     params.update({"depth": (z_top - z) * k, "corner radius": min(corner, 1e6) * k,
                    "floor radius": fr * k})
-    texts = {}
     if islands:
         texts["islands"] = str(islands)
     if z_top < zmax - Z_TOL:
@@ -346,10 +348,27 @@ def _classify(region, keep, depth: float) -> tuple[str, dict]:
             if all(s.buffer(0.02).intersection(wall).area > 0 and
                    s.intersection(wall.buffer(0.02)).length > 0.6 * s.length for s in sides):
                 params = {"width": width, "length": length}
+                ends = [_slot_end(region, wall, c[(i + 1 + 2 * j) % 4], c[(i + 2 + 2 * j) % 4],
+                                  c[(i + 2 * j) % 4], width) for j in (0, 1)]
+                params["ends"] = ends
                 return ("slot" if open_frac < 0.02 else "open slot"), params
     if open_frac < 0.02:
         return "closed pocket", params
     return ("step" if open_frac > 0.5 else "open pocket"), params
+
+
+def _slot_end(region, wall, a, b, far, width: float) -> str:
+    """'radiused', 'flat' or 'open': the slot's end along side ``a``-``b`` of its
+    rectangle (``far``: the corner across from ``a``)."""
+    a, b, far = np.asarray(a), np.asarray(b), np.asarray(far)
+    inward = (far - a) / max(np.linalg.norm(far - a), 1e-12) * width / 2.0
+    zone = shapely.Polygon([a, b, b + inward, a + inward])
+    fill = region.intersection(zone).area / max(zone.area, 1e-12)
+    if fill < 0.9:
+        return "radiused"
+    side = shapely.LineString([a, b])
+    return "flat" if side.intersection(wall.buffer(0.02)).length > 0.6 * side.length \
+        else "open"
 
 
 def _islands(region, keep) -> int:
