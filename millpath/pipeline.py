@@ -179,7 +179,7 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False)
         (tmp / "tools.tbl").write_text(
             f"; millpath tool table, values in {job.units}\n"
             + format_tool_table(entries_from_tools(job.tools)))
-        render_preview(tp, tmp / "preview.png", title=job.name)
+        render_preview(tp, tmp / "preview.png", title=job.name, stock=stock)
         if sim is not None:
             from millpath.simulate import render_deviation, render_stock
             render_stock(sim.zmap, tmp / "stock.png")
