@@ -16,7 +16,7 @@ sys.path.insert(0, str(Path(__file__).parent))
 import builder  # noqa: E402
 
 from millpath.errors import MillpathError  # noqa: E402
-from millpath.job.schema import validate  # noqa: E402
+from millpath.io.schema import validate  # noqa: E402
 from millpath.model import Machine, Stock, Tool  # noqa: E402
 from millpath.plan.base import PlanContext  # noqa: E402
 from millpath.plan.features.operation import PARAMS, plan  # noqa: E402

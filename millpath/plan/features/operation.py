@@ -1,4 +1,4 @@
-"""Operation type ``features``: machine the features of an AP224 file.
+"""Operation type ``features``: machine the features of an AP224 file or a STEP solid.
 
 Job keys (lengths in job units):
 
