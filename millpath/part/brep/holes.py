@@ -105,7 +105,8 @@ def _stack(x, y, full, fs, by_id, zmin) -> HoleStack:
         for n in f.neighbours:
             g = by_id[n]
             if g.horizontal() == -1 and abs(g.zmin - top0) < 1e-3 and _near_axis(g, x, y, r0):
-                problem = "the hole is closed at the top (drilled from below): not reachable from +Z"
+                problem = ("the hole is closed at the top (drilled from below): "
+                           "not reachable from +Z")
     for i, ((r, zb, zt), ring) in enumerate(full):
         ids = [f.id for f in ring]
         nxt = full[i + 1] if i + 1 < len(full) else None

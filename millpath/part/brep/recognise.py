@@ -137,10 +137,12 @@ def recognise(solid, stock_box=None, scale: float = 1.0) -> Recognition:
         out.shapes.append(_general(fid, outside, outline, sb[5], sb[5] - zmin, "through",
                                    0.0, 1e9, k, name="outer profile"))
     polys = [outline] if outline.geom_type == "Polygon" else list(outline.geoms)
+    disk_tree = shapely.STRtree(hole_disks)
     for p in polys:
         for ring in p.interiors:
             hole = shapely.Polygon(ring)
-            rest = hole.difference(shapely.union_all(hole_disks)) if hole_disks else hole
+            near = [hole_disks[i] for i in disk_tree.query(hole)] if hole_disks else []
+            rest = hole.difference(shapely.union_all(near)) if near else hole
             if rest.area < 1e-2:
                 continue
             fid = new_id()

@@ -168,10 +168,11 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     file_stock = None
     if solid is not None:
         file_stock = Stock.from_box([v * k for v in solid.stock_box])
-        if file_stock.zmax > solid.box[5] * k + 1e-9:
+        if file_stock.zmax > solid.box[5] * k + 1e-3 / job_mm:
             top = [f.id for f in part.features if f.type == "PLANAR_FACE"]
-            shapes.append(FaceShape(top[0] if top else 0, (file_stock.xmin, (file_stock.ymin + file_stock.ymax)
-                                        / 2.0), (1.0, 0.0), file_stock.size[0],
+            mid_y = (file_stock.ymin + file_stock.ymax) / 2.0
+            shapes.append(FaceShape(top[0] if top else 0, (file_stock.xmin, mid_y),
+                                    (1.0, 0.0), file_stock.size[0],
                                     file_stock.size[1], file_stock.zmax - solid.box[5] * k,
                                     file_stock.zmax))
     elif part.stock is not None:

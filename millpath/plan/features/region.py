@@ -142,8 +142,8 @@ def clear_general(tp: Toolpath, rough, finish, z_top: float, z_floor: float, h: 
                 p = ring[0]
                 link_ok = (not at_safe and cur is not None and inside.covers(
                     LineString([cur, p])))
-                if link_ok:
-                    tp.line(p[0], p[1], z, feed)
+                if link_ok:               # inside the cleared region (down a level: slower)
+                    tp.line(p[0], p[1], z, feed if i else plunge_feed)
                 else:
                     if not at_safe:
                         e = tp.moves[-1].end
