@@ -251,9 +251,10 @@ def _floor_feature(group, z, region, corners, by_id, shadows: Shadows, zmax, fea
         out.skipped.append(Unmachinable(fid, "POCKET", "the floor is under material "
                                         "(an undercut): not reachable from +Z"))
         return
-    corner = _corner_radius(region, keep, corners)
-    name, params = _classify(region, keep, z_top - z)
-    islands = _islands(region, keep)
+    local = shapely.clip_by_rect(keep, *region.buffer(1.0).bounds)    # walls near the floor
+    corner = _corner_radius(region, local, corners)
+    name, params = _classify(region, local, z_top - z)
+    islands = _islands(region, local)
     texts = {}
     if "ends" in params:
         texts["ends"] = ", ".join(params.pop("ends"))

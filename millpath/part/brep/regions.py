@@ -101,6 +101,7 @@ def section(solid, z: float, sagitta: float = SAGITTA):
     from OCP.gp import gp_Dir, gp_Pln, gp_Pnt
     s = BRepAlgoAPI_Section(solid, gp_Pln(gp_Pnt(0.0, 0.0, z), gp_Dir(0.0, 0.0, 1.0)), False)
     s.Approximation(False)
+    s.SetRunParallel(True)
     s.Build()
     if not s.IsDone():
         return Polygon()
