@@ -198,6 +198,9 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     tol = 0.0004 if inch else 0.01
 
     mat = params["material"] or material_class(part.material)
+    if not params["material"] and not part.material:
+        notes.append(f"the file names no material: cutting data for {mat} (set the "
+                     "operation's material)")
     data = MATERIALS[mat]
 
     allowed = params["tools"]
