@@ -374,3 +374,17 @@ def test_flat_bottomed_hole_is_never_just_drilled(parts):
     (u,) = [u for u in rep["unmachinable"] if u["id"] == flat[0]]
     assert "pointed drill" in u["reason"]
     assert any(p["strategy"] == "drill" and p["tool"] == 3 for p in rep["planned"])
+
+
+def test_undercut_is_listed_as_unreachable(tmp_path):
+    """A side window under the top (z 5..10, open at y = 0): its floor is under material
+    and its ceiling faces down; the open pocket from the top is still planned."""
+    shape = builder.unify(builder.cut(builder.box(0, 0, 0, 60, 40, 20),
+                                      builder.box(20, -1, 5, 40, 20, 10),
+                                      builder.rounded_rect(43, 10, 57, 30, 15, 6, 3.0)))
+    p = builder.write_step(shape, tmp_path / "undercut.step", "AP242")
+    sp = load_solid(p)
+    reasons = [u.reason for u in sp.shapes.skipped]
+    assert any("under material" in r for r in reasons)
+    assert any("faces down above the part's bottom" in r for r in reasons)
+    assert [s.kind for s in sp.shapes.shapes] == ["pocket"]
