@@ -314,6 +314,8 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
             rec = {k: round(v, 6) if isinstance(v, float) else v for k, v in rec.items()}
             rec.update(id=t.shape.id, type=type(t.shape).__name__.replace("Shape", "").upper(),
                        strategy=t.strategy, tool=n, rpm=sp.rpm, feed=sp.feed)
+            if solid is not None:           # what was recognised: step, slot, counterbore ...
+                rec["kind"] = t.shape.kind
             if t.note:
                 rec["note"] = t.note
             planned.append(rec)
