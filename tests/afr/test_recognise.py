@@ -388,3 +388,27 @@ def test_undercut_is_listed_as_unreachable(tmp_path):
     assert any("under material" in r for r in reasons)
     assert any("faces down above the part's bottom" in r for r in reasons)
     assert [s.kind for s in sp.shapes.shapes] == ["pocket"]
+
+
+@pytest.mark.slow
+def test_countersink_with_a_wider_countersink_tool(parts):
+    from millpath.simulate import simulate_toolpath
+    path = parts[("holes_plate", "AP214")]
+    tools = {k: t for k, t in TOOLS.items() if k != 6}
+    tools[10] = Tool(10, "drill", 16.0, point_angle=90.0, flute_length=10, stickout=40)
+    ctx = PlanContext(units="mm", stock=None, machine=Machine(), tools=tools,
+                      base_dir=path.parent)
+    r = plan(ctx, validate({"step": path.name}, PARAMS, "op", None, path.parent))
+    (cs,) = [p for p in r.report["features"]["planned"] if p["kind"] == "countersink"]
+    assert (cs["tool"], cs["strategy"]) == (10, "drill")
+    ms = [m for m in r.toolpath.moves if m.kind == "drill" and r.toolpath.tool_of(m) == 10]
+    (m,) = [m for m in ms if (m.end[0], m.end[1]) == (60.0, 55.0)]
+    assert m.end[2] == pytest.approx(30.0 - 6.0)                  # the cone's apex
+    # the 12 mm countersink is cut to the solid: rays on the cone at radius 4.5
+    a = np.linspace(0, 2 * np.pi, 12, endpoint=False)
+    x, y = 60 + 4.5 * np.cos(a), 55 + 4.5 * np.sin(a)
+    stock = r.stock
+    sim = simulate_toolpath(r.toolpath, tools, stock, resolution=0.25, design=r.design)
+    truth = builder.top_heights(parts["holes_plate"], x, y, 30.0)
+    got = np.array([sim.zmap.height_at(px, py) for px, py in zip(x, y)])
+    assert np.max(np.abs(got - truth)) <= 0.25 + TOL      # one cell on a 45 degree cone

@@ -221,6 +221,13 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     for s in shapes:
         if isinstance(s, HoleShape):
             strat, tool, note = hole_tool(s, tools, tol)
+            if solid is not None and s.kind == "countersink" and tool is None:
+                # a countersink (or spot drill) of the cone's angle, at least as wide: its
+                # tip goes to the cone's apex, its wider part stays above the entry
+                cs = [t for t in tools if t.type == "drill" and t.diameter >= s.diameter - tol
+                      and abs(t.point_angle - s.tip_angle) <= 1.0]
+                if cs:
+                    strat, tool, note = "drill", min(cs, key=lambda t: t.diameter), ""
             if solid is not None and s.bottom == "flat" and strat == "drill":
                 strat, tool, note = "", None, ("flat bottom: no end mill smaller than the "
                                                "hole (a pointed drill would leave its cone)")
