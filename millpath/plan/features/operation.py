@@ -54,7 +54,8 @@ from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.features import paths
 from millpath.plan.features.cutting import MATERIALS, material_class, speeds
 from millpath.plan.features.design import FeatureDesign, slot_outline
-from millpath.plan.features.region import clear_general, general_regions, region_tool
+from millpath.plan.features.region import (clear_general, general_regions, inner_points,
+                                           region_tool)
 from millpath.plan.features.select import (face_tool, hole_tool, matching_drill, pocket_tool,
                                            slot_tool)
 
@@ -427,11 +428,7 @@ def _material_top(shape, done: list, z_stock: float) -> float:
             x = np.append(shape.x + r * np.cos(a), shape.x)
             y = np.append(shape.y + r * np.sin(a), shape.y)
         elif getattr(shape, "profile", "") == "general":
-            pts = [np.asarray(p.buffer(-1e-3 * max(1.0, p.length)).exterior.coords)
-                   if not p.buffer(-1e-3 * max(1.0, p.length)).is_empty else
-                   np.asarray(p.exterior.coords) for p in getattr(shape.region, "geoms",
-                                                               [shape.region])]
-            xy = np.vstack(pts)
+            xy = inner_points(shape.region)
             x, y = xy[:, 0], xy[:, 1]
         else:
             poly = (slot_outline(shape, 0.0) if isinstance(shape, SlotShape)

@@ -94,6 +94,16 @@ def _parts(g) -> list:
     return [x for x in getattr(g, "geoms", [g]) if x.geom_type == "Polygon" and not x.is_empty]
 
 
+def inner_points(region) -> np.ndarray:
+    """Points (n, 2) just inside ``region``: its outlines pulled in by a thousandth of
+    their size, and a point inside each part."""
+    parts = _parts(region)
+    inner = [q for p in parts for q in _parts(p.buffer(-1e-3 * max(1.0, p.length ** 0.5)))]
+    pts = [np.asarray(q.exterior.coords)[:, :2] for q in (inner or parts)]
+    pts += [np.asarray(p.representative_point().coords)[:, :2] for p in parts]
+    return np.vstack(pts)
+
+
 def _rings(comp, stepover: float) -> list[np.ndarray]:
     """Boundaries of the inward offsets of ``comp``, innermost first, each (n, 2)."""
     out = []
