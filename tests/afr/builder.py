@@ -138,13 +138,13 @@ def fillet_pocket():
     from OCP.BRepFilletAPI import BRepFilletAPI_MakeFillet
     from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE
     from OCP.TopExp import TopExp_Explorer
-    from OCP.TopoDS import TopoDS
+    from millpath.part.brep.faces import as_edge, as_face
     p = cut(box(0, 0, 0, 80, 60, 25), rounded_rect(15, 15, 65, 45, 17, 9, 6.0))
     p = unify(p)
     mk = BRepFilletAPI_MakeFillet(p)
     ex = TopExp_Explorer(p, TopAbs_FACE)
     while ex.More():
-        f = TopoDS.Face(ex.Current())
+        f = as_face(ex.Current())
         ex.Next()
         from OCP.BRepAdaptor import BRepAdaptor_Surface
         from OCP.GeomAbs import GeomAbs_Plane
@@ -153,7 +153,7 @@ def fillet_pocket():
                 and abs(a.Plane().Location().Z() - 17.0) < 1e-9:
             e = TopExp_Explorer(f, TopAbs_EDGE)
             while e.More():
-                mk.Add(1.5, TopoDS.Edge(e.Current()))
+                mk.Add(1.5, as_edge(e.Current()))
                 e.Next()
     mk.Build()
     from OCP.BRepBuilderAPI import BRepBuilderAPI_NurbsConvert

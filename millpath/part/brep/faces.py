@@ -63,6 +63,18 @@ def _vec(d) -> np.ndarray:
     return np.array([d.X(), d.Y(), d.Z()])
 
 
+def as_face(shape):
+    """``shape`` as a TopoDS_Face (OCP 7: ``TopoDS.Face_s``, OCP 8: ``TopoDS.Face``)."""
+    from OCP.TopoDS import TopoDS
+    return (getattr(TopoDS, "Face_s", None) or TopoDS.Face)(shape)
+
+
+def as_edge(shape):
+    """``shape`` as a TopoDS_Edge (OCP 7 and 8)."""
+    from OCP.TopoDS import TopoDS
+    return (getattr(TopoDS, "Edge_s", None) or TopoDS.Edge)(shape)
+
+
 def shape_map():
     """An empty indexed map of shapes (OCP 7 and 8 name it differently)."""
     try:
@@ -96,14 +108,13 @@ def face_table(solid) -> list[FaceInfo]:
     from OCP.gp import gp_Pnt, gp_Vec
     from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE
     from OCP.TopExp import TopExp, TopExp_Explorer
-    from OCP.TopoDS import TopoDS
     fmap = shape_map()
     TopExp.MapShapes_s(solid, TopAbs_FACE, fmap)
     kinds = {GeomAbs_Plane: "plane", GeomAbs_Cylinder: "cylinder", GeomAbs_Cone: "cone",
              GeomAbs_Sphere: "sphere", GeomAbs_Torus: "torus"}
     out: list[FaceInfo] = []
     for i in range(1, fmap.Extent() + 1):
-        f = TopoDS.Face(fmap.FindKey(i))
+        f = as_face(fmap.FindKey(i))
         a = BRepAdaptor_Surface(f, True)
         kind = kinds.get(a.GetType(), "free-form")
         info = FaceInfo(i, kind, f)

@@ -18,7 +18,7 @@ def solid_mesh(solid, chord_tolerance: float, name: str = "solid") -> tuple[np.n
     from OCP.TopAbs import TopAbs_FACE, TopAbs_REVERSED
     from OCP.TopExp import TopExp_Explorer
     from OCP.TopLoc import TopLoc_Location
-    from OCP.TopoDS import TopoDS
+    from millpath.part.brep.faces import as_face
 
     if not chord_tolerance > 0:
         raise GeometryError("chord tolerance must be positive", entity=name)
@@ -28,7 +28,7 @@ def solid_mesh(solid, chord_tolerance: float, name: str = "solid") -> tuple[np.n
     ex = TopExp_Explorer(solid, TopAbs_FACE)
     k = 0
     while ex.More():
-        face = TopoDS.Face(ex.Current())
+        face = as_face(ex.Current())
         ex.Next()
         k += 1
         loc = TopLoc_Location()

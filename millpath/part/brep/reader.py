@@ -120,17 +120,17 @@ def free_edges(solid) -> int:
     from OCP.BRep import BRep_Tool
     from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE
     from OCP.TopExp import TopExp
-    from OCP.TopoDS import TopoDS
+    from millpath.part.brep.faces import as_edge, as_face
 
     from millpath.part.brep.faces import ancestor_map
     m = ancestor_map()
     TopExp.MapShapesAndUniqueAncestors_s(solid, TopAbs_EDGE, TopAbs_FACE, m)
     n = 0
     for i in range(1, m.Extent() + 1):
-        e = TopoDS.Edge(m.FindKey(i))
+        e = as_edge(m.FindKey(i))
         faces = m.FindFromIndex(i)
         if faces.Size() == 1 and not BRep_Tool.Degenerated_s(e) \
-                and not BRep_Tool.IsClosed_s(e, TopoDS.Face(faces.First())):
+                and not BRep_Tool.IsClosed_s(e, as_face(faces.First())):
             n += 1
     return n
 

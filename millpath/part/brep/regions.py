@@ -54,11 +54,11 @@ def edge_points(edge, sagitta: float = SAGITTA) -> np.ndarray:
 def _edges(shape) -> list:
     from OCP.TopAbs import TopAbs_EDGE
     from OCP.TopExp import TopExp_Explorer
-    from OCP.TopoDS import TopoDS
+    from millpath.part.brep.faces import as_edge
     out = []
     ex = TopExp_Explorer(shape, TopAbs_EDGE)
     while ex.More():
-        out.append(TopoDS.Edge(ex.Current()))
+        out.append(as_edge(ex.Current()))
         ex.Next()
     return out
 
