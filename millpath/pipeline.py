@@ -137,6 +137,8 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False)
         "stock": list(stock.box),
         "fit": {"mode": job.fit, "tolerance": job.fit_tolerance},
     }
+    if job.reference:
+        report["reference"] = job.reference
     from millpath.simulate import motion_times
     from millpath.verify.approach import approach_from_above
     motions = approach_from_above(motions, stock.zmax)

@@ -10,6 +10,16 @@ Chords are laid greedily from u = 0: each chord's far end is the largest b with
 deviation <= T, found by Brent's method on deviation(a, b) - T and then checked. The
 greedy walk gives the fewest chords when a sub-piece of a feasible piece is feasible,
 which holds for the pieces a tolerance-sized chord spans. Lengths in job units.
+
+Misprints (Mohamed 2006, seeds/001): eq. (18) prints the quadratic's coefficients as
+Q = -13.5 P1 + 41.5 P2 - 41.5 P3 + 13.5 P4 and R = 18 P1 - 45 P2 + 36 P3 - 36 P4; from
+the derivative of the basis they are Q = -13.5 P1 + 40.5 P2 - 40.5 P3 + 13.5 P4 and
+R = 18 P1 - 45 P2 + 36 P3 - 9 P4 (the printed R does not vanish on a point curve), and
+its roots read "(-R/2Q) -/+ 1/2 power of [(R^2 - 4QS)/2Q]" for (-R -/+ sqrt(R^2 - 4QS)) /
+2Q. Here the quadratic is formed from the derived basis. Table 2's deviations disagree
+with the paper's own curve in five of the six rows checked (segment 2's are about 8
+times the chords' true deviation); tests/diecavity/test_misprints.py computes them by
+dense sampling.
 """
 
 from __future__ import annotations
@@ -18,7 +28,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq
 
 from millpath.part.curve.fourpoint import Curve, FourPointSegment
 
@@ -143,6 +152,7 @@ def _far_end(seg: FourPointSegment, a: float, tol: float) -> float:
         return _scalar_deviation(k, a, b) - target
     if g(1.0) <= 0.0:
         return 1.0
+    from scipy.optimize import brentq          # lazily: jobs without curves never load scipy
     b = brentq(g, a, 1.0, xtol=1e-15, rtol=4 * np.finfo(float).eps, maxiter=200)
     shrink = 0
     while g(b) > 0.0 and shrink < 60:
