@@ -51,6 +51,11 @@ def command(outdir: Path, only: str | None) -> None:
         try:
             res = run_job(job, outdir / name, progress=True)
         except MillpathError as e:
+            from millpath.part.brep.reader import STEP_BREP_EXTRA
+            if STEP_BREP_EXTRA in str(e):          # a STEP solid without OpenCASCADE
+                console.print(f"[yellow]{name}: skipped: {e.message}[/]")
+                table.add_row(name, "", "", "", "", "", "", "[yellow]skipped[/]", "", "")
+                continue
             failures += 1
             console.print(f"[red]{name}: {e}[/]")
             table.add_row(name, "", "", "", "", "", "", "[red]failed[/]", "", "")

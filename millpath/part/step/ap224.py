@@ -161,6 +161,7 @@ class Feature:
     texts: dict[str, str] = field(default_factory=dict)
     components: list[Component] = field(default_factory=list)
     children: list[int] = field(default_factory=list)
+    faces: list[int] = field(default_factory=list)   # B-rep faces (recognised features)
 
     def component(self, *types: str) -> Component | None:
         for c in self.components:
@@ -174,7 +175,7 @@ class Feature:
                 "placement": self.placement.as_dict() if self.placement else None,
                 "params": self.params, "texts": self.texts,
                 "components": [c.as_dict() for c in self.components],
-                "children": self.children}
+                "children": self.children, **({"faces": self.faces} if self.faces else {})}
 
 
 @dataclass

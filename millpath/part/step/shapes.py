@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -89,12 +90,20 @@ class PocketShape:
     corner_radius: float = 0.0
     floor_radius: float = 0.0            # fillet between walls and floor
     kind: str = "pocket"
+    # profile 'general' (recognised from a solid): the floor's plan-view ``region``
+    # (shapely, islands as holes, absolute coordinates) and ``keep``, the part's
+    # material above the floor that the tool must not enter (open sides are where
+    # ``keep`` does not border the region)
+    region: Any = None
+    keep: Any = None
 
     def outline(self, segments_per_quarter: int = 16):
         """The profile as a shapely Polygon (corner radii included)."""
         from shapely import affinity
         from shapely.geometry import Point, Polygon, box
 
+        if self.profile == "general":
+            return self.region
         if self.profile == "circular":
             poly = Point(0.0, 0.0).buffer(self.diameter / 2.0, quad_segs=segments_per_quarter)
         elif self.profile == "rectangular":

@@ -1,8 +1,11 @@
-"""Operation type ``features``: machine the features of an AP224 file.
+"""Operation type ``features``: machine the features of an AP224 file or a STEP solid.
 
 Job keys (lengths in job units):
 
 - ``step`` (path, required): the AP224 file; its stock is used when the job has none.
+  A STEP file without AP224 features (AP203/AP214/AP242 solid) is recognised instead
+  (:mod:`millpath.plan.features.solid`): ``body``, ``setup`` and ``stock_step`` apply,
+  and the tessellated solid is the design the program is verified against.
 - ``tool``: the only milling cutter to use (drills are still chosen from the library).
 - ``tools``: tool numbers the planner may use (default: all the job's tools).
 - ``finish_allowance``: wall stock left by roughing, removed by the finishing pass
@@ -52,6 +55,8 @@ from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.features import paths
 from millpath.plan.features.cutting import MATERIALS, material_class, speeds
 from millpath.plan.features.design import FeatureDesign, slot_outline
+from millpath.plan.features.region import (clear_general, general_regions, inner_points,
+                                           region_tool)
 from millpath.plan.features.select import (face_tool, hole_tool, matching_drill, pocket_tool,
                                            slot_tool)
 
@@ -63,7 +68,13 @@ def _tools_check(v: Any) -> str | None:
 
 
 PARAMS: dict[str, Param] = {
-    "step": Param("path", doc="AP224 file"),
+    "step": Param("path", doc="AP224 file or STEP solid"),
+    "body": Param("any", None, check=lambda v: None if (isinstance(v, str) or (
+        isinstance(v, int) and not isinstance(v, bool) and v > 0)) else
+        "expected a solid's number (1, 2, ...) or name", doc="solid of a multi-body file"),
+    "setup": Param("str", "+Z", choices=("+Z", "-Z", "+X", "-X", "+Y", "-Y"),
+                   doc="the solid's axis pointing up"),
+    "stock_step": Param("path", None, doc="STEP solid whose box is the stock"),
     "tool": Param("int", None, positive=True, doc="only milling cutter to use"),
     "tools": Param("list", None, check=_tools_check, doc="tool numbers allowed"),
     "finish_allowance": Param("float", None, nonneg=True),
@@ -84,7 +95,7 @@ PARAMS: dict[str, Param] = {
 
 
 #: strategies that mill an area (planned before holes, see _group_key)
-REGION = ("face", "slot", "pocket", "circular")
+REGION = ("face", "slot", "pocket", "circular", "region")
 
 
 @dataclasses.dataclass
@@ -99,7 +110,8 @@ def _scaled(shape, k: float):
     if k == 1.0:
         return shape
     f = {}
-    for name in ("x", "y", "z_top", "diameter", "depth", "length", "width", "corner_radius"):
+    for name in ("x", "y", "z_top", "diameter", "depth", "length", "width", "corner_radius",
+                 "floor_radius"):
         if hasattr(shape, name):
             f[name] = getattr(shape, name) * k
     if isinstance(shape, HoleShape) and shape.bottom in ("spherical", "flat with radius"):
@@ -110,6 +122,10 @@ def _scaled(shape, k: float):
         f["start"] = (shape.start[0] * k, shape.start[1] * k)
     if isinstance(shape, PocketShape):
         f["center"] = (shape.center[0] * k, shape.center[1] * k)
+        if shape.profile == "general":
+            from shapely import affinity
+            f["region"] = affinity.scale(shape.region, k, k, origin=(0, 0))
+            f["keep"] = affinity.scale(shape.keep, k, k, origin=(0, 0))
     return dataclasses.replace(shape, **f)
 
 
@@ -142,15 +158,31 @@ def _order(tasks: list[_Task]) -> list[_Task]:
 def plan(ctx: PlanContext, params: dict) -> PlanResult:
     """Plan all machinable features of the AP224 file ``params['step']``."""
     part = read_part(params["step"])
+    solid = None
+    if not part.features:            # a B-rep solid: recognise its features
+        from millpath.plan.features.solid import load_solid
+        solid = load_solid(params["step"], body=params["body"], setup=params["setup"],
+                           stock_step=params["stock_step"], job_stock=ctx.stock,
+                           job_units=ctx.units)
+        part = solid.part
     job_mm = 25.4 if ctx.units == "inch" else 1.0
     k = part.units.length_mm / job_mm
     inch = ctx.units == "inch"
-    shapes_set = feature_shapes(part)
+    shapes_set = solid.shapes if solid is not None else feature_shapes(part)
     shapes = [_scaled(s, k) for s in shapes_set.shapes]
     notes: list[str] = []
 
     file_stock = None
-    if part.stock is not None:
+    if solid is not None:
+        file_stock = Stock.from_box([v * k for v in solid.stock_box])
+        if file_stock.zmax > solid.box[5] * k + 1e-3 / job_mm:
+            top = [f.id for f in part.features if f.type == "PLANAR_FACE"]
+            mid_y = (file_stock.ymin + file_stock.ymax) / 2.0
+            shapes.append(FaceShape(top[0] if top else 0, (file_stock.xmin, mid_y),
+                                    (1.0, 0.0), file_stock.size[0],
+                                    file_stock.size[1], file_stock.zmax - solid.box[5] * k,
+                                    file_stock.zmax))
+    elif part.stock is not None:
         b = [v * k for v in part.stock.box()]
         file_stock = Stock.from_box(b)
         if part.stock.shape == "cylinder":
@@ -174,6 +206,9 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     cusp = params["taper_cusp"] or (0.0008 if inch else 0.02)
 
     mat = params["material"] or material_class(part.material)
+    if not params["material"] and not part.material:
+        notes.append(f"the file names no material: cutting data for {mat} (set the "
+                     "operation's material)")
     data = MATERIALS[mat]
 
     allowed = params["tools"]
@@ -194,10 +229,22 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     for s in shapes:
         if isinstance(s, HoleShape):
             strat, tool, note = hole_tool(s, tools, tol)
+            if solid is not None and s.kind == "countersink" and tool is None:
+                # a countersink (or spot drill) of the cone's angle, at least as wide: its
+                # tip goes to the cone's apex, its wider part stays above the entry
+                cs = [t for t in tools if t.type == "drill" and t.diameter >= s.diameter - tol
+                      and abs(t.point_angle - s.tip_angle) <= 1.0]
+                if cs:
+                    strat, tool, note = "drill", min(cs, key=lambda t: t.diameter), ""
+            if solid is not None and s.bottom == "flat" and strat == "drill":
+                strat, tool, note = "", None, ("flat bottom: no end mill smaller than the "
+                                               "hole (a pointed drill would leave its cone)")
         elif isinstance(s, SlotShape):
             strat, tool, note = slot_tool(s, tools, tol)
         elif isinstance(s, FaceShape):
             strat, tool, note = face_tool(s, tools, tol)
+        elif s.profile == "general":
+            strat, tool, note = region_tool(s, tools, tol, stock, ctx.units)
         else:
             strat, tool, note = pocket_tool(s, tools, tol)
         if tool is not None:
@@ -282,12 +329,18 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
             rec = {k: round(v, 6) if isinstance(v, float) else v for k, v in rec.items()}
             rec.update(id=t.shape.id, type=type(t.shape).__name__.replace("Shape", "").upper(),
                        strategy=t.strategy, tool=n, rpm=sp.rpm, feed=sp.feed)
+            if solid is not None:           # what was recognised: step, slot, counterbore ...
+                rec["kind"] = t.shape.kind
             if t.note:
                 rec["note"] = t.note
             planned.append(rec)
 
-    design = FeatureDesign(z_top, [t.shape for t in tasks] + unplanned,
-                           reach=max(stock.size) * 2 + 100.0)
+    if solid is not None:
+        from millpath.plan.features.solid import SolidDesign
+        design = SolidDesign(solid.solid, tol, ctx.units)
+    else:
+        design = FeatureDesign(z_top, [t.shape for t in tasks] + unplanned,
+                               reach=max(stock.size) * 2 + 100.0)
     report = {"features": {
         "file": str(params["step"]),
         "product": part.product,
@@ -295,6 +348,8 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         "material": part.material,
         "material_class": mat,
         "stock": part.stock.as_dict() if part.stock else None,
+        **({"solid": solid.info, "recognised": [f.as_dict() for f in part.features]}
+           if solid is not None else {}),
         "tool_changes": len(groups),
         "planned": planned,
         "unmachinable": skipped,
@@ -379,6 +434,9 @@ def _material_top(shape, done: list, z_stock: float) -> float:
             r = 0.95 * shape.diameter / 2.0
             x = np.append(shape.x + r * np.cos(a), shape.x)
             y = np.append(shape.y + r * np.sin(a), shape.y)
+        elif getattr(shape, "profile", "") == "general":
+            xy = inner_points(shape.region)
+            x, y = xy[:, 0], xy[:, 1]
         else:
             poly = (slot_outline(shape, 0.0) if isinstance(shape, SlotShape)
                     else shape.outline(4))
@@ -426,6 +484,12 @@ def _cut(tp: Toolpath, t: _Task, tool: Tool, sp, h: paths.Heights, z_start: floa
                 "z_start": z_start}
     floor = stock.zmin - breakthrough if getattr(s, "bottom", "") == "through" else \
         s.z_top - s.depth
+    if t.strategy == "region":
+        rough, finish = general_regions(s, tool, allowance, stock)
+        clear_general(tp, rough, finish, z_start, floor, h, step_down=step_down,
+                      stepover=stepover, feed=sp.feed, plunge_feed=sp.plunge)
+        return {"z": floor, "levels": len(paths.levels(z_start, floor, step_down)),
+                "z_start": z_start}
     if t.strategy == "circular":
         paths.bore(tp, s.center[0], s.center[1], s.diameter / 2.0, tool.radius, z_start,
                    floor, h, step_down=step_down, stepover=stepover, allowance=allowance,
