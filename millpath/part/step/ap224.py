@@ -193,7 +193,7 @@ class Part:
 
 
 # --- reading -----------------------------------------------------------------------------
-class _Reader:
+class GeometryReader:
     def __init__(self, sf: StepFile):
         self.sf = sf
         self._unit_cache: dict[int, tuple[str, float]] = {}
@@ -529,7 +529,7 @@ def read_part(source: str | Path | StepFile) -> Part:
     from millpath.part.step.iso14649 import is_iso14649, read_iso14649
     if is_iso14649(sf):
         return read_iso14649(sf)
-    r = _Reader(sf)
+    r = GeometryReader(sf)
     r.global_units()
     cand = {i.id for name in ("MACHINING_FEATURE", "INSTANCED_FEATURE", *FEATURE_TYPES)
             for i in sf.by_type(name)}

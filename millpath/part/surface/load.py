@@ -148,7 +148,7 @@ def _grid_table(table: dict, divisions: int, base_dir: Path, file) -> Mesh:
 
 def grid_mesh(path: Path, method: str, divisions: int) -> Mesh:
     """Mesh of the measured grid in ``path`` (see the module docstring for the density)."""
-    from millpath.part.surface.bezier import _grid_triangles
+    from millpath.part.surface.bezier import point_grid_triangles
     from millpath.part.surface.grid import MeasuredGrid
     g = MeasuredGrid.from_csv(path, method=method)
     nx, ny = g.xs.size, g.ys.size
@@ -174,7 +174,7 @@ def grid_mesh(path: Path, method: str, divisions: int) -> Mesh:
         P = ((1 - s) * (1 - r) * S[I, J] + s * (1 - r) * S[I + 1, J]
              + (1 - s) * r * S[I, J + 1] + s * r * S[I + 1, J + 1])
     try:
-        return Mesh(_grid_triangles(P), path.name)
+        return Mesh(point_grid_triangles(P), path.name)
     except GeometryError as e:
         raise GeometryError(e.message, path) from None
 
