@@ -95,9 +95,15 @@ def default_resolution(job: Job, stock: Stock, tp: Toolpath) -> float:
     return max(d / 10.0, max(stock.size[0], stock.size[1]) / 1500.0)
 
 
-def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False) -> RunResult:
+def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False,
+            force: bool = False) -> RunResult:
     """Run the job file at ``job_path``, writing program.ngc, tools.tbl, report.json,
-    preview.png, stock.png and deviation.png into ``outdir``."""
+    preview.png, stock.png and deviation.png into ``outdir``.
+
+    When the simulation finds a problem (see :mod:`millpath.verify.gate`) the report
+    and pictures are written without the program and UnsafeProgramError is raised;
+    with ``force`` the program is written as ``program.unsafe.ngc`` headed by the list
+    of problems."""
     t0 = time.perf_counter()
     job = load_job(job_path)
     tp, results, stock = plan_job(job)
@@ -171,14 +177,23 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False)
             else:
                 report[k] = v
 
+    problems = _safety_gate(report, job, tp, move_lines, motions, sim)
+    program_name = "program.ngc"
+    if problems:
+        program, program_name = _unsafe_program(program, problems, force)
+    report["program"] = program_name if (force or not problems) else None
+    report["safety"] = {"status": "ok" if not problems else ("forced" if force else "refused"),
+                        "problems": [p.to_json() for p in problems]}
+
     from millpath.report.preview import render_preview
     out = Path(outdir)
     files = []
     with staged_dir(out) as tmp:
-        (tmp / "program.ngc").write_text(program)
-        (tmp / "tools.tbl").write_text(
-            f"; millpath tool table, values in {job.units}\n"
-            + format_tool_table(entries_from_tools(job.tools)))
+        if force or not problems:
+            (tmp / program_name).write_text(program)
+            (tmp / "tools.tbl").write_text(
+                f"; millpath tool table, values in {job.units}\n"
+                + format_tool_table(entries_from_tools(job.tools)))
         render_preview(tp, tmp / "preview.png", title=job.name)
         if sim is not None:
             from millpath.simulate import render_deviation, render_stock
@@ -187,8 +202,40 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False)
                 render_deviation(sim.zmap, design, tmp / "deviation.png")
         report["seconds"] = round(time.perf_counter() - t0, 3)
         (tmp / "report.json").write_text(json.dumps(report, indent=2, default=_json_default))
-        files = [out / f.name for f in sorted(tmp.iterdir())]
+        files = [out / f.name for f in sorted(tmp.iterdir()) if not f.name.startswith(".")]
+    if problems and not force:
+        from millpath.verify.gate import UnsafeProgramError, summary
+        raise UnsafeProgramError(f"program refused: {summary(problems)}; no program.ngc "
+                                 f"written (report and pictures in {out}; --force writes "
+                                 f"program.unsafe.ngc)", job.path, report, problems)
     return RunResult(job, tp, program, report, files, time.perf_counter() - t0)
+
+
+def _safety_gate(report: dict, job: Job, tp: Toolpath, move_lines, motions, sim) -> list:
+    """Problems that forbid writing the program (millpath.verify.gate), worst first."""
+    from millpath.verify.gate import GateInput, find_problems, line_map, position_map
+    g = GateInput(op_names=[o.name for o in tp.ops],
+                  op_tolerances=[o.tolerance for o in tp.ops],
+                  fit_tolerance=job.fit_tolerance if job.fit != "none" else 0.0,
+                  op_of_line=line_map([m.op for m in tp.moves], move_lines),
+                  position_of_line=position_map(motions),
+                  holder_lines=sim.holder_lines if sim is not None else [],
+                  rapid_lines=sim.rapid_lines if sim is not None else [],
+                  gouge_xy=sim.gouge_at if sim is not None else None)
+    return find_problems(report, g)
+
+
+def _unsafe_program(program: str, problems: list, force: bool) -> tuple[str, str]:
+    """With ``force``: the program headed by a comment block listing the problems, whose
+    program lines are shifted to count in the written file."""
+    from millpath.verify.gate import comment_block
+    if not force:
+        return program, "program.unsafe.ngc"
+    shift = comment_block(problems).count("\n")
+    for p in problems:
+        if p.line is not None:
+            p.line += shift
+    return comment_block(problems) + program, "program.unsafe.ngc"
 
 
 def _seconds_per_operation(tp: Toolpath, move_lines: list[int | None], motions,

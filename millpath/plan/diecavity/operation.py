@@ -306,7 +306,8 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     tp = Toolpath(units=ctx.units)
     tp.begin(Operation("die-cavity", f"die cavity ({params['compensation']})", tool.number,
                        spindle=params["spindle"],
-                       info={"layers": n_layers, "compensation": params["compensation"]}))
+                       info={"layers": n_layers, "compensation": params["compensation"]},
+                       tolerance=tol))
     tp.rapid(S[0], S[1], safe)
     z_prev = top
     for z in zs:

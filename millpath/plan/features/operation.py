@@ -257,7 +257,8 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         tp.begin(Operation("features", f"T{n} {tool.type} D{tool.diameter:g}: "
                            f"{len(group)} feature(s) ({', '.join(kinds)})", n,
                            spindle=sp.rpm, coolant=params["coolant"],
-                           info={"material": mat, "vc": round(sp.vc, 1), "chip": sp.chip}))
+                           info={"material": mat, "vc": round(sp.vc, 1), "chip": sp.chip},
+                           tolerance=tol))
         for t in group:
             start = _material_top(t.shape, done, z_top)
             if t.strategy == "flatten":

@@ -117,7 +117,8 @@ class _Builder:
     def begin(self, phase: str, label: str) -> None:
         self.phase = phase
         self.tp.begin(Operation("grid-pocket", f"{self.spec.name}: {label}", self.spec.tool.number,
-                                spindle=self.spec.spindle, info={"phase": phase}))
+                                spindle=self.spec.spindle, info={"phase": phase},
+                                tolerance=self.spec.tolerance))
 
     def _rapid(self, p) -> None:
         self.tp.rapid(*p)

@@ -148,7 +148,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     tp = Toolpath(units=ctx.units)
     tp.begin(Operation("surface-finish", params["name"], tool.number, params["spindle"],
                        info={"side_step": params["side_step"], "scallop": scallop,
-                             "tolerance": tol, "strategy": strategy}))
+                             "tolerance": tol, "strategy": strategy}, tolerance=tol))
     links = add_passes(tp, sampler, res.passes, feed=feed, plunge_feed=plunge, safe_z=safe_z,
                        clearance=0.04 if inch else 1.0, link_max=3.0 * cutter.radius,
                        tolerance=tol,
