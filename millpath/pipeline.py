@@ -19,7 +19,7 @@ import numpy as np
 
 from millpath.errors import MillpathError, PlanningError
 from millpath.io.atomic import staged_dir
-from millpath.io.tooltable import entries_from_tools, format_tool_table
+from millpath.io.tooltable import parse_tool_table, tool_table_text
 from millpath.job.jobfile import Job, load_job
 from millpath.model import Stock, Toolpath
 from millpath.plan.base import PlanContext, PlanResult
@@ -117,8 +117,9 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False,
         raise PlanningError(f"cannot post the tool path: {e}", job.path) from None
 
     from millpath.interpret import InterpreterError, interpret
-    try:
-        motions = interpret(program, job.tools, machine_units=job.units)
+    table = tool_table_text(job.tools, job.units, job.table_units)
+    try:        # the program as the machine will run it: with tools.tbl as written
+        motions = interpret(program, parse_tool_table(table), machine_units=job.table_units)
     except InterpreterError as e:
         raise MillpathError(f"the generated program does not interpret: line {e.line}: "
                             f"{e.message}", job.path) from None
@@ -136,6 +137,7 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False,
         "job": str(job.path) if job.path else None,
         "name": job.name,
         "units": job.units,
+        "tool_table_units": job.table_units,
         "program": "program.ngc",
         "lines": program.count("\n"),
         "bytes": len(program.encode()),
@@ -191,9 +193,7 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False,
     with staged_dir(out) as tmp:
         if force or not problems:
             (tmp / program_name).write_text(program)
-            (tmp / "tools.tbl").write_text(
-                f"; millpath tool table, values in {job.units}\n"
-                + format_tool_table(entries_from_tools(job.tools)))
+            (tmp / "tools.tbl").write_text(table)
         render_preview(tp, tmp / "preview.png", title=job.name)
         if sim is not None:
             from millpath.simulate import render_deviation, render_stock

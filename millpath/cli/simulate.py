@@ -31,8 +31,10 @@ def _stock(text: str):
                             f"min below its max, got {text!r}") from None
 
 
-def _read_tools(path: Path | None, units: str):
-    """Tool shapes by number, and what to hand the interpreter."""
+def _read_tools(path: Path | None, units: str, table_k: float = 1.0):
+    """Tool shapes by number, and what to hand the interpreter. A TOML library is read
+    in ``units`` (the program's); a tool table's diameters are scaled by ``table_k``
+    (machine units -> program units)."""
     from millpath.model.tool import Tool
     if path is None:
         return {}, None
@@ -44,7 +46,7 @@ def _read_tools(path: Path | None, units: str):
         return tools, tools
     from millpath.io.tooltable import read_tool_table
     entries = read_tool_table(path)
-    tools = {e.number: Tool(e.number, "flat", e.diameter, comment=e.comment)
+    tools = {e.number: Tool(e.number, "flat", e.diameter * table_k, comment=e.comment)
              for e in entries if e.diameter > 0}
     return tools, path
 
@@ -68,13 +70,16 @@ def _interpret(program: Path, tool_arg, units: str):
 @click.option("--resolution", type=float, default=None,
               help="Z-map cell size (default: stock size / 1000, at most D/10 of the "
                    "smallest tool).")
+@click.option("--machine-units", type=click.Choice(["inch", "mm"]), default=None,
+              help="Units of a tool table whose header does not state them (default "
+              "inch, as LinuxCNC's rs274).")
 @click.option("--json", "as_json", is_flag=True, help="Print the results as JSON.")
 @click.option("--png", "png", type=click.Path(path_type=Path), default=None,
               help="Write a shaded picture of the stock (and FILE_deviation.png with "
                    "--design).")
 def command(program: Path, tools_path: Path | None, stock_text: str,
-            design_path: Path | None, resolution: float | None, as_json: bool,
-            png: Path | None) -> None:
+            design_path: Path | None, resolution: float | None, machine_units: str | None,
+            as_json: bool, png: Path | None) -> None:
     """Simulate PROGRAM on a block of stock: removed volume, gouges, material left,
     rapids through material, holder contacts and cycle time."""
     from millpath.model.stock import Machine
@@ -84,13 +89,22 @@ def command(program: Path, tools_path: Path | None, stock_text: str,
         raise MillpathError("program not found", program)
     stock = _stock(stock_text)
     design = MeshDesign.from_stl(design_path) if design_path is not None else None
-    # tool files are in the program's units: interpret once in mm, again if it is inch
-    tools, tool_arg = _read_tools(tools_path, "mm")
-    res = _interpret(program, tool_arg, "mm")
-    units = res.units
-    if units == "inch":
-        tools, tool_arg = _read_tools(tools_path, "inch")
-        res = _interpret(program, tool_arg, "inch")
+    if tools_path is not None and tools_path.is_file() and tools_path.suffix.lower() != ".toml":
+        # a LinuxCNC tool table is in the machine's units: its header, else the option
+        from millpath.io.tooltable import file_table_units
+        mu = file_table_units(tools_path) or machine_units or "inch"
+        res = _interpret(program, tools_path, mu)
+        units = res.units
+        k = 1.0 if mu == units else (25.4 if mu == "inch" else 1.0 / 25.4)
+        tools, tool_arg = _read_tools(tools_path, units, k)
+    else:
+        # TOML tool libraries are in the program's units: interpret in mm, again if inch
+        tools, tool_arg = _read_tools(tools_path, "mm")
+        res = _interpret(program, tool_arg, "mm")
+        units = res.units
+        if units == "inch":
+            tools, tool_arg = _read_tools(tools_path, "inch")
+            res = _interpret(program, tool_arg, "inch")
     motions = list(res.motions)
     used = sorted({m.tool for m in motions if m.kind != "dwell" and m.tool != 0})
     for t in used:

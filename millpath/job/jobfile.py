@@ -7,7 +7,9 @@ Layout::
     fit = "none"                      # "none" | "arcs" | "arcs+cubics"
     fit_tolerance = 0.005             # job units
     [stock]        box = [xmin, ymin, zmin, xmax, ymax, zmax]
-    [machine]      rapid, max_feed (units/min), acceleration (units/s^2)
+    [machine]      rapid, max_feed (units/min), acceleration (units/s^2),
+                   units ("mm" | "inch": the units of the machine's tool table;
+                   default: the job's)
     [simulation]   resolution (job units), enabled (bool)
     [[tools]]      number, type, diameter, ...   (see millpath.io.toollib)
     [[operations]] type = "...", tool = N, ...   (keys per strategy)
@@ -48,6 +50,7 @@ MACHINE = {
     "rapid": Param("float", None, positive=True),
     "max_feed": Param("float", None, positive=True),
     "acceleration": Param("float", None, positive=True),
+    "units": Param("str", None, choices=("mm", "inch")),
 }
 SIMULATION = {
     "resolution": Param("float", None, positive=True),
@@ -68,6 +71,12 @@ class Job:
     fit: str = "none"
     fit_tolerance: float = 0.005
     simulation: dict[str, Any] = field(default_factory=dict)
+    machine_units: str = ""           # units of the machine (tool table); "" = the job's
+
+    @property
+    def table_units(self) -> str:
+        """Units tools.tbl is written in: the machine's."""
+        return self.machine_units or self.units
 
     @property
     def base_dir(self) -> Path:
@@ -111,11 +120,13 @@ def job_from_dict(data: dict, path: Path | None = None) -> Job:
         except ValueError as e:
             raise JobError(f"stock.box: {e}", path) from None
     machine = Machine.default_for(units)
+    machine_units = ""
     if top["machine"] is not None:
         m = validate(top["machine"], MACHINE, "machine", path)
         machine = Machine(rapid=m["rapid"] or machine.rapid,
                           max_feed=m["max_feed"] or machine.max_feed,
                           acceleration=m["acceleration"] or machine.acceleration)
+        machine_units = m["units"] or ""
     sim = validate(top["simulation"] or {}, SIMULATION, "simulation", path, base)
     tools = tools_from_tables(top["tools"], path, units)
     ops = []
@@ -137,4 +148,5 @@ def job_from_dict(data: dict, path: Path | None = None) -> Job:
     default_tol = 0.0002 if units == "inch" else 0.005
     return Job(path=path, units=units, name=top["name"] or (path.stem if path else "job"),
                stock=stock, machine=machine, tools=tools, operations=ops, fit=top["fit"],
-               fit_tolerance=top["fit_tolerance"] or default_tol, simulation=sim)
+               fit_tolerance=top["fit_tolerance"] or default_tol, simulation=sim,
+               machine_units=machine_units)
