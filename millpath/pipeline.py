@@ -109,10 +109,11 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False,
     tp, results, stock = plan_job(job)
     tp = _fit(job, tp)
 
-    from millpath.post.linuxcnc import post_with_lines
+    from millpath.post.linuxcnc import PostOptions, post_with_lines
     title = f"{job.name}: {len(tp.ops)} operations, units {job.units}"
     try:
-        program, move_lines = post_with_lines(tp, job.tools, title=title)
+        program, move_lines = post_with_lines(tp, job.tools, title=title, options=PostOptions(
+            **job.post, safe_z=stock.zmax))
     except ValueError as e:
         raise PlanningError(f"cannot post the tool path: {e}", job.path) from None
 

@@ -11,6 +11,8 @@ Layout::
                    units ("mm" | "inch": the units of the machine's tool table;
                    default: the job's)
     [simulation]   resolution (job units), enabled (bool)
+    [post]         coolant, work_offset, end, line_numbers, tool_change, program_number,
+                   preamble, postamble (see millpath.post.linuxcnc.PostOptions)
     [[tools]]      number, type, diameter, ...   (see millpath.io.toollib)
     [[operations]] type = "...", tool = N, ...   (keys per strategy)
 
@@ -41,6 +43,7 @@ TOP = {
     "stock": Param("table", None),
     "machine": Param("table", None),
     "simulation": Param("table", None),
+    "post": Param("table", None),
     "tools": Param("list", []),
     "operations": Param("list"),
 }
@@ -51,6 +54,17 @@ MACHINE = {
     "max_feed": Param("float", None, positive=True),
     "acceleration": Param("float", None, positive=True),
     "units": Param("str", None, choices=("mm", "inch")),
+}
+POST = {
+    "coolant": Param("str", None, choices=("flood", "mist", "off")),
+    "work_offset": Param("str", "G54", choices=("G54", "G55", "G56", "G57", "G58", "G59",
+                                                "G59.1", "G59.2", "G59.3")),
+    "end": Param("str", "M2", choices=("M2", "M30")),
+    "line_numbers": Param("bool", False),
+    "tool_change": Param("str", "none", choices=("G30", "G53 G0 Z0", "none")),
+    "program_number": Param("int", None, nonneg=True),
+    "preamble": Param("str", ""),
+    "postamble": Param("str", ""),
 }
 SIMULATION = {
     "resolution": Param("float", None, positive=True),
@@ -72,6 +86,7 @@ class Job:
     fit_tolerance: float = 0.005
     simulation: dict[str, Any] = field(default_factory=dict)
     machine_units: str = ""           # units of the machine (tool table); "" = the job's
+    post: dict[str, Any] = field(default_factory=dict)   # [post]: PostOptions fields
 
     @property
     def table_units(self) -> str:
@@ -128,6 +143,7 @@ def job_from_dict(data: dict, path: Path | None = None) -> Job:
                           acceleration=m["acceleration"] or machine.acceleration)
         machine_units = m["units"] or ""
     sim = validate(top["simulation"] or {}, SIMULATION, "simulation", path, base)
+    post = validate(top["post"] or {}, POST, "post", path, base)
     tools = tools_from_tables(top["tools"], path, units)
     ops = []
     if not top["operations"]:
@@ -149,4 +165,4 @@ def job_from_dict(data: dict, path: Path | None = None) -> Job:
     return Job(path=path, units=units, name=top["name"] or (path.stem if path else "job"),
                stock=stock, machine=machine, tools=tools, operations=ops, fit=top["fit"],
                fit_tolerance=top["fit_tolerance"] or default_tol, simulation=sim,
-               machine_units=machine_units)
+               machine_units=machine_units, post=post)

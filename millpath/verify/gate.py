@@ -48,7 +48,8 @@ class Problem:
             s = "gouge"
         s += f": {self.detail}" if self.detail else ""
         if self.at is not None:
-            s += " at X{:.4g} Y{:.4g} Z{:.4g}".format(*self.at)
+            s += " at " + " ".join(f"{a}{v:.4g}" for a, v in zip("XYZ", self.at)
+                                   if v is not None and v == v)
         if self.line is not None:
             s += f", program line {self.line}"
         if self.operation is not None:
