@@ -78,12 +78,24 @@ def plan_job(job: Job) -> tuple[Toolpath, list[PlanResult], Stock]:
     return total, results, stock
 
 
-def _fit(job: Job, tp: Toolpath) -> Toolpath:
+def fit_job(job: Job, tp: Toolpath) -> Toolpath:
+    """The tool path with arcs/cubics fitted as the job asks (unchanged for fit = none)."""
     if job.fit == "none":
         return tp
     from millpath.fit import fit_toolpath
     radius = max((job.tools[o.tool].radius for o in tp.ops if o.tool in job.tools), default=0.0)
     return fit_toolpath(tp, job.fit_tolerance, job.fit, min_radius=radius)
+
+
+def post_job(job: Job, tp: Toolpath, stock: Stock) -> tuple[str, list[int | None]]:
+    """The program text (LinuxCNC, the job's [post] options) and each move's line."""
+    from millpath.post.linuxcnc import PostOptions, post_with_lines
+    title = f"{job.name}: {len(tp.ops)} operations, units {job.units}"
+    try:
+        return post_with_lines(tp, job.tools, title=title,
+                               options=PostOptions(**job.post, safe_z=stock.zmax))
+    except ValueError as e:
+        raise PlanningError(f"cannot post the tool path: {e}", job.path) from None
 
 
 def default_resolution(job: Job, stock: Stock, tp: Toolpath) -> float:
@@ -107,15 +119,9 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False,
     t0 = time.perf_counter()
     job = load_job(job_path)
     tp, results, stock = plan_job(job)
-    tp = _fit(job, tp)
+    tp = fit_job(job, tp)
 
-    from millpath.post.linuxcnc import PostOptions, post_with_lines
-    title = f"{job.name}: {len(tp.ops)} operations, units {job.units}"
-    try:
-        program, move_lines = post_with_lines(tp, job.tools, title=title, options=PostOptions(
-            **job.post, safe_z=stock.zmax))
-    except ValueError as e:
-        raise PlanningError(f"cannot post the tool path: {e}", job.path) from None
+    program, move_lines = post_job(job, tp, stock)
 
     from millpath.interpret import InterpreterError, interpret
     table = tool_table_text(job.tools, job.units, job.table_units)
