@@ -201,7 +201,7 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False,
         if force or not problems:
             (tmp / program_name).write_text(program)
             (tmp / "tools.tbl").write_text(table)
-        render_preview(tp, tmp / "preview.png", title=job.name)
+        render_preview(tp, tmp / "preview.png", title=job.name, stock=stock)
         if sim is not None:
             from millpath.simulate import render_deviation, render_stock
             render_stock(sim.zmap, tmp / "stock.png")

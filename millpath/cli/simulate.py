@@ -122,9 +122,12 @@ def command(program: Path, tools_path: Path | None, stock_text: str,
             resolution = min(resolution, min(tools[t].diameter for t in used) / 10.0)
     if not (resolution > 0 and math.isfinite(resolution)):
         raise MillpathError(f"--resolution must be a positive length, not {resolution}")
-    r = simulate_motions(motions, tools, stock, resolution=resolution, design=design,
-                         machine=Machine.default_for(units),
-                         progress=not as_json and sys.stderr.isatty())
+    try:
+        r = simulate_motions(motions, tools, stock, resolution=resolution, design=design,
+                             machine=Machine.default_for(units),
+                             progress=not as_json and sys.stderr.isatty())
+    except ValueError as e:                    # --resolution too fine, a tool's shape
+        raise MillpathError(str(e), program) from None
     if png is not None:
         render_stock(r.zmap, png, title=f"{program.name}: simulated stock", units=units)
         if design is not None:

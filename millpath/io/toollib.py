@@ -16,7 +16,7 @@ from typing import Any
 import tomli_w
 
 from millpath.errors import JobError
-from millpath.job.schema import Param, validate
+from millpath.io.schema import Param, parse_toml, validate
 from millpath.model.tool import TOOL_TYPES, Tool
 
 TOOL = {
@@ -75,7 +75,6 @@ def tools_from_tables(tables: Any, file: str | Path | None = None,
 def read_tool_library(path: str | Path, units: str = "mm") -> dict[int, Tool]:
     """Read a TOML tool library file (``[[tools]]`` entries)."""
     p = Path(path)
-    from millpath.job.jobfile import parse_toml
     data = parse_toml(p.read_text(encoding="utf-8"), p)
     for k in data:
         if k not in ("tools", "units"):

@@ -13,6 +13,7 @@ Layout::
     [simulation]   resolution (job units), enabled (bool)
     [post]         coolant, work_offset, end, line_numbers, tool_change, program_number,
                    preamble, postamble (see millpath.post.linuxcnc.PostOptions)
+    [limits]       max_extent (job units), max_layers, max_passes   (millpath.model.limits)
     [[tools]]      number, type, diameter, ...   (see millpath.io.toollib)
     [[operations]] type = "...", tool = N, ...   (keys per strategy)
 
@@ -21,16 +22,15 @@ Relative paths inside the file are resolved from the job file's folder.
 
 from __future__ import annotations
 
-import re
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from millpath.errors import JobError
 from millpath.io.toollib import tools_from_tables
-from millpath.job.schema import Param, validate
+from millpath.io.schema import Param, parse_toml, validate
 from millpath.model import Machine, Stock, Tool
+from millpath.model.limits import Limits, count_needed
 from millpath.plan.registry import strategy
 from millpath.io.text import read_text
 
@@ -44,6 +44,7 @@ TOP = {
     "machine": Param("table", None),
     "simulation": Param("table", None),
     "post": Param("table", None),
+    "limits": Param("table", None),
     "tools": Param("list", []),
     "operations": Param("list"),
 }
@@ -66,6 +67,14 @@ POST = {
     "preamble": Param("str", ""),
     "postamble": Param("str", ""),
 }
+LIMITS = {
+    "max_extent": Param("float", None, positive=True, doc="largest stock side (job units)"),
+    "max_layers": Param("int", None, positive=True, doc="depth passes of one operation"),
+    "max_passes": Param("int", None, positive=True, doc="side-by-side passes of one operation"),
+}
+#: operation keys that set a depth per layer / a distance between side-by-side passes
+LAYER_KEYS = ("stepdown", "step_down", "stepdown_max", "step")
+PASS_KEYS = ("stepover", "step_over")
 SIMULATION = {
     "resolution": Param("float", None, positive=True),
     "enabled": Param("bool", True),
@@ -85,6 +94,7 @@ class Job:
     fit: str = "none"
     fit_tolerance: float = 0.005
     simulation: dict[str, Any] = field(default_factory=dict)
+    limits: Limits = field(default_factory=Limits)
     machine_units: str = ""           # units of the machine (tool table); "" = the job's
     post: dict[str, Any] = field(default_factory=dict)   # [post]: PostOptions fields
 
@@ -106,27 +116,15 @@ def load_job(path: str | Path) -> Job:
     return job_from_dict(data, p)
 
 
-def parse_toml(text: str, path: Path | None) -> dict:
-    """tomllib.loads with errors as JobError naming the file and line."""
-    try:
-        return tomllib.loads(text)
-    except tomllib.TOMLDecodeError as e:
-        msg = str(e)
-        line = None
-        m = re.search(r"\s*\(at line (\d+), column \d+\)", msg)
-        if m:
-            line = int(m.group(1))
-            msg = msg[:m.start()] + msg[m.end():]
-        elif "(at end of document)" in msg:
-            line = text.count("\n") + (0 if text.endswith("\n") else 1)
-            msg = msg.replace(" (at end of document)", " at end of file")
-        raise JobError(f"invalid TOML: {msg}", path, line) from None
-
-
 def job_from_dict(data: dict, path: Path | None = None) -> Job:
     base = path.parent if path else Path.cwd()
     top = validate(data, TOP, "", path, base)
     units = top["units"]
+    limits = Limits.default_for(units)
+    if top["limits"] is not None:
+        lim = validate(top["limits"], LIMITS, "limits", path)
+        limits = Limits(**{k: lim[k] if lim[k] is not None else getattr(limits, k)
+                           for k in Limits.keys()})
     stock = None
     if top["stock"] is not None:
         st = validate(top["stock"], STOCK, "stock", path)
@@ -134,6 +132,11 @@ def job_from_dict(data: dict, path: Path | None = None) -> Job:
             stock = Stock.from_box(st["box"])
         except ValueError as e:
             raise JobError(f"stock.box: {e}", path) from None
+        side = max(stock.size)
+        if side > limits.max_extent:
+            raise JobError(f"stock.box: a side of {side:g} {units} is larger than the "
+                           f"{limits.max_extent:g} {units} limit (wrong units? raise "
+                           f"[limits] max_extent if the machine is that big)", path)
     machine = Machine.default_for(units)
     machine_units = ""
     if top["machine"] is not None:
@@ -160,9 +163,32 @@ def job_from_dict(data: dict, path: Path | None = None) -> Job:
         if "tool" in params and isinstance(params["tool"], int) and params["tool"] not in tools:
             raise JobError(f"{where}.tool: tool {params['tool']} is not in the job's [[tools]]",
                            path)
+        _check_work(params, stock, limits, units, where, path)
         ops.append((op["type"], params))
     default_tol = 0.0002 if units == "inch" else 0.005
     return Job(path=path, units=units, name=top["name"] or (path.stem if path else "job"),
                stock=stock, machine=machine, tools=tools, operations=ops, fit=top["fit"],
                fit_tolerance=top["fit_tolerance"] or default_tol, simulation=sim,
-               machine_units=machine_units, post=post)
+               limits=limits, machine_units=machine_units, post=post)
+
+
+def _check_work(params: dict[str, Any], stock: Stock | None, limits: Limits, units: str,
+                where: str, path: Path | None) -> None:
+    """Refuse an operation whose steps would make more layers or passes than the limits
+    allow, measured over the stock (or the operation's own depth), before planning."""
+    if stock is not None:
+        depth, across = stock.size[2], max(stock.size[0], stock.size[1])
+    else:
+        depth, across = params.get("depth") or 0.0, 0.0
+    for keys, span, what, limit, name in (
+            (LAYER_KEYS, depth, "layers", limits.max_layers, "max_layers"),
+            (PASS_KEYS, across, "passes", limits.max_passes, "max_passes")):
+        for key in keys:
+            step = params.get(key)
+            if not isinstance(step, float) or span <= 0:
+                continue
+            n = count_needed(span, step)
+            if n > limit:
+                raise JobError(f"{where}.{key}: {span:g} {units} at {step:g} {units} a step "
+                               f"needs {n:g} {what}, more than the limit of {limit} "
+                               f"(raise [limits] {name} if you mean it)", path)

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from millpath.errors import MillpathError
-from millpath.job.schema import validate
+from millpath.io.schema import validate
 from millpath.model import Machine, Tool
 from millpath.plan.base import PlanContext
 from millpath.plan.features.operation import PARAMS, plan

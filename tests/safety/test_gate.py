@@ -13,7 +13,7 @@ import pytest
 from click.testing import CliRunner
 
 from millpath.cli.main import cli
-from millpath.job.schema import Param
+from millpath.io.schema import Param
 from millpath.model import Operation, Toolpath
 from millpath.plan import registry
 from millpath.plan.base import PlanResult

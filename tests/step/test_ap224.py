@@ -210,7 +210,7 @@ def test_generated_file_with_20000_instances_parses_and_extracts():
 
 
 def test_si_units_without_prefix_are_metres_and_plans_scale_to_the_job(tmp_path):
-    from millpath.job.schema import validate
+    from millpath.io.schema import validate
     from millpath.model import Machine, Tool
     from millpath.plan.base import PlanContext
     from millpath.plan.features.operation import PARAMS, plan

@@ -31,7 +31,7 @@ from shapely.geometry.polygon import orient
 from shapely.validation import make_valid
 
 from millpath.errors import GeometryError, JobError, PlanningError
-from millpath.job.schema import Param
+from millpath.io.schema import Param
 from millpath.model import Operation, Toolpath
 from millpath.part.curve.blend import build_curve
 from millpath.part.curve.fourpoint import Curve

@@ -42,7 +42,7 @@ from typing import Any
 import numpy as np
 
 from millpath.errors import JobError, PlanningError
-from millpath.job.schema import Param
+from millpath.io.schema import Param
 from millpath.model import Operation, Stock, Tool, Toolpath
 from millpath.part.step.ap224 import read_part
 from millpath.part.step.shapes import (FaceShape, HoleShape, PocketShape, SlotShape,

@@ -33,7 +33,7 @@ import numpy as np
 import shapely
 
 from millpath.errors import GeometryError, JobError
-from millpath.job.schema import Param
+from millpath.io.schema import Param
 from millpath.part.surface import BezierPatch, MeasuredGrid
 from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.gridpocket.cells import pocket_polygon, polygon_problem
