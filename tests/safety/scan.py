@@ -5,9 +5,6 @@ material that no earlier motion has cleared."""
 from __future__ import annotations
 
 import numpy as np
-from scipy.spatial import cKDTree
-
-from millpath.model.toolpath import Move, sample_move
 
 
 def tool_change_lines(program: str) -> list[int]:
@@ -45,42 +42,40 @@ def approach_violations(program: str, motions, safe_z: float) -> list[str]:
     return bad
 
 
-def plunge_violations(motions, tools, stock_top: float, step: float = 0.5) -> list[str]:
-    """Vertical feed moves of a non-drill tool ending below the stock top where no
-    earlier cutting motion of a tool at least as wide swept the whole tool disc at or
-    below that depth."""
-    bad = []
-    pts: list[np.ndarray] = []       # (x, y, z, radius) of earlier cutting samples
-    tree = None
-    dirty = False
-    for m in motions:
-        if m.kind not in ("feed", "arc", "traverse") or m.tool not in tools:
+def plunge_violations(motions, tools, stock, resolution: float) -> list[str]:
+    """Vertical feed moves of a non-drill tool whose bottom meets material: the Z-map
+    simulation of every motion before it (millpath.simulate, independent of the
+    planners) still has material more than 1 % of the tool diameter above the cutter's
+    surface (tip at the move's end) within half a radius of its axis."""
+    from millpath.simulate.path import Segments, motion_segments
+    from millpath.simulate.simulator import sweep
+    from millpath.simulate.zmap import ZMap
+    from millpath.verify.approach import approach_from_above
+
+    motions = approach_from_above(list(motions), stock.zmax)
+    zmap = ZMap.from_stock(stock, resolution)
+    segs = motion_segments(motions, resolution / 20.0)
+    xs, ys = zmap.xs(), zmap.ys()
+    bad, done = [], 0
+    for k, m in enumerate(motions):
+        if m.kind != "feed" or m.tool not in tools or tools[m.tool].type == "drill":
             continue
-        t = tools[m.tool]
         s, e = np.asarray(m.start), np.asarray(m.end)
-        vertical = m.kind == "feed" and np.hypot(*(e[:2] - s[:2])) < 1e-6 and e[2] < s[2] - 1e-9
-        if vertical and t.type != "drill" and e[2] < stock_top - 1e-6:
-            if dirty and pts:
-                arr = np.vstack(pts)
-                tree = cKDTree(arr[:, :2])
-                dirty = False
-            ok = False
-            if tree is not None:
-                idx = tree.query_ball_point(e[:2], r=max(arr[:, 3].max(), 1e-9))
-                for k in idx:
-                    x, y, z, r = arr[k]
-                    if z <= e[2] + 1e-6 and np.hypot(x - e[0], y - e[1]) <= r - t.radius + 1e-6:
-                        ok = True
-                        break
-            if not ok:
-                bad.append(f"line {m.line}: T{m.tool} ({t.type}) plunges straight down to "
-                           f"Z{e[2]:g} at X{e[0]:g} Y{e[1]:g} into uncleared material")
-        if m.kind == "traverse":
+        if np.hypot(*(e[:2] - s[:2])) > 1e-6 or e[2] >= s[2] - 1e-9 or e[2] >= stock.zmax:
             continue
-        mv = Move("line" if m.kind == "feed" else "arc", tuple(m.end), 1.0,
-                  center=m.center, plane=m.plane, clockwise=m.rotation < 0,
-                  turns=max(1, abs(m.rotation)))
-        p = sample_move(tuple(m.start), mv, step)
-        pts.append(np.column_stack([p, np.full(len(p), t.radius)]))
-        dirty = True
+        keep = (segs.motion >= done) & (segs.motion < k)
+        sweep(zmap, Segments(segs.start[keep], segs.end[keep], segs.motion[keep],
+                             segs.rapid[keep], segs.tool[keep]), tools, len(motions))
+        done = k
+        t = tools[m.tool]
+        rho = np.sqrt((xs[None, :] - e[0]) ** 2 + (ys[:, None] - e[1]) ** 2)
+        near = rho <= 0.5 * t.radius
+        if not near.any():
+            continue
+        cutter = e[2] + np.array([t.profile_height(float(r)) for r in rho[near]])
+        over = zmap.heights[near] - cutter
+        top = float(zmap.heights[near][np.argmax(over)])
+        if over.max() > 0.01 * t.diameter:
+            bad.append(f"line {m.line}: T{m.tool} ({t.type}) plunges straight down to "
+                       f"Z{e[2]:g} at X{e[0]:g} Y{e[1]:g} into material up to Z{top:g}")
     return bad
