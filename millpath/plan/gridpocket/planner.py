@@ -178,6 +178,9 @@ class _Builder:
         if self.pos[2] > tz:
             self._descend((tx, ty, tz), done_floor)
 
+    def _count(self, length: float) -> None:
+        self.stats.phases[self.phase] = self.stats.phases.get(self.phase, 0.0) + length
+
     def _descend(self, target, done_floor: float) -> None:
         """Down to ``target`` from straight above: a helix where the last stretch goes
         into material (millpath.plan.entry), a straight feed where it is cleared."""
@@ -197,6 +200,7 @@ class _Builder:
                             s.plunge_feed, turns=hx.turns)
                 self.pos = np.array([tx, ty, tz])
                 self.stats.helices += 1
+                self._count(math.hypot(2 * math.pi * hx.radius * hx.turns, z0 - tz))
                 return
             rp = ramp_entry((tx, ty, tz), z0, s.tool.radius, centre_ok=centre_ok,
                             floor=self.zf.z)
@@ -204,6 +208,8 @@ class _Builder:
                 for p in rp.points(z0):
                     self._line(p, s.plunge_feed)
                 self.stats.ramps += 1
+                leg = math.hypot(rp.far[0] - tx, rp.far[1] - ty)
+                self._count(math.hypot(leg * rp.legs, z0 - tz))
                 return
         self._line((tx, ty, tz), s.plunge_feed)
         self.stats.plunges += 1
