@@ -214,7 +214,8 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
             tasks.append(_Task(s, strat, tool, note))
 
     if shapes and not tasks:
-        first = skipped[-1] if skipped else {"type": "feature", "id": "?", "reason": ""}
+        first = next((u for u in skipped if u.get("kind") == "reach"),
+                     skipped[0] if skipped else {"type": "feature", "id": "?", "reason": ""})
         raise PlanningError(f"no feature can be machined with the job's tools: "
                             f"{first['type']} #{first['id']}: {first['reason']}",
                             params["step"])
