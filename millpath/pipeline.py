@@ -73,6 +73,9 @@ def plan_job(job: Job) -> tuple[Toolpath, list[PlanResult], Stock]:
     if stock is None:
         raise MillpathError("stock: the job gives no [stock] box and no operation implies one",
                             job.path)
+    from millpath.plan.sense import check_operation
+    for i, r in enumerate(results):
+        check_operation(f"operations[{i}]", r.toolpath, stock, job.tools, job.path)
     if not total.moves:
         raise PlanningError("the job's operations produced no moves", job.path)
     return total, results, stock

@@ -79,6 +79,7 @@ number = 1
 type = "flat"
 diameter = 6
 flute_length = {flutes}
+shank_diameter = 5.5
 stickout = {stickout}
 holder = [[30, 40]]
 [[operations]]
@@ -95,7 +96,7 @@ def _run(job, out, *extra, quiet=True):
 
 CASES = [
     # case, tool stick-out / flute length, what the one line must name
-    ("holder", 3.0, 3.0, "holder contact"),     # holder face 3 above a tip 4 deep: buried
+    ("holder", 30.0, 2.0, "holder contact"),    # 2 mm flutes 4 deep: the shank rubs
     ("rapid", 30.0, 20.0, "rapid through material"),
     ("gouge", 30.0, 20.0, "gouge"),
     ("feature", 30.0, 20.0, "feature not machined"),
@@ -134,14 +135,31 @@ def test_each_condition_refuses_the_program(tmp_path, gate_strategy, case, stick
     assert "warning" in r.stderr and "program.unsafe.ngc" in r.stderr
 
 
-def test_holder_contact_line_points_at_the_buried_move(tmp_path, gate_strategy):
-    """The first contact is the plunge from z 1 to z -4 (holder face at tip + 3 passes
-    the stock top at z 0 once the tip is below -3)."""
+def test_holder_contact_names_a_move_at_the_cutting_depth(tmp_path, gate_strategy):
+    """With 2 mm of flutes 4 mm deep the shank meets the material left above the flutes
+    (the first side move at the latest): the problem names a program line whose motion
+    ends at the cutting depth z -4 inside the pocket outline, and the operation."""
     out = tmp_path / "out"
-    _run(_job(tmp_path, "holder", 3.0, 3.0), out)
+    _run(_job(tmp_path, "holder", 30.0, 2.0), out)
     rep = json.loads((out / "report.json").read_text())
     p = rep["safety"]["problems"][0]
-    assert p["at"][:2] == [20.0, 20.0] and p["at"][2] == pytest.approx(-4.0)
+    assert p["at"][2] == -4.0 and 20.0 <= p["at"][0] <= 40.0 and p["at"][1] == 20.0
+    assert p["operation"] == 0 and p["operation_name"] == "case holder"
+    forced = tmp_path / "forced"
+    _run(_job(tmp_path, "holder", 30.0, 2.0), forced, "--force")
+    lines = (forced / "program.unsafe.ngc").read_text().splitlines()
+    p = json.loads((forced / "report.json").read_text())["safety"]["problems"][0]
+    assert "Z-4" in lines[p["line"] - 1]          # the named line of the written file
+
+
+def test_depth_beyond_the_tool_reach_is_refused_before_planning_output(tmp_path,
+                                                                     gate_strategy):
+    """Stick-out 3 for a cut 4 deep: refused up front (issue 16 item 4), naming the key."""
+    r = _run(_job(tmp_path, "ok", 3.0, 3.0), tmp_path / "out")
+    assert r.exit_code == 1
+    (line,) = r.stderr.strip().splitlines()
+    assert "operations[0]: T1 cuts 4 below the stock top but reaches only 3" in line
+    assert not (tmp_path / "out").exists()
 
 
 def test_the_same_job_with_a_long_tool_is_clean(tmp_path, gate_strategy):
