@@ -32,6 +32,20 @@ class Param:
     doc: str = ""
     length: int | None = None   # exact list length for "floats"
     check: Callable[[Any], str | None] | None = None
+    unit: str = ""              # see UNITS: what the number is measured in
+
+
+#: ``Param.unit`` values and how ``millpath keys`` / docs/jobs.md print them
+UNITS = {
+    "": "",
+    "length": "job units (mm or in)",
+    "feed": "job units/min",
+    "rpm": "rev/min",
+    "deg": "degrees",
+    "s": "seconds",
+    "count": "count",
+    "ratio": "fraction",
+}
 
 
 def _is_num(v: Any) -> bool:

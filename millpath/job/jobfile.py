@@ -35,11 +35,14 @@ from millpath.plan.registry import strategy
 from millpath.io.text import read_text
 
 TOP = {
-    "units": Param("str", choices=("mm", "inch")),
-    "name": Param("str", ""),
-    "description": Param("str", ""),
-    "fit": Param("str", "none", choices=("none", "arcs", "arcs+cubics")),
-    "fit_tolerance": Param("float", None, positive=True),
+    "units": Param("str", choices=("mm", "inch"), doc="units of every length in the job"),
+    "name": Param("str", "", doc="job name (default: the file's name)"),
+    "description": Param("str", "", doc="free text"),
+    "fit": Param("str", "none", choices=("none", "arcs", "arcs+cubics"),
+                 doc="replace runs of lines by arcs (and XY G5 cubics) before posting"),
+    "fit_tolerance": Param("float", None, positive=True, unit="length",
+                           doc="largest distance of the fitted path from the planned one "
+                               "(default 0.005 mm / 0.0002 in)"),
     "stock": Param("table", None),
     "machine": Param("table", None),
     "simulation": Param("table", None),
@@ -49,36 +52,54 @@ TOP = {
     "operations": Param("list"),
 }
 
-STOCK = {"box": Param("floats", length=6)}
+STOCK = {"box": Param("floats", length=6, unit="length",
+                      doc="[xmin, ymin, zmin, xmax, ymax, zmax] of the raw block")}
 MACHINE = {
-    "rapid": Param("float", None, positive=True),
-    "max_feed": Param("float", None, positive=True),
-    "acceleration": Param("float", None, positive=True),
-    "units": Param("str", None, choices=("mm", "inch")),
+    "rapid": Param("float", None, positive=True, unit="feed",
+                   doc="rapid rate (default 5000 mm/min, 200 in/min)"),
+    "max_feed": Param("float", None, positive=True, unit="feed",
+                      doc="highest feed rate (default 3000 mm/min, 120 in/min)"),
+    "acceleration": Param("float", None, positive=True,
+                          doc="axis acceleration in units/s^2 (default 500 mm/s^2, 20 in/s^2)"),
+    "units": Param("str", None, choices=("mm", "inch"),
+                   doc="the machine's units: tools.tbl is written in them (default: the "
+                       "job's)"),
 }
 POST = {
-    "coolant": Param("str", None, choices=("flood", "mist", "off")),
+    "coolant": Param("str", None, choices=("flood", "mist", "off"),
+                     doc="coolant of every operation (default: each operation's, flood)"),
     "work_offset": Param("str", "G54", choices=("G54", "G55", "G56", "G57", "G58", "G59",
-                                                "G59.1", "G59.2", "G59.3")),
-    "end": Param("str", "M2", choices=("M2", "M30")),
-    "line_numbers": Param("bool", False),
-    "tool_change": Param("str", "none", choices=("G30", "G53 G0 Z0", "none")),
-    "program_number": Param("int", None, nonneg=True),
-    "preamble": Param("str", ""),
-    "postamble": Param("str", ""),
+                                                "G59.1", "G59.2", "G59.3"),
+                         doc="work coordinate system written in the setup line"),
+    "end": Param("str", "M2", choices=("M2", "M30"), doc="program end"),
+    "line_numbers": Param("bool", False, doc="N words in steps of 10"),
+    "tool_change": Param("str", "none", choices=("G30", "G53 G0 Z0", "none"),
+                         doc="move written before each M6"),
+    "program_number": Param("int", None, nonneg=True,
+                            doc="written first as the comment (O<n>)"),
+    "preamble": Param("str", "", doc="G-code lines after the setup"),
+    "postamble": Param("str", "", doc="G-code lines before the program end"),
 }
 LIMITS = {
-    "max_extent": Param("float", None, positive=True, doc="largest stock side (job units)"),
-    "max_layers": Param("int", None, positive=True, doc="depth passes of one operation"),
-    "max_passes": Param("int", None, positive=True, doc="side-by-side passes of one operation"),
+    "max_extent": Param("float", None, positive=True, unit="length",
+                        doc="largest stock side (default 10000 mm / 400 in)"),
+    "max_layers": Param("int", None, positive=True, unit="count",
+                        doc="depth passes of one operation: stock height / stepdown "
+                            "(default 2000)"),
+    "max_passes": Param("int", None, positive=True, unit="count",
+                        doc="side-by-side passes of one operation: largest stock side / "
+                            "stepover (default 20000)"),
 }
 #: operation keys that set a depth per layer / a distance between side-by-side passes
 LAYER_KEYS = ("stepdown", "step_down", "stepdown_max", "step")
 PASS_KEYS = ("stepover", "step_over")
 SIMULATION = {
-    "resolution": Param("float", None, positive=True),
-    "enabled": Param("bool", True),
-    "design": Param("path", None),
+    "resolution": Param("float", None, positive=True, unit="length",
+                        doc="Z-map cell size (default: a tenth of the smallest tool "
+                            "diameter)"),
+    "enabled": Param("bool", True, doc="simulate and verify the program"),
+    "design": Param("path", None, doc="the designed part (STL) the program is verified "
+                                      "against (default: the operations' own designs)"),
 }
 
 

@@ -25,6 +25,14 @@ from millpath.errors import MillpathError
 
 #: problem kinds from the worst down: a crash before a scrapped part
 KINDS = ("holder contact", "rapid through material", "gouge", "feature not machined")
+PLURAL = {"holder contact": "holder contacts", "rapid through material":
+          "rapids through material", "gouge": "gouges",
+          "feature not machined": "features not machined"}
+
+
+def counted(kind: str, n: int) -> str:
+    """'1 holder contact', '2 rapids through material'."""
+    return f"{n} {kind if n == 1 else PLURAL[kind]}"
 
 
 @dataclass
@@ -43,9 +51,7 @@ class Problem:
 
     def text(self) -> str:
         """One line: what, how many, where, program line, operation."""
-        s = f"{self.count} {self.kind}{'s' if self.count != 1 and self.kind != 'gouge' else ''}"
-        if self.kind == "gouge":
-            s = "gouge"
+        s = "gouge" if self.kind == "gouge" else counted(self.kind, self.count)
         s += f": {self.detail}" if self.detail else ""
         if self.at is not None:
             s += " at " + " ".join(f"{a}{v:.4g}" for a, v in zip("XYZ", self.at)
@@ -186,8 +192,8 @@ def summary(problems: list[Problem]) -> str:
     rest = problems[1:]
     if rest:
         s += "; also " + ", ".join(
-            (f"{p.count} {p.kind}" + ("s" if p.count != 1 else "")) if p.kind != "gouge"
-            else f"gouge {p.detail}" for p in rest)
+            counted(p.kind, p.count) if p.kind != "gouge" else f"gouge {p.detail}"
+            for p in rest)
     return s
 
 
