@@ -38,17 +38,18 @@ def surface_link(sampler: Sampler, a: np.ndarray, b: np.ndarray, tol: float,
 
 
 def _descend(tp: Toolpath, start, safe_z: float, clearance: float, approach_z: float,
-             plunge_feed: float, sampler: Sampler | None = None) -> bool:
+             plunge_feed: float, sampler: Sampler | None = None,
+             allowance: float = 0.0) -> bool:
     """From ``safe_z`` above ``start``: rapid to the approach height, then feed to
-    ``start``: down a helix whose every point stays above the surface when ``start`` is
-    below ``approach_z``, else straight. True if a helix was used."""
+    ``start``: down a helix whose every point stays ``allowance`` above the surface
+    when ``start`` is below ``approach_z``, else straight. True if a helix was used."""
     z = min(safe_z, max(start[2], approach_z) + clearance)
     if z < safe_z - 1e-9:
         tp.rapid(start[0], start[1], z)
     if sampler is not None and start[2] < approach_z - 1e-9:
         def floor(xs, ys):
             uw = sampler.uw(xs, ys)
-            return sampler.z_cut(uw[:, 0], uw[:, 1])
+            return sampler.z_cut(uw[:, 0], uw[:, 1]) + allowance
         hx = helix_entry(start, z, sampler.cutter.radius,
                          centre_ok=lambda xs, ys: True, floor=floor)
         if hx is not None:
@@ -62,8 +63,10 @@ def _descend(tp: Toolpath, start, safe_z: float, clearance: float, approach_z: f
 
 def add_passes(tp: Toolpath, sampler: Sampler, passes: list[Pass], *, feed: float,
                plunge_feed: float, safe_z: float, clearance: float, link_max: float,
-               tolerance: float, approach_z: float = -math.inf) -> dict:
-    """Append the passes to ``tp`` (its operation already begun); return link counts."""
+               tolerance: float, approach_z: float = -math.inf,
+               allowance: float = 0.0) -> dict:
+    """Append the passes to ``tp`` (its operation already begun); return link counts.
+    ``allowance``: stock the passes leave on the surface (entries leave it too)."""
     links = {"surface": 0, "retract": 0, "helix": 0}
     cur = None
     for p in passes:
@@ -74,7 +77,7 @@ def add_passes(tp: Toolpath, sampler: Sampler, passes: list[Pass], *, feed: floa
         if cur is None:
             tp.rapid(start[0], start[1], safe_z)
             links["helix"] += _descend(tp, start, safe_z, clearance, approach_z,
-                                       plunge_feed, sampler)
+                                       plunge_feed, sampler, allowance)
         elif math.hypot(start[0] - cur[0], start[1] - cur[1]) <= link_max:
             L = surface_link(sampler, cur, start, tolerance, 0.25 * sampler.cutter.radius)
             for q in L[1:]:
@@ -84,7 +87,7 @@ def add_passes(tp: Toolpath, sampler: Sampler, passes: list[Pass], *, feed: floa
             tp.rapid(cur[0], cur[1], safe_z)
             tp.rapid(start[0], start[1], safe_z)
             links["helix"] += _descend(tp, start, safe_z, clearance, approach_z,
-                                       plunge_feed, sampler)
+                                       plunge_feed, sampler, allowance)
             links["retract"] += 1
         for q in P[1:]:
             tp.line(*q, feed)
