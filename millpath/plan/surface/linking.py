@@ -17,7 +17,7 @@ import math
 import numpy as np
 
 from millpath.model.toolpath import Toolpath
-from millpath.plan.entry import helix_entry
+from millpath.plan.entry import helix_entry, ramp_entry
 from millpath.plan.surface.sampler import Sampler
 from millpath.plan.surface.zigzag import Pass, _refine
 
@@ -41,8 +41,9 @@ def _descend(tp: Toolpath, start, safe_z: float, clearance: float, approach_z: f
              plunge_feed: float, sampler: Sampler | None = None,
              allowance: float = 0.0) -> bool:
     """From ``safe_z`` above ``start``: rapid to the approach height, then feed to
-    ``start``: down a helix whose every point stays ``allowance`` above the surface
-    when ``start`` is below ``approach_z``, else straight. True if a helix was used."""
+    ``start``: down a helix (else a zigzag ramp) whose every point stays ``allowance``
+    above the surface when ``start`` is below ``approach_z``, else straight. True if a
+    helix or ramp was used."""
     z = min(safe_z, max(start[2], approach_z) + clearance)
     if z < safe_z - 1e-9:
         tp.rapid(start[0], start[1], z)
@@ -56,6 +57,12 @@ def _descend(tp: Toolpath, start, safe_z: float, clearance: float, approach_z: f
             tp.arc(tuple(float(v) for v in start), (hx.center[0], hx.center[1],
                                                     float(start[2])),
                    False, plunge_feed, turns=hx.turns)
+            return True
+        rp = ramp_entry(start, z, sampler.cutter.radius, centre_ok=lambda xs, ys: True,
+                        floor=floor)
+        if rp is not None:
+            for q in rp.points(z):
+                tp.line(*q, plunge_feed)
             return True
     tp.line(*start, plunge_feed)
     return False
