@@ -113,12 +113,12 @@ def default_resolution(job: Job, stock: Stock, tp: Toolpath) -> float:
 def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False,
             force: bool = False) -> RunResult:
     """Run the job file at ``job_path``, writing program.ngc, tools.tbl, report.json,
-    preview.png, stock.png and deviation.png into ``outdir``.
+    preview.png, stock.png, deviation.png and view.html into ``outdir``.
 
-    When the simulation finds a problem (see :mod:`millpath.verify.gate`) the report
-    and pictures are written without the program and UnsafeProgramError is raised;
-    with ``force`` the program is written as ``program.unsafe.ngc`` headed by the list
-    of problems."""
+    When the simulation finds a problem (see :mod:`millpath.verify.gate`) the report,
+    pictures and viewer are written without the program and UnsafeProgramError is
+    raised; with ``force`` the program is written as ``program.unsafe.ngc`` headed by
+    the list of problems."""
     t0 = time.perf_counter()
     job = load_job(job_path)
     tp, results, stock = plan_job(job)
@@ -155,6 +155,8 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False,
         "stock": list(stock.box),
         "fit": {"mode": job.fit, "tolerance": job.fit_tolerance},
     }
+    if job.reference:
+        report["reference"] = job.reference
     from millpath.simulate import motion_times
     from millpath.verify.approach import approach_from_above
     motions = approach_from_above(motions, stock.zmax)
@@ -191,6 +193,7 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False,
 
     problems = _safety_gate(report, job, tp, move_lines, motions, sim)
     program_name = "program.ngc"
+    posted = program                  # as interpreted: the viewer's lines refer to it
     if problems:
         program, program_name = _unsafe_program(program, problems, force)
     report["program"] = program_name if (force or not problems) else None
@@ -210,6 +213,10 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False,
             render_stock(sim.zmap, tmp / "stock.png")
             if design is not None:
                 render_deviation(sim.zmap, design, tmp / "deviation.png")
+        from millpath.report.viewer import write_view
+        write_view(tmp / "view.html", program=posted, motions=motions, tools=job.tools,
+                   stock=stock, units=job.units, sim=sim, design=design, title=job.name,
+                   toolpath=tp, move_lines=move_lines)
         report["seconds"] = round(time.perf_counter() - t0, 3)
         (tmp / "report.json").write_text(json.dumps(report, indent=2, default=_json_default))
         files = [out / f.name for f in sorted(tmp.iterdir()) if not f.name.startswith(".")]

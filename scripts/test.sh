@@ -2,6 +2,7 @@
 # Set up everything the test suite needs on a fresh Debian machine, then run it.
 #  - LinuxCNC's standalone interpreter rs274 (Debian package linuxcnc-uspace), the
 #    reference for the differential tests, installed with apt-get when missing;
+#  - Debian's chromium (headless, software WebGL) for the view.html tests, likewise;
 #  - a virtual environment .venv (the demo command's, when it exists) with millpath
 #    installed editable and its test extras from PyPI, OpenCASCADE (cadquery-ocp)
 #    included.
@@ -16,6 +17,13 @@ if ! command -v rs274 >/dev/null 2>&1; then
   echo "== installing linuxcnc-uspace (rs274) with apt-get"
   $SUDO apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends linuxcnc-uspace >/dev/null
+fi
+if ! command -v chromium >/dev/null 2>&1; then
+  SUDO=""
+  [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+  echo "== installing chromium (view.html tests) with apt-get"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends chromium >/dev/null
 fi
 
 PY=${PYTHON:-python3}

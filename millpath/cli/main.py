@@ -26,7 +26,7 @@ import click
 from millpath import __version__
 from millpath.errors import MillpathError, MillpathWarning
 
-COMMANDS = ("run", "demo", "check", "simulate", "features", "drop", "fit", "keys")
+COMMANDS = ("run", "demo", "check", "simulate", "features", "drop", "fit", "keys", "view")
 
 EXIT_INPUT = 1
 EXIT_BUG = 2

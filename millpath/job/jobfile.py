@@ -14,6 +14,8 @@ Layout::
     [post]         coolant, work_offset, end, line_numbers, tool_change, program_number,
                    preamble, postamble (see millpath.post.linuxcnc.PostOptions)
     [limits]       max_extent (job units), max_layers, max_passes   (millpath.model.limits)
+    [reference]    a document's published numbers the job reproduces (free-form
+                   table, copied into report.json as "reference")
     [[tools]]      number, type, diameter, ...   (see millpath.io.toollib)
     [[operations]] type = "...", tool = N, ...   (keys per strategy)
 
@@ -38,6 +40,8 @@ TOP = {
     "units": Param("str", choices=("mm", "inch"), doc="units of every length in the job"),
     "name": Param("str", "", doc="job name (default: the file's name)"),
     "description": Param("str", "", doc="free text"),
+    "reference": Param("table", None, doc="a document's published numbers the job "
+                       "reproduces (copied into report.json)"),
     "fit": Param("str", "none", choices=("none", "arcs", "arcs+cubics"),
                  doc="replace runs of lines by arcs (and XY G5 cubics) before posting"),
     "fit_tolerance": Param("float", None, positive=True, unit="length",
@@ -116,6 +120,7 @@ class Job:
     fit_tolerance: float = 0.005
     simulation: dict[str, Any] = field(default_factory=dict)
     limits: Limits = field(default_factory=Limits)
+    reference: dict[str, Any] | None = None     # published numbers the job reproduces
     machine_units: str = ""           # units of the machine (tool table); "" = the job's
     post: dict[str, Any] = field(default_factory=dict)   # [post]: PostOptions fields
 
@@ -190,7 +195,8 @@ def job_from_dict(data: dict, path: Path | None = None) -> Job:
     return Job(path=path, units=units, name=top["name"] or (path.stem if path else "job"),
                stock=stock, machine=machine, tools=tools, operations=ops, fit=top["fit"],
                fit_tolerance=top["fit_tolerance"] or default_tol, simulation=sim,
-               limits=limits, machine_units=machine_units, post=post)
+               limits=limits, reference=top["reference"], machine_units=machine_units,
+               post=post)
 
 
 def _check_work(params: dict[str, Any], stock: Stock | None, limits: Limits, units: str,

@@ -49,7 +49,7 @@ def _finish_xy(motions, z):
 
 def test_params_keys_are_the_issue_keys():
     assert set(op.PARAMS) == {"tool", "points", "points_file", "close", "tolerance", "depth",
-                              "step_down", "allowance", "stepover", "compensation", "feed",
+                              "step_down", "allowance", "stepover", "compensation", "entry", "feed",
                               "plunge_feed", "spindle", "safe_z", "breakthrough"}
 
 
