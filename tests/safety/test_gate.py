@@ -116,7 +116,7 @@ def test_each_condition_refuses_the_program(tmp_path, gate_strategy, case, stick
     assert what in err[0].split("program refused: ")[1].split(";")[0]
     names = {f.name for f in out.iterdir()}
     assert "program.ngc" not in names and "program.unsafe.ngc" not in names
-    assert {"report.json", "preview.png", "stock.png", "deviation.png"} <= names
+    assert {"report.json", "preview.png", "stock.png", "deviation.png", "view.html"} <= names
     rep = json.loads((out / "report.json").read_text())
     assert rep["safety"]["status"] == "refused" and rep["program"] is None
     assert rep["safety"]["problems"][0]["kind"] == what

@@ -16,8 +16,8 @@ import pytest
 from millpath.errors import MillpathError
 from millpath.io.atomic import output_lock, staged_dir
 
-EXAMPLE = Path(__file__).resolve().parents[2] / "millpath" / "examples" / "features-block-slot"
-FILES = {"program.ngc", "tools.tbl", "report.json", "preview.png", "stock.png",
+EXAMPLE = Path(__file__).resolve().parents[2] / "millpath" / "examples" / "features-holes-slot"
+FILES = {"program.ngc", "tools.tbl", "report.json", "preview.png", "stock.png", "view.html",
          "deviation.png"}
 
 
@@ -27,9 +27,9 @@ def _jobs(tmp_path):
         shutil.copy(f, tmp_path / f.name)
     text = (EXAMPLE / "job.toml").read_text()
     a = tmp_path / "a.toml"
-    a.write_text(text.replace('name = "features-block-slot"', 'name = "run-a"'))
+    a.write_text(text.replace('name = "features-holes-slot"', 'name = "run-a"'))
     b = tmp_path / "b.toml"
-    b.write_text(text.replace('name = "features-block-slot"', 'name = "run-b"')
+    b.write_text(text.replace('name = "features-holes-slot"', 'name = "run-b"')
                  .replace("finish_allowance = 0.2", "finish_allowance = 0.2\nclearance = 9"))
     return a, b
 
