@@ -48,8 +48,15 @@ def command(outdir: Path, only: str | None) -> None:
     for job in jobs:
         name = job.parent.name
         console.print(f"[bold]{name}[/] ...")
+        from millpath.verify.gate import UnsafeProgramError
         try:
             res = run_job(job, outdir / name, progress=True)
+        except UnsafeProgramError as e:
+            failures += 1
+            console.print(f"[red]{name}: {e}[/]")
+            table.add_row(name, "", "", "", "", "", "",
+                          f"[red]refused: {e.problems[0].kind}[/]", "", "")
+            continue
         except MillpathError as e:
             from millpath.part.brep.reader import STEP_BREP_EXTRA
             if STEP_BREP_EXTRA in str(e):          # a STEP solid without OpenCASCADE

@@ -227,37 +227,39 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     unplanned: list = []            # recognised shapes without a tool: still in the design
     skipped = [dataclasses.asdict(u) for u in shapes_set.skipped]
     for s in shapes:
-        if isinstance(s, HoleShape):
-            strat, tool, note = hole_tool(s, tools, tol)
-            if solid is not None and s.kind == "countersink" and tool is None:
-                # a countersink (or spot drill) of the cone's angle, at least as wide: its
-                # tip goes to the cone's apex, its wider part stays above the entry
-                cs = [t for t in tools if t.type == "drill" and t.diameter >= s.diameter - tol
-                      and abs(t.point_angle - s.tip_angle) <= 1.0]
-                if cs:
-                    strat, tool, note = "drill", min(cs, key=lambda t: t.diameter), ""
-            if solid is not None and s.bottom == "flat" and strat == "drill":
-                strat, tool, note = "", None, ("flat bottom: no end mill smaller than the "
-                                               "hole (a pointed drill would leave its cone)")
-        elif isinstance(s, SlotShape):
-            strat, tool, note = slot_tool(s, tools, tol)
-        elif isinstance(s, FaceShape):
-            strat, tool, note = face_tool(s, tools, tol)
-        elif s.profile == "general":
-            strat, tool, note = region_tool(s, tools, tol, stock, ctx.units)
-        else:
-            strat, tool, note = pocket_tool(s, tools, tol)
-        if tool is not None:
-            depth = (s.depth if not (isinstance(s, HoleShape) and s.bottom == "through")
-                     else s.z_top - stock.zmin)
-            reach = tool.flute_length
-            if reach < depth - 1e-9:
-                note = "; ".join(x for x in (note, f"T{tool.number} flutes ({reach:g}) are "
-                                             f"shorter than the depth ({depth:g})") if x)
-            if tool.stickout < depth - 1e-9:
-                note = "; ".join(x for x in (note, f"T{tool.number} stickout ({tool.stickout:g})"
-                                             f" is shorter than the depth: the holder will "
-                                             f"touch") if x)
+        def choose(candidates: list[Tool]):
+            if isinstance(s, HoleShape):
+                strat, tool, note = hole_tool(s, candidates, tol)
+                if solid is not None and s.kind == "countersink" and tool is None:
+                    # a countersink (or spot drill) of the cone's angle, at least as wide:
+                    # its tip goes to the cone's apex, its wider part stays above the entry
+                    cs = [t for t in candidates if t.type == "drill"
+                          and t.diameter >= s.diameter - tol
+                          and abs(t.point_angle - s.tip_angle) <= 1.0]
+                    if cs:
+                        strat, tool, note = "drill", min(cs, key=lambda t: t.diameter), ""
+                if solid is not None and s.bottom == "flat" and strat == "drill":
+                    strat, tool, note = "", None, ("flat bottom: no end mill smaller than the "
+                                                   "hole (a pointed drill would leave its cone)")
+                return strat, tool, note
+            if isinstance(s, SlotShape):
+                return slot_tool(s, candidates, tol)
+            if isinstance(s, FaceShape):
+                return face_tool(s, candidates, tol)
+            if s.profile == "general":
+                return region_tool(s, candidates, tol, stock, ctx.units)
+            return pocket_tool(s, candidates, tol)
+
+        reach, flutes = reach_needed(s, stock, breakthrough)
+        strat, tool, note = choose([t for t in tools if reaches(t, reach, flutes)])
+        if tool is None:
+            _, tool_any, _ = choose(tools)
+            if tool_any is not None:        # a tool would suit but none reaches the floor
+                note = reach_reason(reach, flutes, tools, ctx.units)
+                skipped.append({"id": s.id, "type": type(s).__name__.replace("Shape", "")
+                                .upper(), "reason": note, "kind": "reach"})
+                unplanned.append(s)
+                continue
         if tool is None:
             skipped.append({"id": s.id, "type": type(s).__name__.replace("Shape", "").upper(),
                             "reason": note, "kind": "no tool"})
@@ -273,6 +275,12 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         else:
             tasks.append(_Task(s, strat, tool, note))
 
+    if shapes and not tasks:
+        first = next((u for u in skipped if u.get("kind") == "reach"),
+                     skipped[0] if skipped else {"type": "feature", "id": "?", "reason": ""})
+        raise PlanningError(f"no feature can be machined with the job's tools: "
+                            f"{first['type']} #{first['id']}: {first['reason']}",
+                            params["step"])
     merged = _consolidate(tasks, tol) if params["fewer_tools"] else []
     if merged:
         notes.append("tools used for few features were replaced by tools already in use: "
@@ -311,7 +319,8 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         tp.begin(Operation("features", f"T{n} {tool.type} D{tool.diameter:g}: "
                            f"{len(group)} feature(s) ({', '.join(kinds)})", n,
                            spindle=sp.rpm, coolant=params["coolant"],
-                           info={"material": mat, "vc": round(sp.vc, 1), "chip": sp.chip}))
+                           info={"material": mat, "vc": round(sp.vc, 1), "chip": sp.chip},
+                           tolerance=tol))
         for t in group:
             start = _material_top(t.shape, done, z_top)
             if t.strategy == "flatten":
@@ -420,6 +429,31 @@ def _group_key(g: list[_Task], n: int):
     region = any(t.strategy in REGION for t in g)
     tool = g[0].tool
     return (0 if region else 1 if tool.type == "drill" else 2, -tool.diameter, n)
+
+
+def reach_needed(shape, stock: Stock, breakthrough: float) -> tuple[float, float]:
+    """(stick-out, flute length) a tool needs for ``shape`` (job units): its holder face
+    must stay above the stock top with the tip at its lowest point (a through hole's
+    tip goes ``breakthrough`` below the stock), and its flutes must cover the feature's
+    own depth from its top to its floor (the stock bottom for a through hole)."""
+    through = isinstance(shape, HoleShape) and shape.bottom == "through"
+    floor = stock.zmin if through else shape.z_top - shape.depth
+    return stock.zmax - floor + (breakthrough if through else 0.0), shape.z_top - floor
+
+
+def reaches(tool: Tool, reach: float, flutes: float) -> bool:
+    return tool.stickout >= reach - 1e-9 and tool.flute_length >= flutes - 1e-9
+
+
+def reach_reason(reach: float, flutes: float, tools: list[Tool], units: str) -> str:
+    """Why no tool reaches: 'needs 85 mm of reach, the longest tool reaches 45'."""
+    longest = max(t.stickout for t in tools)
+    if longest < reach - 1e-9:
+        return (f"needs {reach:.4g} {units} of reach, the longest tool reaches "
+                f"{longest:.4g}")
+    fl = max(t.flute_length for t in tools if t.stickout >= reach - 1e-9)
+    return (f"needs {flutes:.4g} {units} of flute length with {reach:.4g} of reach, the "
+            f"longest flutes of a tool that reaches are {fl:.4g}")
 
 
 def _material_top(shape, done: list, z_stock: float) -> float:

@@ -151,7 +151,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     tp = Toolpath(units=ctx.units)
     tp.begin(Operation("surface-finish", params["name"], tool.number, params["spindle"],
                        info={"side_step": params["side_step"], "scallop": scallop,
-                             "tolerance": tol, "strategy": strategy}))
+                             "tolerance": tol, "strategy": strategy}, tolerance=tol))
     passes, rest_info = res.passes, None
     if params["rest"] and ctx.remaining is not None:
         from millpath.plan.surface.rest import rest_passes

@@ -227,10 +227,10 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
                        file)
     tp = Toolpath(units=ctx.units)
     tp.begin(Operation("surface-rough", params["name"], tool.number, params["spindle"],
-                       info={"stepdown": stepdown, "allowance": allowance}))
+                       info={"stepdown": stepdown, "allowance": allowance}, tolerance=tol))
     links = add_passes(tp, sampler, passes, feed=feed, plunge_feed=plunge, safe_z=safe_z,
                        clearance=0.04 if inch else 1.0, link_max=0.0, tolerance=tol,
-                       approach_z=ctx.stock.zmax)
+                       approach_z=ctx.stock.zmax, allowance=allowance)
     design = MeshHeight(index)
     section = {
         "operation": params["name"], "tool": tool.number,
