@@ -33,6 +33,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from millpath.errors import PlanningError
+from millpath.plan.surface.polyline import merge_collinear
 from millpath.plan.surface.sampler import Sampler
 from millpath.plan.surface.steps import curvature_radius, feed_step, flat_side_step, side_step
 
@@ -297,32 +298,6 @@ def _refine(sampler: Sampler, P: np.ndarray, tol_g: float, tol_m: float,
     return P
 
 
-def _merge(P: np.ndarray, tol: float) -> np.ndarray:
-    """Drop interior points within ``tol`` (3D) of the chord joining their neighbours
-    kept so far (greedy, forward)."""
-    if len(P) < 3:
-        return P
-    keep = [0]
-    a = 0
-    i = 2
-    while i < len(P):
-        A, B = P[a], P[i]
-        AB = B - A
-        L2 = float(AB @ AB)
-        inner = P[a + 1:i]
-        if L2 > 0:
-            t = np.clip((inner - A) @ AB / L2, 0.0, 1.0)
-            dist = np.linalg.norm(inner - (A + t[:, None] * AB), axis=1)
-        else:
-            dist = np.linalg.norm(inner - A, axis=1)
-        if dist.max() > tol:
-            keep.append(i - 1)
-            a = i - 1
-        i += 1
-    keep.append(len(P) - 1)
-    return P[keep]
-
-
 def sample_pass(sampler: Sampler, u: np.ndarray, W: np.ndarray, s: ZigzagSettings,
                 r: float) -> np.ndarray | None:
     """Tolerance-driven CL points (rows u, w, z in the pass frame) along one pass."""
@@ -358,14 +333,14 @@ def sample_pass(sampler: Sampler, u: np.ndarray, W: np.ndarray, s: ZigzagSetting
     Ns = np.linspace(0.0, N[-1], k + 1)
     # the stations too: w(u) is piecewise linear between them (variable side step), and
     # a chord across a kink would leave the next pass's scallop wider than planned
-    # (on a flat the Z check cannot see it); _merge drops the collinear ones
+    # (on a flat the Z check cannot see it); merge_collinear drops the collinear ones
     us = np.union1d(np.interp(Ns, N, u), u)
     ws = np.interp(us, u, W)
     zs, _ = sampler.z_safe(us, ws)
     P = np.stack([us, ws, zs], axis=1)
     min_len = 1e-3 * max(r, 1e-3)
     P = _refine(sampler, P, tol_g, tol_m, min_len)
-    P = _merge(P, 0.2 * min(tol_g, tol_m))
+    P = merge_collinear(P, 0.2 * min(tol_g, tol_m))
     P = _refine(sampler, P, tol_g, tol_m, min_len)
     return P
 
