@@ -98,7 +98,7 @@ tolerance = 0.01
     cavity = """units = "inch"
 name = "ktoolcav opening upwards"
 [stock]
-box = [-2.1, -0.9, -1.7, 2.1, 0.9, 0.02]
+box = [-2.1, -1.75, -1.7, 2.1, 1.75, 0.0]
 [[tools]]
 number = 1
 type = "flat"

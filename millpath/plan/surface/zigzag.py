@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Callable
 
 import numpy as np
 
@@ -44,7 +45,9 @@ class ZigzagSettings:
     of the tool tip; ``station`` the spacing of the stations along the passes where
     side steps are computed. ``trim_edges``: the region is the surface grown by the
     cutter radius; the first and last pass at each station are moved in to where the
-    contact point just reaches the surface's edge (see :func:`edge_lines`)."""
+    contact point just reaches the surface's edge (see :func:`edge_lines`). ``keep``:
+    XY points ``(n, 2)`` -> where passes are wanted (steep-shallow's shallow side);
+    elsewhere the scallop does not limit the side step and no points are planned."""
 
     tolerance: float
     scallop: float
@@ -55,6 +58,7 @@ class ZigzagSettings:
     max_step: float | None = None
     max_passes: int = 5000
     trim_edges: bool = False
+    keep: Callable[[np.ndarray], np.ndarray] | None = None
 
 
 @dataclass
@@ -131,18 +135,23 @@ def _runmin(a: np.ndarray, k: int = 1) -> np.ndarray:
     return out
 
 
-def _station_steps(sampler: Sampler, u, W, r, h, fd) -> np.ndarray:
+def _station_steps(sampler: Sampler, u, W, r, h, fd, keep=None) -> np.ndarray:
     """XY side step at each station from the published formula with the local curvature
     and slope across the passes. The scallop is limited to ``h`` measured vertically:
-    the normal height used in the formula is ``h cos(slope)``."""
-    zm = sampler.z_cut(u, W - fd)
-    z0 = sampler.z_cut(u, W)
-    zp = sampler.z_cut(u, W + fd)
+    the normal height used in the formula is ``h cos(slope)``. NaN where unknown (no
+    surface, or outside ``keep``). One drop-cutter batch for the three rows."""
+    u = np.asarray(u, float)
+    W = np.asarray(W, float)
+    n = len(u)
+    z = sampler.z_cut(np.concatenate([u, u, u]), np.concatenate([W - fd, W, W + fd]))
+    zm, z0, zp = z[:n], z[n:2 * n], z[2 * n:]
     ok = np.isfinite(zm) & np.isfinite(z0) & np.isfinite(zp)
-    out = np.full(len(u), np.nan)
+    if keep is not None:
+        ok &= keep(sampler.xy(u, W))
+    out = np.full(n, np.nan)
     rho_cl, slope = curvature_radius(zm[ok], z0[ok], zp[ok], fd)
     cos = 1.0 / np.sqrt(1.0 + slope * slope)
-    out[ok] = np.array([side_step(r, rc - r, h * c) for rc, c in zip(rho_cl, cos)]) * cos
+    out[ok] = side_step(r, rho_cl - r, h * cos) * cos
     return out
 
 
@@ -224,7 +233,7 @@ def pass_lines(sampler: Sampler, design, s: ZigzagSettings) -> tuple[np.ndarray,
             raise PlanningError(f"more than {s.max_passes} passes: scallop {h} is too small "
                                 f"for this surface and cutter")
         inside = _inside(sampler, s.region, u, W)
-        eps = _station_steps(sampler, u, W, r, target, fd)
+        eps = _station_steps(sampler, u, W, r, target, fd, s.keep)
         known = inside & np.isfinite(eps)
         if not known.any():
             dW = np.full(n, flat_side_step(r, target))
@@ -233,8 +242,9 @@ def pass_lines(sampler: Sampler, design, s: ZigzagSettings) -> tuple[np.ndarray,
         else:
             e = np.where(known, eps, np.inf)
             e = np.where(np.isfinite(e), e, float(eps[known].min()))
-            dW = _between(sampler, u, W, e, r, target, fd)    # each station its own step
-        dW = _look_ahead(sampler, u, W, dW, wmax, r, target, fd, s.side_step == "published")
+            dW = _between(sampler, u, W, e, r, target, fd, s.keep)   # each station its own
+        dW = _look_ahead(sampler, u, W, dW, wmax, r, target, fd, s.side_step == "published",
+                         s.keep)
         Wn = np.minimum(W + dW, wmax)
         steps.append(float(np.mean(Wn - W)))
         W = Wn
@@ -242,14 +252,15 @@ def pass_lines(sampler: Sampler, design, s: ZigzagSettings) -> tuple[np.ndarray,
     return u, lines, steps
 
 
-def _between(sampler: Sampler, u, W, step, r: float, target: float, fd: float) -> np.ndarray:
+def _between(sampler: Sampler, u, W, step, r: float, target: float, fd: float,
+             keep=None) -> np.ndarray:
     """Each station's step, also held to the steps found halfway to its neighbours (on
     the chord between their points): the passes are straight between stations, so the
     surface there counts too, but not what a neighbour meets farther along w."""
     if len(u) < 2:
         return np.asarray(step, float)
     um, wm = 0.5 * (u[1:] + u[:-1]), 0.5 * (W[1:] + W[:-1])
-    em = _station_steps(sampler, um, wm, r, target, fd)
+    em = _station_steps(sampler, um, wm, r, target, fd, keep)
     em = np.where(np.isfinite(em), em, np.inf)
     out = np.asarray(step, float).copy()
     out[1:] = np.minimum(out[1:], em)
@@ -258,7 +269,7 @@ def _between(sampler: Sampler, u, W, step, r: float, target: float, fd: float) -
 
 
 def _look_ahead(sampler: Sampler, u, W, dW, wmax, r: float, target: float,
-                fd: float, uniform: bool, rounds: int = 4) -> np.ndarray:
+                fd: float, uniform: bool, keep=None, rounds: int = 4) -> np.ndarray:
     """Shrink the step ``dW`` to the published step found at the candidate next line:
     the formula is local, and over a convex crease (or the edge the tool rolls over)
     it allows up to a cutter diameter that the surface beyond cannot take. Each round
@@ -266,7 +277,7 @@ def _look_ahead(sampler: Sampler, u, W, dW, wmax, r: float, target: float,
     dW = np.asarray(dW, float).copy()
     for _ in range(rounds):
         Wn = np.minimum(W + dW, wmax)
-        ahead = _station_steps(sampler, u, Wn, r, target, fd)
+        ahead = _station_steps(sampler, u, Wn, r, target, fd, keep)
         ok = np.isfinite(ahead) & (Wn < wmax - 1e-9)
         if not ok.any():
             break
@@ -274,7 +285,7 @@ def _look_ahead(sampler: Sampler, u, W, dW, wmax, r: float, target: float,
         if uniform:
             new = np.full_like(dW, float(new.min()))
         else:
-            new = _between(sampler, u, Wn, new, r, target, fd)
+            new = _between(sampler, u, Wn, new, r, target, fd, keep)
         if np.allclose(new, dW, rtol=1e-3, atol=0.0):
             break
         dW = new
@@ -357,6 +368,12 @@ def zigzag(sampler: Sampler, design, s: ZigzagSettings) -> ZigzagResult:
         # a station already on the last line was finished by the pass before
         active = (lines[0] < wmax - 1e-9) if k == 0 else lines[k - 1] < wmax - 1e-9
         active = active | np.roll(active, 1) | np.roll(active, -1)
+        if s.keep is not None:
+            # only where passes are wanted, two stations beyond (the caller trims)
+            want = s.keep(sampler.xy(u, W))
+            for _ in range(2):
+                want = want | np.roll(want, 1) | np.roll(want, -1)
+            active &= want
         pieces = []
         for run in np.split(np.arange(len(u)), np.nonzero(np.diff(active.astype(int)))[0] + 1):
             if not active[run[0]] or len(run) < 2:
