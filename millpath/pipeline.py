@@ -24,6 +24,7 @@ from millpath.job.jobfile import Job, load_job
 from millpath.model import Stock, Toolpath
 from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.registry import strategy
+from millpath.progress import QUIET, Progress
 
 
 class MinDesign:
@@ -49,10 +50,10 @@ class RunResult:
     seconds: float = 0.0
 
 
-def plan_job(job: Job) -> tuple[Toolpath, list[PlanResult], Stock]:
+def plan_job(job: Job, progress: Progress = QUIET) -> tuple[Toolpath, list[PlanResult], Stock]:
     """Plan every operation of ``job`` and join their toolpaths in order."""
     ctx = PlanContext(units=job.units, stock=job.stock, machine=job.machine, tools=job.tools,
-                      base_dir=job.base_dir, job_file=job.path)
+                      base_dir=job.base_dir, job_file=job.path, progress=progress)
     total = Toolpath(job.units)
     results: list[PlanResult] = []
     for i, (op_type, params) in enumerate(job.operations):
@@ -100,7 +101,7 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False)
     preview.png, stock.png and deviation.png into ``outdir``."""
     t0 = time.perf_counter()
     job = load_job(job_path)
-    tp, results, stock = plan_job(job)
+    tp, results, stock = plan_job(job, Progress(progress))
     tp = _fit(job, tp)
 
     from millpath.post.linuxcnc import post_with_lines

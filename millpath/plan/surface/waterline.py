@@ -39,6 +39,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Callable
 
 import numpy as np
 
@@ -181,6 +182,7 @@ class WaterlineSettings:
     holder_clearance: float = 0.0
     max_levels: int = 3000
     z_range: tuple[float, float] | None = None
+    on_level: Callable[[int, float], None] | None = None   # progress: levels so far, z
 
 
 @dataclass
@@ -424,6 +426,8 @@ def waterline(sampler: Sampler, s: WaterlineSettings, raster: Raster | None = No
     while True:
         levels.append(z)
         contours.append(C)
+        if s.on_level is not None:
+            s.on_level(len(levels), z)
         if z <= bottom + 1e-12:
             break
         if len(levels) >= s.max_levels:

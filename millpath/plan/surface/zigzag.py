@@ -59,6 +59,7 @@ class ZigzagSettings:
     max_passes: int = 5000
     trim_edges: bool = False
     keep: Callable[[np.ndarray], np.ndarray] | None = None
+    on_line: Callable[[int], None] | None = None      # progress: pass lines so far
 
 
 @dataclass
@@ -249,6 +250,8 @@ def pass_lines(sampler: Sampler, design, s: ZigzagSettings) -> tuple[np.ndarray,
         steps.append(float(np.mean(Wn - W)))
         W = Wn
         lines.append(W.copy())
+        if s.on_line is not None:
+            s.on_line(len(lines))
     return u, lines, steps
 
 
@@ -293,19 +296,30 @@ def _look_ahead(sampler: Sampler, u, W, dW, wmax, r: float, target: float,
 
 
 def _refine(sampler: Sampler, P: np.ndarray, tol_g: float, tol_m: float,
-            min_len: float) -> np.ndarray:
-    """Split segments of ``P`` (rows u, w, z) whose midpoint deviates beyond tolerance."""
+            min_len: float, checks: int = 3) -> np.ndarray:
+    """Split segments of ``P`` (rows u, w, z) that deviate beyond tolerance at any of
+    ``checks`` evenly spaced interior points (the midpoint alone misses a bump of the
+    CL surface narrower than half a segment); the worst point is inserted."""
+    t = np.arange(1, checks + 1) / (checks + 1.0)
     for _ in range(20):
-        mid = 0.5 * (P[1:] + P[:-1])
-        zt, _ = sampler.z_safe(mid[:, 0], mid[:, 1])
-        dev = zt - mid[:, 2]
-        seg = np.hypot(P[1:, 0] - P[:-1, 0], P[1:, 1] - P[:-1, 1])
-        bad = ((dev > tol_g) | (dev < -tol_m)) & (seg > min_len)
+        if len(P) < 2:
+            break
+        A, B = P[:-1], P[1:]
+        Q = A[:, None, :] + (B - A)[:, None, :] * t[None, :, None]      # (m, k, 3)
+        zt, _ = sampler.z_safe(Q[..., 0].ravel(), Q[..., 1].ravel())
+        zt = zt.reshape(len(A), checks)
+        dev = zt - Q[..., 2]
+        over = np.maximum(dev - tol_g, -dev - tol_m)                   # > 0: outside
+        seg = np.hypot(B[:, 0] - A[:, 0], B[:, 1] - A[:, 1])
+        worst = np.argmax(over, axis=1)
+        rows = np.arange(len(A))
+        bad = (over[rows, worst] > 0) & (seg > min_len)
         if not bad.any():
             break
-        mid[:, 2] = zt
+        new = Q[rows, worst].copy()
+        new[:, 2] = zt[rows, worst]
         idx = np.nonzero(bad)[0]
-        P = np.insert(P, idx + 1, mid[idx], axis=0)
+        P = np.insert(P, idx + 1, new[idx], axis=0)
     return P
 
 
