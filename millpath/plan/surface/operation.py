@@ -21,7 +21,7 @@ Keys (lengths in the job's units, feeds in units per minute):
 - ``feed``, ``plunge_feed``, ``spindle`` (rpm), ``safe_z`` (default: 5 mm / 0.2 in
   above the highest tool position), ``region`` ``[xmin, ymin, xmax, ymax]`` of the tool
   tip (default: the surface's XY extent grown by the cutter radius, so the
-  edges are finished too), ``compare``: also plan the other side-step
+  edges are finished too), ``compare`` (default false): also plan the other side-step
   method and report both path counts.
 
 The design handed to the simulator is the tessellated surface as a height field.

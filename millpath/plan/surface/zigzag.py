@@ -46,8 +46,9 @@ class ZigzagSettings:
     side steps are computed. ``trim_edges``: the region is the surface grown by the
     cutter radius; the first and last pass at each station are moved in to where the
     contact point just reaches the surface's edge (see :func:`edge_lines`). ``keep``:
-    XY points ``(n, 2)`` -> where passes are wanted (steep-shallow's shallow side);
-    elsewhere the scallop does not limit the side step and no points are planned."""
+    XY points ``(n, 2)`` -> where passes are wanted (steep-shallow's shallow side and
+    the overlap), no points are planned elsewhere; ``hold``: where the scallop sets the
+    side step (default ``keep``; steep-shallow: the shallow side only)."""
 
     tolerance: float
     scallop: float
@@ -59,6 +60,7 @@ class ZigzagSettings:
     max_passes: int = 5000
     trim_edges: bool = False
     keep: Callable[[np.ndarray], np.ndarray] | None = None
+    hold: Callable[[np.ndarray], np.ndarray] | None = None
     on_line: Callable[[int], None] | None = None      # progress: pass lines so far
 
 
@@ -234,7 +236,8 @@ def pass_lines(sampler: Sampler, design, s: ZigzagSettings) -> tuple[np.ndarray,
             raise PlanningError(f"more than {s.max_passes} passes: scallop {h} is too small "
                                 f"for this surface and cutter")
         inside = _inside(sampler, s.region, u, W)
-        eps = _station_steps(sampler, u, W, r, target, fd, s.keep)
+        hold = s.hold or s.keep
+        eps = _station_steps(sampler, u, W, r, target, fd, hold)
         known = inside & np.isfinite(eps)
         if not known.any():
             dW = np.full(n, flat_side_step(r, target))
@@ -243,9 +246,9 @@ def pass_lines(sampler: Sampler, design, s: ZigzagSettings) -> tuple[np.ndarray,
         else:
             e = np.where(known, eps, np.inf)
             e = np.where(np.isfinite(e), e, float(eps[known].min()))
-            dW = _between(sampler, u, W, e, r, target, fd, s.keep)   # each station its own
+            dW = _between(sampler, u, W, e, r, target, fd, hold)   # each station its own
         dW = _look_ahead(sampler, u, W, dW, wmax, r, target, fd, s.side_step == "published",
-                         s.keep)
+                         hold)
         Wn = np.minimum(W + dW, wmax)
         steps.append(float(np.mean(Wn - W)))
         W = Wn
