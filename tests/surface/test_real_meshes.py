@@ -202,7 +202,7 @@ def test_an_impossible_scallop_is_refused_before_planning_with_numbers(tmp_path)
     text = JOB.format(units="mm", stock="[-30.0, -30.0, -20.0, 30.0, 30.0, 0.5]",
                       tools=TOOLS.format(d1=6.0, d2=1.0, fl=30.0, so=40.0, h1=20.0, h2=30.0),
                       surface='"w.stl"', stepdown=3.0, allowance=0.3,
-                      strategy="zigzag", scallop=1e-6, tol=1e-6)
+                      strategy="steep-shallow", scallop=1e-6, tol=1e-6)
     from millpath.job.jobfile import load_job
     from millpath.plan.base import PlanContext
     from millpath.plan.surface import operation

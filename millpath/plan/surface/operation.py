@@ -240,7 +240,7 @@ def refuse_impossible(est: Estimate, sampler: Sampler, region, strategy: str,
                       else ("levels", est.levels, max_levels))
     h2 = scallop
     n2 = n
-    for _ in range(12):                      # the scallop that needs under 80 % of it
+    for _ in range(16):                      # the scallop that needs under 80 % of it
         h2 *= 2.0
         e2, _ = estimate_finish(sampler, region, strategy=strategy, scallop=h2,
                                 tolerance=params["tolerance"] or tol_m,
@@ -253,6 +253,8 @@ def refuse_impossible(est: Estimate, sampler: Sampler, region, strategy: str,
             break
     raise PlanningError(
         f"scallop {scallop:g} {unit} needs about {n:,} {what} with a {d:g} {unit} "
-        f"{sampler.cutter.kind} (at most {limit:,} are planned); scallop {h2:g} {unit} "
-        f"needs about {n2:,}; or use a larger ball"
+        f"{sampler.cutter.kind} (at most {limit:,} are planned); "
+        + (f"scallop {h2:g} {unit} needs about {n2:,}; or use a larger ball"
+           if n2 <= limit else f"even scallop {h2:g} {unit} needs about {n2:,} (the "
+           "slopes set the step)")
         + ("" if strategy == "steep-shallow" else ', or strategy = "steep-shallow"'), file)
