@@ -2,6 +2,43 @@
 
 Data flow (one package per stage): part -> plan -> model.Toolpath -> fit -> post ->
 G-code -> interpret -> simulate -> report.
+
+numba's compiled-kernel cache is kept out of the installed package (a stray
+``__pycache__`` full of ``.nbi``/``.nbc`` files left behind by ``pip uninstall`` would
+otherwise shadow a later install as a namespace package): unless ``NUMBA_CACHE_DIR`` is
+already set, it is a per-user folder ``$XDG_CACHE_HOME/millpath/numba/<digest>`` (default
+``~/.cache``; ``MILLPATH_CACHE_DIR`` overrides the ``.../millpath`` part), where the digest
+covers every source file of the package, so that a kernel is never reused after any of
+the code it calls has changed.
 """
 
+import os as _os
+
 __version__ = "0.1.0"
+
+
+def _numba_cache_dir() -> None:
+    import hashlib
+    from pathlib import Path
+
+    if _os.environ.get("NUMBA_CACHE_DIR"):
+        return
+    here = Path(__file__).resolve().parent
+    h = hashlib.sha1(__version__.encode())
+    try:
+        for f in sorted(here.rglob("*.py")):
+            h.update(f.relative_to(here).as_posix().encode())
+            h.update(f.read_bytes())
+    except OSError:
+        return
+    base = Path(_os.environ.get("MILLPATH_CACHE_DIR")
+                or Path(_os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "millpath")
+    target = base / "numba" / h.hexdigest()[:16]
+    try:
+        target.mkdir(parents=True, exist_ok=True)
+    except OSError:
+        return                        # no writable cache: numba compiles in memory
+    _os.environ["NUMBA_CACHE_DIR"] = str(target)
+
+
+_numba_cache_dir()

@@ -15,41 +15,13 @@ two-sided tolerance checks of :mod:`millpath.fit.arcs` and :mod:`millpath.fit.cu
 
 from __future__ import annotations
 
-import hashlib
 import math
-from pathlib import Path
 
 import numpy as np
 from numba import njit
 
-
-def _drop_stale_cache() -> None:
-    """numba's on-disk cache of a function is keyed on its own file only: when
-    arcs.py or cubics.py change, the cached ``segment`` would still run the old
-    kernels. Keep a digest of the three sources and clear this folder's numba cache
-    when it changes."""
-    here = Path(__file__).resolve().parent
-    try:
-        h = hashlib.sha1()
-        for name in ("arcs.py", "cubics.py", "segment.py"):
-            h.update((here / name).read_bytes())
-        cache = here / "__pycache__"
-        stamp = cache / "fit-kernels.sha1"
-        if stamp.is_file() and stamp.read_text() == h.hexdigest():
-            return
-        if cache.is_dir():
-            for f in list(cache.glob("*.nbi")) + list(cache.glob("*.nbc")):
-                f.unlink(missing_ok=True)
-        cache.mkdir(exist_ok=True)
-        stamp.write_text(h.hexdigest())
-    except OSError:
-        pass                                 # read-only install: the cache is as shipped
-
-
-_drop_stale_cache()
-
-from millpath.fit.arcs import arc_fit, line_ok, plane_possible  # noqa: E402
-from millpath.fit.cubics import cubic_fit  # noqa: E402
+from millpath.fit.arcs import arc_fit, line_ok, plane_possible
+from millpath.fit.cubics import cubic_fit
 
 #: (first, second, normal) axis indices of XY, XZ, YZ, as millpath.model.toolpath.PLANE_AXES
 PLANES = np.array([[0, 1, 2], [2, 0, 1], [1, 2, 0]], dtype=np.int64)

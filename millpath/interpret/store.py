@@ -14,7 +14,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from millpath.interpret.motion import Motion
+from millpath.model.motion import Motion
 
 KINDS = ("traverse", "feed", "arc", "cubic", "dwell")
 KIND_CODE = {k: i for i, k in enumerate(KINDS)}

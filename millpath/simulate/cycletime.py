@@ -23,7 +23,7 @@ import math
 import numpy as np
 from numba import njit
 
-from millpath.interpret.motion import Motion
+from millpath.model.motion import Motion
 from millpath.model.stock import Machine
 from millpath.model.toolpath import PLANE_AXES, Toolpath
 from millpath.simulate.path import arc_params, motion_points, toolpath_motions

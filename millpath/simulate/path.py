@@ -1,6 +1,6 @@
 """Motion for the simulator: Toolpath moves as interpreted motion, and motion as chords.
 
-Everything here works on :class:`millpath.interpret.motion.Motion` records (kinds
+Everything here works on :class:`millpath.model.motion.Motion` records (kinds
 ``traverse``, ``feed``, ``arc``, ``cubic``, ``dwell``), whose coordinates are the tool
 tip in program units. A :class:`~millpath.model.Toolpath` is first expanded to motion
 the way LinuxCNC executes it (canned drilling cycles become traverses, feeds and
@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from millpath.interpret.motion import Motion
+from millpath.model.motion import Motion
 from millpath.model.toolpath import PLANE_AXES, Move, Toolpath
 
 Vec3 = tuple[float, float, float]

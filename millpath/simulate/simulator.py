@@ -23,7 +23,7 @@ from typing import Any
 import numba
 import numpy as np
 
-from millpath.interpret.motion import Motion
+from millpath.model.motion import Motion
 from millpath.model.stock import Machine, Stock
 from millpath.model.tool import Tool
 from millpath.model.toolpath import Toolpath

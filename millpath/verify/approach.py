@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from millpath.interpret.motion import Motion
+from millpath.model.motion import Motion
 
 
 def approach_from_above(motions, clear_z: float) -> list[Motion]:

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from collections import defaultdict
 
-from millpath.interpret.motion import Motion
+from millpath.model.motion import Motion
 from millpath.model import Toolpath
 from millpath.model.toolpath import PLANE_AXES
 

@@ -4,7 +4,7 @@
 (``STRAIGHT_FEED(x, y, z, a, b, c)``, ``ARC_FEED(...)``, ...) and an error on stderr.
 This module runs it in a private ``HOME`` (rs274 keeps its tool table in
 ``$HOME/.tool.mmap``; shared homes corrupt concurrent runs) and reads the calls back as
-:class:`millpath.interpret.motion.Motion` records, so our interpreter and LinuxCNC can
+:class:`millpath.model.motion.Motion` records, so our interpreter and LinuxCNC can
 be compared move by move.
 
 Conventions: coordinates are program coordinates (before work offsets and tool length
@@ -25,7 +25,7 @@ import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from millpath.interpret.motion import Motion
+from millpath.model.motion import Motion
 from millpath.io.tooltable import ToolEntry, entries_from_tools, format_tool_table
 
 _CALL = re.compile(r"^\s*\d+\s+(N\S*)\s+([A-Z_][A-Z0-9_]*)\((.*)\)\s*$")

@@ -210,7 +210,7 @@ def test_progress_bar_run_gives_the_same_result(monkeypatch):
 
 
 def test_motion_without_geometry_is_swept_as_a_straight_chord():
-    from millpath.interpret.motion import Motion
+    from millpath.model.motion import Motion
     from millpath.simulate import simulate_motions
     ms = [Motion("traverse", 1, (5.0, 5.0, 5.0), (5.0, 5.0, 1.0), tool=1),
           Motion("feed", 2, (5.0, 5.0, 1.0), (5.0, 5.0, -1.0), feed=100, tool=1),
@@ -222,7 +222,7 @@ def test_motion_without_geometry_is_swept_as_a_straight_chord():
 
 
 def test_moves_with_an_empty_spindle_cut_nothing():
-    from millpath.interpret.motion import Motion
+    from millpath.model.motion import Motion
     from millpath.simulate import simulate_motions
     ms = [Motion("traverse", 1, (5.0, 5.0, 5.0), (5.0, 5.0, -1.0), tool=0),
           Motion("traverse", 2, (5.0, 5.0, -1.0), (5.0, 5.0, 5.0), tool=0),

@@ -6,7 +6,7 @@ import math
 
 import pytest
 
-from millpath.interpret.motion import Motion
+from millpath.model.motion import Motion
 from millpath.model import Machine, Operation, Toolpath
 from millpath.simulate import cycle_time, operation_times
 

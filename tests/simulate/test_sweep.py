@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from millpath.interpret.motion import Motion
+from millpath.model.motion import Motion
 from millpath.model import Operation, Stock, Tool, Toolpath
 from millpath.simulate import simulate_motions, simulate_toolpath
 from millpath.simulate.path import toolpath_motions
