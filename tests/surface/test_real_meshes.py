@@ -222,3 +222,52 @@ def test_an_impossible_scallop_is_refused_before_planning_with_numbers(tmp_path)
     # and the suggestion needs fewer than the limit
     n2 = int(msg.split("needs about ")[2].split(";")[0].replace(",", ""))
     assert n2 <= 5000 and "or use a larger ball" in msg
+
+
+def test_progress_reports_pass_lines_and_levels_through_the_planning_context():
+    from millpath.io.schema import validate
+    from millpath.model.stock import Machine, Stock
+    from millpath.model.tool import Tool
+    from millpath.plan.base import PlanContext
+    from millpath.plan.surface import operation
+    from millpath.progress import Progress
+
+    class Recorder(Progress):
+        def __init__(self):
+            super().__init__(False)
+            self.seen: dict[str, list] = {}
+            self.notes: list[str] = []
+
+        def note(self, text):
+            self.notes.append(text)
+
+        from contextlib import contextmanager
+
+        @contextmanager
+        def task(self, label, total=None):
+            rec = self.seen.setdefault(label, [total])
+
+            class T:
+                def advance(self, n=1.0):
+                    rec.append(n)
+
+                def update(self, *, completed=None, total=None, info=None):
+                    rec.append(completed)
+            yield T()
+
+    net = {"box": [0.0, 0.0, 30.0, 24.0],
+           "heights": [[2, 3, 5, 3], [3, 7, 6, 2], [4, 6, 3, 1], [2, 3, 2, 2]]}
+    tools = {1: Tool(1, "ball", 6.0, flute_length=15.0, stickout=25.0)}
+    prog = Recorder()
+    ctx = PlanContext("mm", Stock(-3.0, -3.0, -2.0, 33.0, 27.0, 8.0), Machine.default_for("mm"),
+                      tools, Path("."), None, progress=prog)
+    p = validate({"surface": net, "tool": 1, "scallop": 0.05, "tolerance": 0.01,
+                  "divisions": 40, "strategy": "steep-shallow", "steep_angle": 30.0},
+                 operation.PARAMS, "op", None)
+    res = operation.plan(ctx, p)
+    sec = res.report["surface_finish"][0]
+    lines = next(v for k, v in prog.seen.items() if "pass lines" in k)
+    levels = next(v for k, v in prog.seen.items() if "levels" in k)
+    assert lines[0] == sec["estimate"]["pass_lines"] and lines[-1] == sec["pass_lines"]
+    assert levels[-1] == sec["waterline"]["levels"]
+    assert any("estimate" in n for n in prog.notes)
