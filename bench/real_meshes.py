@@ -13,7 +13,7 @@ CPU seconds include numba's start-up, the simulation and the report), on:
   0.002 in;
 - ``cavity-0.001``: the same with scallop 0.001 in: refused before planning (the time
   to the refusal would be the figure, but the estimate finds it plannable);
-- ``cavity-refused``: scallop 0.00001 in, refused before planning (time to the refusal);
+- ``cavity-refused``: scallop 0.000001 in, refused before planning (time to the refusal);
 - ``demo2``: ``demo2.stl`` (146,336 triangles); rough 12 mm bull r1, zigzag 6 mm ball,
   scallop 0.01 mm, tolerance 0.01 mm.
 
@@ -165,7 +165,7 @@ tolerance = 0.01
             "cavity": cavity.replace("{scallop}", "0.002").replace("{{", "{").replace("}}", "}"),
             "cavity-0.001": cavity.replace("{scallop}", "0.001").replace("{{", "{")
             .replace("}}", "}"),
-            "cavity-refused": cavity.replace("{scallop}", "0.00001").replace("{{", "{")
+            "cavity-refused": cavity.replace("{scallop}", "0.000001").replace("{{", "{")
             .replace("}}", "}"),
             "demo2": demo2}
 

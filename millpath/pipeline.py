@@ -57,6 +57,10 @@ def plan_job(job: Job, progress: Progress = QUIET) -> tuple[Toolpath, list[PlanR
     total = Toolpath(job.units)
     results: list[PlanResult] = []
     for i, (op_type, params) in enumerate(job.operations):
+        check = getattr(strategy(op_type, f"operations[{i}]", job.path), "preflight", None)
+        if check is not None:          # refuse an impossible request before any work
+            check(ctx, params)
+    for i, (op_type, params) in enumerate(job.operations):
         mod = strategy(op_type, f"operations[{i}]", job.path)
         res = mod.plan(ctx, params)
         if res.toolpath.units != job.units:

@@ -258,3 +258,34 @@ def refuse_impossible(est: Estimate, sampler: Sampler, region, strategy: str,
            if n2 <= limit else f"even scallop {h2:g} {unit} needs about {n2:,} (the "
            "slopes set the step)")
         + ("" if strategy == "steep-shallow" else ', or strategy = "steep-shallow"'), file)
+
+
+def preflight(ctx: PlanContext, params: dict) -> None:
+    """Refuse an impossible request before any operation of the job is planned (the
+    pipeline calls this for every operation first): the estimate of :func:`plan` with the
+    given tool (skipped with ``choose_tool``, where :func:`plan` does it)."""
+    if params["choose_tool"] or params["tool"] is None:
+        return
+    mesh = load_op_surface(ctx, params)
+    tool = ctx.tool(params["tool"], "tool")
+    try:
+        cutter = Cutter.from_tool(tool)
+    except ValueError:
+        return
+    if cutter.corner <= 0:
+        return
+    lo, hi = mesh.bounds
+    region = tuple(params["region"]) if params["region"] else (
+        lo[0] - cutter.radius, lo[1] - cutter.radius, hi[0] + cutter.radius,
+        hi[1] + cutter.radius)
+    inch = ctx.units == "inch"
+    tol = params["tolerance"] or (0.0002 if inch else 0.005)
+    scallop = params["scallop"] or (0.0004 if inch else 0.01)
+    tol_m = min(tol, 0.25 * scallop)
+    sampler = Sampler(build_index(mesh), cutter, params["angle"], (), z_floor=float(lo[2]))
+    est, _ = estimate_finish(sampler, region, strategy=params["strategy"], scallop=scallop,
+                             tolerance=tol, material_tolerance=tol_m,
+                             side_step=params["side_step"], steep_angle=params["steep_angle"],
+                             stepdown_max=params["stepdown_max"])
+    refuse_impossible(est, sampler, region, params["strategy"], scallop, tol_m, params, inch,
+                      ctx.job_file)
