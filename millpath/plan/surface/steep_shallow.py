@@ -121,9 +121,9 @@ def steep_shallow(sampler: Sampler, design, zs: ZigzagSettings, ws: WaterlineSet
     wres = waterline(sampler, ws, raster=R, keep=wl_mask)
     # the zigzag is planned on the shallow side only: steep stations neither set the
     # side step nor get points
-    shallow = R.valid & (R.slope < steep_angle)
-    zs = ZigzagSettings(**{**zs.__dict__, "keep": lambda xy: R.nearest(zz_mask, xy),
-                           "hold": lambda xy: R.nearest(shallow, xy)})
+    # (holding the step on the shallow nodes only, without the overlap band, is faster
+    # on vertical walls but left 0.6 % of test_waterline's cells over the scallop)
+    zs = ZigzagSettings(**{**zs.__dict__, "keep": lambda xy: R.nearest(zz_mask, xy)})
     zres = zigzag(sampler, design, zs)
     tol_m = zs.material_tolerance if zs.material_tolerance is not None else zs.tolerance
     zp = mask_passes(sampler, R, zz_mask, zres.passes, sampler.cutter.radius,
