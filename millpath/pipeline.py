@@ -25,6 +25,7 @@ from millpath.job.jobfile import Job, load_job
 from millpath.model import Stock, Toolpath
 from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.registry import strategy
+from millpath.progress import QUIET, Progress
 
 
 class MinDesign:
@@ -50,15 +51,19 @@ class RunResult:
     seconds: float = 0.0
 
 
-def plan_job(job: Job) -> tuple[Toolpath, list[PlanResult], Stock]:
+def plan_job(job: Job, progress: Progress = QUIET) -> tuple[Toolpath, list[PlanResult], Stock]:
     """Plan every operation of ``job`` and join their toolpaths in order. Jobs with a
     pocket or profile operation or a ``rest`` key carry the in-process stock from
     operation to operation (``ctx.remaining``, see :func:`advance_stock`)."""
     ctx = PlanContext(units=job.units, stock=job.stock, machine=job.machine, tools=job.tools,
-                      base_dir=job.base_dir, job_file=job.path)
+                      base_dir=job.base_dir, job_file=job.path, progress=progress)
     carry = any(t in ("pocket", "profile") or p.get("rest") for t, p in job.operations)
     total = Toolpath(job.units)
     results: list[PlanResult] = []
+    for i, (op_type, params) in enumerate(job.operations):
+        check = getattr(strategy(op_type, f"operations[{i}]", job.path), "preflight", None)
+        if check is not None:          # refuse an impossible request before any work
+            check(ctx, params)
     for i, (op_type, params) in enumerate(job.operations):
         mod = strategy(op_type, f"operations[{i}]", job.path)
         res = mod.plan(ctx, params)
@@ -161,7 +166,7 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False,
     the list of problems."""
     t0 = time.perf_counter()
     job = load_job(job_path)
-    tp, results, stock = plan_job(job)
+    tp, results, stock = plan_job(job, Progress(progress))
     tp = fit_job(job, tp)
 
     program, move_lines = post_job(job, tp, stock)

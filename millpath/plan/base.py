@@ -16,6 +16,7 @@ from typing import Any, Protocol
 import numpy as np
 
 from millpath.model import Machine, Stock, Tool, Toolpath
+from millpath.progress import QUIET, Progress
 
 
 class Design(Protocol):
@@ -52,6 +53,7 @@ class PlanContext:
     base_dir: Path                 # folder of the job file: relative paths start here
     job_file: Path | None = None
     remaining: Remaining | None = None   # in-process stock; None: the full stock block
+    progress: Progress = QUIET     # bars on stderr for long steps (millpath.progress)
 
     def tool(self, number: int, where: str = "tool") -> Tool:
         from millpath.errors import JobError

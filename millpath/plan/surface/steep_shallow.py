@@ -119,6 +119,11 @@ def steep_shallow(sampler: Sampler, design, zs: ZigzagSettings, ws: WaterlineSet
     wl_mask, zz_mask = masks(R, steep_angle, d)
     ws = WaterlineSettings(**{**ws.__dict__, "min_slope": steep_angle})
     wres = waterline(sampler, ws, raster=R, keep=wl_mask)
+    # the zigzag is planned on the shallow side only: steep stations neither set the
+    # side step nor get points
+    # (holding the step on the shallow nodes only, without the overlap band, is faster
+    # on vertical walls but left 0.6 % of test_waterline's cells over the scallop)
+    zs = ZigzagSettings(**{**zs.__dict__, "keep": lambda xy: R.nearest(zz_mask, xy)})
     zres = zigzag(sampler, design, zs)
     tol_m = zs.material_tolerance if zs.material_tolerance is not None else zs.tolerance
     zp = mask_passes(sampler, R, zz_mask, zres.passes, sampler.cutter.radius,
