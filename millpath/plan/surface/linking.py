@@ -19,7 +19,7 @@ import numpy as np
 from millpath.model.toolpath import Toolpath
 from millpath.plan.entry import helix_entry, ramp_entry
 from millpath.plan.surface.sampler import Sampler
-from millpath.plan.surface.zigzag import Pass, _refine
+from millpath.plan.surface.zigzag import Pass, refine_chords
 
 
 def surface_link(sampler: Sampler, a: np.ndarray, b: np.ndarray, tol: float,
@@ -32,7 +32,7 @@ def surface_link(sampler: Sampler, a: np.ndarray, b: np.ndarray, tol: float,
     uw = ua[None, :] + (ub - ua)[None, :] * t[:, None]
     z, _ = sampler.z_safe(uw[:, 0], uw[:, 1])
     z[0], z[-1] = a[2], b[2]
-    P = _refine(sampler, np.column_stack([uw, z]), tol, tol, 1e-4)
+    P = refine_chords(sampler, np.column_stack([uw, z]), tol, tol, 1e-4)
     xy = sampler.xy(P[:, 0], P[:, 1])
     return np.column_stack([xy, P[:, 2]])
 

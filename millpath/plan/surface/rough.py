@@ -35,8 +35,8 @@ from millpath.plan.surface.dropcutter import MeshHeight, build_index
 from millpath.plan.surface.linking import add_passes
 from millpath.plan.surface.sampler import Sampler
 from millpath.plan.surface.source import SURFACE_PARAMS, load_op_surface
-from millpath.plan.surface.waterline import _runs
-from millpath.plan.surface.zigzag import Pass, _inside
+from millpath.plan.surface.waterline import index_runs
+from millpath.plan.surface.zigzag import Pass, in_region
 
 PARAMS = {
     **SURFACE_PARAMS,
@@ -94,7 +94,7 @@ def rough_passes(sampler: Sampler, region, top: float, stepdown: float, step_ove
         cuts = inside & (target < above - 1e-9)       # material left by the layer above
         for row in range(len(ws)):
             pieces = []
-            for run in _runs(cuts[row]):
+            for run in index_runs(cuts[row]):
                 # one station of margin so the stretch starts and ends clear of the wall
                 a, b = max(run[0] - 1, 0), min(run[-1] + 1, len(u) - 1)
                 a = a if inside[row, a] else run[0]
@@ -124,7 +124,7 @@ def _raster(sampler: Sampler, region, u: np.ndarray, w: np.ndarray
     """On the (w, u) grid: inside the region, the tip Z clear of the surface (cutter and
     holder), and where the cutter touches the surface at all."""
     U, W = np.meshgrid(u, w)
-    inside = _inside(sampler, region, U, W)
+    inside = in_region(sampler, region, U, W)
     zc, cu, _ = sampler.cut(U.ravel(), W.ravel())            # one drop for Z and contact
     floor = np.maximum(zc, sampler.holder_lift(U.ravel(), W.ravel()))
     touch = np.isfinite(cu).reshape(U.shape) & inside
@@ -151,7 +151,7 @@ def _layer_contours(sampler: Sampler, u: np.ndarray, w: np.ndarray, floor: np.nd
         zs, _ = sampler.z_safe(line[:, 0], line[:, 1])
         zt = np.maximum(zs + allowance, level)
         cuts = zt < above - 1e-9
-        for run in _runs(cuts):
+        for run in index_runs(cuts):
             if len(run) < 2:
                 continue
             P = np.column_stack([line[run], zt[run]])

@@ -324,7 +324,7 @@ class _Level:
         return out
 
 
-def _runs(good: np.ndarray, closed: bool = False) -> list[np.ndarray]:
+def index_runs(good: np.ndarray, closed: bool = False) -> list[np.ndarray]:
     """Index runs where ``good`` holds; a closed polyline (last = first) wraps around."""
     n = len(good)
     if good.all():
@@ -461,7 +461,7 @@ def waterline(sampler: Sampler, s: WaterlineSettings, raster: Raster | None = No
                 inside = R.nearest(keep, Q)
                 removed["outside_mask"] += int((good & ~inside).sum())
                 good &= inside
-            for run in _runs(good, closed):
+            for run in index_runs(good, closed):
                 if len(run) < 2:
                     continue
                 P = Q[run]
@@ -515,7 +515,7 @@ def _gouge_split(lv: _Level, P: np.ndarray, z: float, closed: bool,
         return [P]
     bad[:-1] |= seg
     bad[1:] |= seg
-    return [P[run] for run in _runs(~bad, closed) if len(run) >= 2]
+    return [P[run] for run in index_runs(~bad, closed) if len(run) >= 2]
 
 
 def _holder_split(sampler: Sampler, P: np.ndarray, z: float, closed: bool,
@@ -536,7 +536,7 @@ def _holder_split(sampler: Sampler, P: np.ndarray, z: float, closed: bool,
     if not bad_p.any():
         return [P]
     out = []
-    for run in _runs(~bad_p, closed):
+    for run in index_runs(~bad_p, closed):
         if len(run) >= 2:
             out.append(P[run])
     return out

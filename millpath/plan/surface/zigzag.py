@@ -122,7 +122,7 @@ def _frame_box(sampler: Sampler, region) -> tuple[float, float, float, float]:
     return uw[:, 0].min(), uw[:, 0].max(), uw[:, 1].min(), uw[:, 1].max()
 
 
-def _inside(sampler: Sampler, region, u, w) -> np.ndarray:
+def in_region(sampler: Sampler, region, u, w) -> np.ndarray:
     x0, y0, x1, y1 = region
     xy = sampler.xy(u, w)
     e = 1e-9
@@ -235,7 +235,7 @@ def pass_lines(sampler: Sampler, design, s: ZigzagSettings) -> tuple[np.ndarray,
         if len(lines) >= s.max_passes:
             raise PlanningError(f"more than {s.max_passes} passes: scallop {h} is too small "
                                 f"for this surface and cutter")
-        inside = _inside(sampler, s.region, u, W)
+        inside = in_region(sampler, s.region, u, W)
         hold = s.hold or s.keep
         eps = _station_steps(sampler, u, W, r, target, fd, hold)
         known = inside & np.isfinite(eps)
@@ -298,7 +298,7 @@ def _look_ahead(sampler: Sampler, u, W, dW, wmax, r: float, target: float,
     return dW
 
 
-def _refine(sampler: Sampler, P: np.ndarray, tol_g: float, tol_m: float,
+def refine_chords(sampler: Sampler, P: np.ndarray, tol_g: float, tol_m: float,
             min_len: float, checks: int = 3) -> np.ndarray:
     """Split segments of ``P`` (rows u, w, z) that deviate beyond tolerance at any of
     ``checks`` evenly spaced interior points (the midpoint alone misses a bump of the
@@ -329,7 +329,7 @@ def _refine(sampler: Sampler, P: np.ndarray, tol_g: float, tol_m: float,
 def sample_pass(sampler: Sampler, u: np.ndarray, W: np.ndarray, s: ZigzagSettings,
                 r: float) -> np.ndarray | None:
     """Tolerance-driven CL points (rows u, w, z in the pass frame) along one pass."""
-    inside = _inside(sampler, s.region, u, W)
+    inside = in_region(sampler, s.region, u, W)
     if inside.sum() < 2:
         return None
     u, W = u[inside], W[inside]
@@ -367,9 +367,9 @@ def sample_pass(sampler: Sampler, u: np.ndarray, W: np.ndarray, s: ZigzagSetting
     zs, _ = sampler.z_safe(us, ws)
     P = np.stack([us, ws, zs], axis=1)
     min_len = 1e-3 * max(r, 1e-3)
-    P = _refine(sampler, P, tol_g, tol_m, min_len)
+    P = refine_chords(sampler, P, tol_g, tol_m, min_len)
     P = merge_collinear(P, 0.2 * min(tol_g, tol_m))
-    P = _refine(sampler, P, tol_g, tol_m, min_len)
+    P = refine_chords(sampler, P, tol_g, tol_m, min_len)
     return P
 
 
