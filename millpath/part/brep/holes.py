@@ -88,7 +88,6 @@ def _stack(x, y, full, fs, by_id, zmin) -> HoleStack:
     tori = [f for f in fs if f.kind == "torus"]
     problem = ""
     (r0, _, top0), first = full[0]
-    z_entry = top0
     # countersink: a cone above the top cylinder, widening upward
     for c in cones:
         if abs(c.zmin - top0) < 1e-3 and c.zmax > top0 + TOL:
@@ -98,7 +97,6 @@ def _stack(x, y, full, fs, by_id, zmin) -> HoleStack:
                                 tip_angle=math.degrees(2 * c.half_angle), role="countersink",
                                 faces=[c.id]))
             used.add(c.id)
-            z_entry = c.zmax
             break
     # is the top closed by a face looking down (a hole from below)?
     for f in first:

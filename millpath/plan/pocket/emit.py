@@ -45,7 +45,6 @@ class Emitter:
               field: MaterialField | None) -> None:
         """Cut ``cuts`` at ``z``; ``z_from``: highest Z an entry starts from (material
         above it was removed by the previous level or is not there)."""
-        w = self.w
         for cut in cuts:
             pts = cut.pts
             if cut.closed:

@@ -28,7 +28,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 import shapely
 from shapely.geometry import Point
 
@@ -99,7 +98,6 @@ def check_fit(region, free, tool, file) -> None:
 
 
 def plan(ctx: PlanContext, params: dict) -> PlanResult:
-    import shapely.ops  # noqa: F401  (nearest_points)
     file = ctx.job_file
     tool = ctx.tool(params["tool"])
     if tool.type not in ("flat", "bull"):
