@@ -20,8 +20,9 @@ Keys (lengths in the job's units, feeds in units per minute):
   scallops are measured along the surface normal (zigzag's vertically).
 - ``feed``, ``plunge_feed``, ``spindle`` (rpm), ``safe_z`` (default: 5 mm / 0.2 in
   above the highest tool position), ``region`` ``[xmin, ymin, xmax, ymax]`` of the tool
-  tip (default: the surface's XY extent grown by the cutter radius, so the
-  edges are finished too), ``compare`` (default false): also plan the other side-step
+  tip (default: the part's silhouette grown by the cutter radius, so the edges are
+  finished too and the ball never runs down the outside of the part: passes and
+  surface links are cut where the cutter would touch nothing), ``compare`` (default false): also plan the other side-step
   method and report both path counts.
 
 The design handed to the simulator is the tessellated surface as a height field.
@@ -61,7 +62,9 @@ PARAMS = {
     "plunge_feed": Param("float", None, positive=True),
     "spindle": Param("float", 10000.0, positive=True),
     "safe_z": Param("float", None),
-    "region": Param("floats", None, length=4),
+    "region": Param("floats", None, length=4, unit="length",
+                    doc="[xmin, ymin, xmax, ymax] of the tool tip (default: the part's "
+                    "silhouette grown by the cutter radius)"),
     "compare": Param("bool", False, doc="also plan the other side step (twice the work) "
                      "and report both pass counts"),
     "name": Param("str", "surface finish"),
@@ -132,6 +135,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     def zz_settings(mode: str, bar=None) -> ZigzagSettings:
         return ZigzagSettings(tolerance=tol, scallop=scallop, region=region, side_step=mode,
                               material_tolerance=tol_m, trim_edges=not params["region"],
+                              silhouette=not params["region"],
                               on_line=(lambda n: bar.update(completed=n)) if bar else None)
 
     def run(mode: str, bar=None):
@@ -182,7 +186,8 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     links = add_passes(tp, sampler, passes, feed=feed, plunge_feed=plunge, safe_z=safe_z,
                        clearance=0.04 if inch else 1.0, link_max=3.0 * cutter.radius,
                        tolerance=tol,
-                       approach_z=stock_top if ctx.stock is not None else np.inf)
+                       approach_z=stock_top if ctx.stock is not None else np.inf,
+                       silhouette=not params["region"])
     zres = res if strategy == "zigzag" else getattr(res, "zigzag", None)
     wres = res if strategy == "waterline" else getattr(res, "waterline", None)
     removed = wres.removed if wres is not None else {}

@@ -69,6 +69,13 @@ class Sampler:
         cuw = self.uw(r.cc[:, 0], r.cc[:, 1])
         return r.z, cuw[:, 0], cuw[:, 1]
 
+    def touches(self, u, w) -> np.ndarray:
+        """Whether the cutter touches the mesh at all at ``(u, w)`` (1-D arrays): the tip
+        lies within the cutter radius of the part's silhouette. Elsewhere the tool is
+        beside the part and ``z_cut`` is only ``z_floor``."""
+        r = drop(self.index, self.cutter, self.xy(u, w))
+        return np.isfinite(r.z)
+
     def holder_lift(self, u, w) -> np.ndarray:
         """Lowest tip Z at which no holder cylinder touches the mesh (-inf if none)."""
         u, w = np.broadcast_arrays(np.asarray(u, float), np.asarray(w, float))

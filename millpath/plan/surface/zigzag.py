@@ -48,7 +48,10 @@ class ZigzagSettings:
     contact point just reaches the surface's edge (see :func:`edge_lines`). ``keep``:
     XY points ``(n, 2)`` -> where passes are wanted (steep-shallow's shallow side and
     the overlap), no points are planned elsewhere; ``hold``: where the scallop sets the
-    side step (default ``keep``; steep-shallow: the shallow side only)."""
+    side step (default ``keep``; steep-shallow: the shallow side only). ``silhouette``:
+    passes are cut where the cutter touches nothing (its tip farther than its radius
+    from the part's silhouette, see :func:`beside_part`), so the tool never runs down
+    the outside of the part to ``z_floor``."""
 
     tolerance: float
     scallop: float
@@ -62,6 +65,7 @@ class ZigzagSettings:
     keep: Callable[[np.ndarray], np.ndarray] | None = None
     hold: Callable[[np.ndarray], np.ndarray] | None = None
     on_line: Callable[[int], None] | None = None      # progress: pass lines so far
+    silhouette: bool = False    # split passes where the tool is beside the part
 
 
 @dataclass
@@ -373,6 +377,18 @@ def sample_pass(sampler: Sampler, u: np.ndarray, W: np.ndarray, s: ZigzagSetting
     return P
 
 
+def beside_part(sampler: Sampler, P: np.ndarray) -> list[np.ndarray]:
+    """The runs of ``P`` (rows u, w, z) where the cutter touches the part (at least two
+    points each). The chord verification (:func:`refine_chords`) has already put points
+    down the cliff where the drop-cutter falls to ``z_floor`` beside the part, so a run
+    ends within the minimum segment length of the tool's last contact."""
+    touch = sampler.touches(P[:, 0], P[:, 1])
+    if touch.all():
+        return [P]
+    cut = np.nonzero(np.diff(touch.astype(np.int8)))[0] + 1
+    return [Q for Q, t in zip(np.split(P, cut), np.split(touch, cut)) if t[0] and len(Q) > 1]
+
+
 def zigzag(sampler: Sampler, design, s: ZigzagSettings) -> ZigzagResult:
     """Plan the zigzag passes (see module docstring); points are returned in XY."""
     if s.side_step not in ("published", "variable"):
@@ -400,6 +416,8 @@ def zigzag(sampler: Sampler, design, s: ZigzagSettings) -> ZigzagResult:
                 pieces.append(P)
         if k % 2 == 1:
             pieces = [P[::-1] for P in pieces[::-1]]
+        if s.silhouette:
+            pieces = [Q for P in pieces for Q in beside_part(sampler, P)]
         for P in pieces:
             _, lifted = sampler.z_safe(P[:, 0], P[:, 1])
             xy = sampler.xy(P[:, 0], P[:, 1])
