@@ -5,11 +5,11 @@ The block is 60 x 40 x 20 mm; its cavity (a rounded-rectangle bowl 44 x 28 mm ac
 ``((x/22)^4 + (y/14)^4)^(1/4)``, slopes up to about 48 degrees) is cut into the
 60 x 40 face. It is a closed solid (a 0.5 mm top grid, four side walls, a bottom on
 the walls' vertices). Like a mould half exported from a CAD assembly (OpenCAMLib's
-``ktoolcav.stl``), the file holds it turned so the cavity opens towards -Y: the block's own (x, y, z) is
-written as (x, -z, y), which the job's ``rotate = [-90, 0, 0]`` turns back. Run
-``python make_mesh.py`` to rebuild the file (binary STL, about 20,400 triangles; the grid is fine enough
-that its facets leave less than the scallop where the ball cannot reach into their
-concave creases).
+``ktoolcav.stl``), the file holds it turned so the cavity opens towards -Y: the
+block's own (x, y, z) is written as (x, -z, y), which the job's
+``rotate = [-90, 0, 0]`` turns back. Run ``python make_mesh.py`` to rebuild the file
+(binary STL, about 20,400 triangles; on a 1 mm grid the ball could not reach into the
+facets' concave creases and left more than the scallop there).
 """
 
 from __future__ import annotations
