@@ -32,6 +32,8 @@ from millpath.model.toolpath import Operation, Toolpath
 from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.surface.cutter import Cutter
 from millpath.plan.surface.dropcutter import MeshHeight, build_index
+from millpath.plan.surface.estimate import (ROUGH_MAX_RASTER, CoarseRaster,
+                                            RoughEstimate, estimate_rough)
 from millpath.plan.surface.linking import add_passes
 from millpath.plan.surface.sampler import Sampler
 from millpath.plan.surface.source import SURFACE_PARAMS, load_op_surface
@@ -188,7 +190,8 @@ def _refine_floor(sampler: Sampler, P: np.ndarray, level: float, allowance: floa
     return P
 
 
-def plan(ctx: PlanContext, params: dict) -> PlanResult:
+def _settings(ctx: PlanContext, params: dict):
+    """(mesh, tool, cutter, region, stepdown, step_over, allowance), checked."""
     inch = ctx.units == "inch"
     file = ctx.job_file
     if ctx.stock is None:
@@ -218,6 +221,45 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         0.012 if inch else 0.3)
     if allowance < 0:
         raise JobError("allowance: must not be negative", file)
+    return mesh, tool, cutter, region, stepdown, step_over, allowance
+
+
+def estimate(ctx: PlanContext, params: dict, sampler: Sampler | None = None
+             ) -> RoughEstimate:
+    """The operation's estimate (:func:`.estimate.estimate_rough`); raises at once, with
+    the numbers and a way out, when it needs more raster nodes than are planned (the
+    job loader already refuses too many layers or rows, see ``[limits]``)."""
+    mesh, tool, cutter, region, stepdown, step_over, allowance = _settings(ctx, params)
+    inch = ctx.units == "inch"
+    unit = "in" if inch else "mm"
+    lo, _ = mesh.bounds
+    d = 2 * cutter.radius
+    station = min(0.5, cutter.radius / 4.0)          # as rough_passes
+    if sampler is None:
+        sampler = Sampler(build_index(mesh), cutter, params["angle"])
+    us = CoarseRaster.build(sampler, region, n=40).us_per_drop
+    bottom = float(lo[2]) + allowance
+    e = estimate_rough(region, ctx.stock.zmax, bottom, stepdown, step_over, station,
+                       params["angle"], us)
+    if e.raster > ROUGH_MAX_RASTER:
+        raise PlanningError(
+            f"region {region[2] - region[0]:.4g} x {region[3] - region[1]:.4g} {unit} "
+            f"needs about {e.raster:,} drop-cutter points for a {d:g} {unit} tool (at "
+            f"most {ROUGH_MAX_RASTER:,}, about 1 GB); a {2 * d:g} {unit} tool needs about "
+            f"{e.raster // 4:,}; or use a smaller region", ctx.job_file)
+    return e
+
+
+def preflight(ctx: PlanContext, params: dict) -> None:
+    """Refuse an impossible request before any operation of the job is planned."""
+    estimate(ctx, params)
+
+
+def plan(ctx: PlanContext, params: dict) -> PlanResult:
+    inch = ctx.units == "inch"
+    file = ctx.job_file
+    mesh, tool, cutter, region, stepdown, step_over, allowance = _settings(ctx, params)
+    lo, hi = mesh.bounds
     feed = params["feed"] or (60.0 if inch else 1500.0)
     plunge = params["plunge_feed"] or feed / 3.0
     index = build_index(mesh)
@@ -225,6 +267,10 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
                       z_floor=min(float(lo[2]), ctx.stock.zmin),
                       holder_clearance=0.04 if inch else 1.0)
     tol = 0.25 * allowance if allowance > 0 else (0.0004 if inch else 0.01)
+    est = estimate(ctx, params, sampler)
+    ctx.progress.note(f"{params['name']}: about {est.levels:,} layers of {est.pass_lines:,} "
+                      f"rows, {est.points:,} points at most, {est.seconds:.0f} CPU-s "
+                      "(estimate)")
     passes, levels = rough_passes(sampler, region, ctx.stock.zmax, stepdown, step_over,
                                   allowance, tol)
     if not passes:
@@ -247,6 +293,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         "cutter": f"{cutter.kind} D{2 * cutter.radius:g}", "layers": len(levels),
         "levels": [round(z, 4) for z in levels], "stepdown": stepdown,
         "step_over": step_over, "allowance": allowance, "pieces": len(passes),
-        "retracts": links["retract"],
+        "retracts": links["retract"], "estimate": est.to_json(),
+        "cl_points": int(sum(len(p.points) for p in passes)),
     }
     return PlanResult(tp, design, {"surface_rough": [section]})
