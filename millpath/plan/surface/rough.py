@@ -128,7 +128,7 @@ def _raster(sampler: Sampler, region, u: np.ndarray, w: np.ndarray
     U, W = np.meshgrid(u, w)
     inside = in_region(sampler, region, U, W)
     zc, cu, _ = sampler.cut(U.ravel(), W.ravel())            # one drop for Z and contact
-    floor = np.maximum(zc, sampler.holder_lift(U.ravel(), W.ravel()))
+    floor = np.maximum(zc, sampler.holder_lift(U.ravel(), W.ravel(), below=zc))
     touch = np.isfinite(cu).reshape(U.shape) & inside
     return inside, floor.reshape(U.shape), touch
 
