@@ -18,7 +18,7 @@ from millpath.interpret.arcs import arc_center_ijk, arc_center_r
 from millpath.interpret.comp import CompMixin
 from millpath.interpret.cycles import CycleMixin, CYCLES
 from millpath.interpret.errors import GCodeError
-from millpath.interpret.lexer import AXES, Block, c_int
+from millpath.gcode.lexer import AXES, Block, c_int
 from millpath.interpret.offsets import OffsetsMixin, rotate
 from millpath.model.nurbs import Nurbs
 from millpath.interpret.store import KIND_CODE, PACK, MotionList, PLANE_CODE

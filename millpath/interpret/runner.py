@@ -12,7 +12,7 @@ from typing import Iterator
 
 from millpath.interpret.errors import GCodeError
 from millpath.interpret.fastpath import FastPath
-from millpath.interpret.lexer import MAX_LINE, read_block
+from millpath.gcode.lexer import MAX_LINE, read_block
 from millpath.interpret.machine import Machine
 from millpath.interpret.store import MotionList
 from millpath.interpret.tools import load_tools
