@@ -127,3 +127,11 @@ def test_check_cycle_time_capped_by_max_feed_with_a_warning(files):
     assert "max_feed" not in capped.stderr
     r = _invoke(["check", files / "fast.ngc", "--max-feed", 0])
     assert r.exit_code == 1 and "--max-feed" in r.output
+
+
+def test_view_takes_the_tool_in_the_spindle(files):
+    out = files / "v.html"
+    r = _invoke(["view", files / "nochange.ngc", "--tools", files / "tools.tbl", "--stock",
+                 STOCK, "--tool", 1, "-o", out])
+    assert r.exit_code == 0, r.output
+    assert out.is_file() and "nothing is cut" not in r.stderr
