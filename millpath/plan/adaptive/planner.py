@@ -11,7 +11,8 @@ Per level (job units; ``R`` tool radius, ``D`` diameter):
    the roomiest spot still full of material (radius ``helix_radius`` or less).
 3. The walker (:mod:`.walker`) runs until it cannot keep the engagement; the next
    pass is reached by a feed straight through cleared space when the whole tool stays
-   in it, otherwise by a retract and a feed down where the column is clear.
+   in it, otherwise by a retract and a feed down where the column is clear, at the
+   last step before the pass first cuts (the walker's idle steps before it are air).
 
 The engagement limit per step is ``engagement * D * ds`` of area, less ``margin``
 (default 8 %) for the raster's counting error.
@@ -117,12 +118,21 @@ def clear_level(M: np.ndarray, A: np.ndarray, gx: float, gy: float, h: float, R:
             kind = "jump"
             if pos is not None and segment_clear(M, A, gx, gy, h, R + h, pos[0], pos[1], x, y):
                 kind = "link"
+            M_before = M.copy() if kind == "jump" else M
             n = walk(M, S, A, gx, gy, h, R, x, y, heading, ds, amax, len(buf) - 1,
                      int(2 * math.pi * R / ds) + 4, buf)
             if n <= 1:
                 tried[max(cj - 1, 0):cj + 2, max(ci - 1, 0):ci + 2] = True
                 continue
-            passes.append(Pass(kind, buf[:n, :2].copy()))
+            s0 = 0
+            if kind == "jump":           # enter where the pass begins to cut: the idle
+                cut_at = np.flatnonzero(buf[1:n, 2] > 0)   # steps before are in air
+                s0 = int(cut_at[0]) if len(cut_at) else 0
+                # ... at the last of them whose disk, one cell larger, held no material
+                while s0 > 0 and crescent(M_before, gx, gy, h, R + h, buf[s0, 0] + 1e9,
+                                          buf[s0, 1], buf[s0, 0], buf[s0, 1], False) > 0:
+                    s0 -= 1
+            passes.append(Pass(kind, buf[s0:n, :2].copy()))
             pos = (float(buf[n - 1, 0]), float(buf[n - 1, 1]))
             continue
         # no cleared space next to material: bore a new start with a helix
