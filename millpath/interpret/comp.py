@@ -196,7 +196,11 @@ class CompMixin:
                 self.endpoint_valid = True
                 return
             if t == "A":
-                self._check_arc(q, e0, e1, x, y, valid)
+                c1, c2 = q[5], q[6]
+                r1 = _hypot(q[3] - c1, q[4] - c2)
+                r2 = _hypot(x - c1, y - c2)
+                if abs(r1 - r2) > 0.01 or (q[2] and valid):
+                    self._check_arc(q, e0, e1, x, y, valid)     # raises if invalid
                 self.store.buf += PACK(o0, o1, o2, x, y, q[8], q[9], q[5], q[6], o2,
                                        T_ARC, q[1], q[7], PLANE_CODE[self.plane], q[10])
                 self.out = [x, y, q[8]]
