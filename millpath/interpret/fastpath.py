@@ -127,8 +127,9 @@ class FastPath:
                     code = (ord(g) - 48) * 10
                 if (comp_line and code in (0, 10) and i is None and j is None and kk is None
                         and r is None and (f is None or f[0] != "-")):
-                    # G0/G1 with compensation on (not the entry move): straight_comp2
-                    m.out, m.feed_rate = [ox, oy, oz], feed
+                    # G0/G1 with compensation on (not the entry move): straight_comp2.
+                    # With compensation on, every line goes through the machine, so its
+                    # position and feed are the locals' already.
                     if f is not None:
                         m.feed_rate = float(f)
                     if code == 10 and m.feed_rate == 0.0:
@@ -158,7 +159,6 @@ class FastPath:
                         and ((r is None) != (i is None and j is None))
                         and (r is None or x is not None or y is not None)):
                     # G2/G3 in G17 with compensation on (not the entry move): arc_comp2
-                    m.out, m.feed_rate = [ox, oy, oz], feed
                     if f is not None:
                         m.feed_rate = float(f)
                     if m.feed_rate == 0.0:
