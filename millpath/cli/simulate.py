@@ -15,24 +15,12 @@ from pathlib import Path
 
 import click
 
-from millpath.cli.programs import simulate_program
+from millpath.cli.programs import program_options, simulate_program
 
 
 @click.command()
-@click.argument("program", type=click.Path(path_type=Path))
-@click.option("--tools", "tools_path", type=click.Path(path_type=Path), default=None,
-              help="LinuxCNC tool table (flat end mills) or TOML tool library.")
-@click.option("--stock", "stock_text", required=True,
-              help="Stock box XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX in program units.")
-@click.option("--design", "design_path", type=click.Path(path_type=Path), default=None,
-              help="Designed part (STL, or any surface millpath drop reads) for gouge "
-                   "and material-left checks.")
-@click.option("--resolution", type=float, default=None,
-              help="Z-map cell size (default: stock size / 1000, at most D/10 of the "
-                   "smallest tool).")
-@click.option("--machine-units", type=click.Choice(["inch", "mm"]), default=None,
-              help="Units of a tool table whose header does not state them (default "
-              "inch, as LinuxCNC's rs274).")
+@program_options("Designed part (STL, or any surface millpath drop reads) for gouge "
+                 "and material-left checks.")
 @click.option("--json", "as_json", is_flag=True, help="Print the results as JSON.")
 @click.option("--png", "png", type=click.Path(path_type=Path), default=None,
               help="Write a shaded picture of the stock (and FILE_deviation.png with "

@@ -84,6 +84,32 @@ class FastPath:
             e.line = base + self.k + 1
             raise
 
+    def comp_end(self, out: list, feed: float, f, x, y, z) -> list:
+        """Before a compensated move: write the output position ``out`` and the feed
+        (``feed``, or the line's F word) back to the machine; return the programmed end
+        point (X Y Z words, the others from the programmed position)."""
+        m = self.m
+        m.out, m.feed_rate = out, feed
+        if f is not None:
+            m.feed_rate = float(f)
+        prog = m.prog
+        return [prog[0] if x is None else float(x), prog[1] if y is None else float(y),
+                prog[2] if z is None else float(z)]
+
+    def comp_move(self, buf: list, k: int, move, *args) -> tuple:
+        """Call the machine's compensated ``move(*args)`` for line index ``k``; on an
+        error drop what it stored and re-raise. Returns the new (current, output)
+        position as six numbers."""
+        self.k = k
+        mark = len(buf)
+        try:
+            move(*args)
+        except GCodeError:
+            del buf[mark:]
+            raise
+        c, o = self.m.cur, self.m.out
+        return c[0], c[1], c[2], o[0], o[1], o[2]
+
     def _loop(self, lines, k, end_k, match, m, one, base) -> int:
         buf = m.store.buf
         pack = PACK
@@ -128,29 +154,16 @@ class FastPath:
                 if (comp_line and code in (0, 10) and i is None and j is None and kk is None
                         and r is None and (f is None or f[0] != "-")):
                     # G0/G1 with compensation on (not the entry move): straight_comp2
-                    m.out, m.feed_rate = [ox, oy, oz], feed
-                    if f is not None:
-                        m.feed_rate = float(f)
+                    end = self.comp_end([ox, oy, oz], feed, f, x, y, z)
                     if code == 10 and m.feed_rate == 0.0:
                         return k
-                    prog = m.prog
-                    end = [prog[0] if x is None else float(x),
-                           prog[1] if y is None else float(y),
-                           prog[2] if z is None else float(z)]
                     m.motion_mode = code
                     m.arc_not_allowed = False
                     m.cycle_il_flag = False
-                    self.k = k
-                    mark = len(buf)
-                    try:
-                        m.straight_comp2(code, base + k + 1, end,
-                                         m.feed_rate if code == 10 else 0.0)
-                    except GCodeError:
-                        del buf[mark:]
-                        raise
                     # straight_comp2 changes only the position (and the feed set above)
-                    c, o = m.cur, m.out
-                    cx, cy, cz, ox, oy, oz = c[0], c[1], c[2], o[0], o[1], o[2]
+                    cx, cy, cz, ox, oy, oz = self.comp_move(
+                        buf, k, m.straight_comp2, code, base + k + 1, end,
+                        m.feed_rate if code == 10 else 0.0)
                     feed, mode = m.feed_rate, code
                     k += 1
                     continue
@@ -158,29 +171,16 @@ class FastPath:
                         and ((r is None) != (i is None and j is None))
                         and (r is None or x is not None or y is not None)):
                     # G2/G3 in G17 with compensation on (not the entry move): arc_comp2
-                    m.out, m.feed_rate = [ox, oy, oz], feed
-                    if f is not None:
-                        m.feed_rate = float(f)
+                    end = self.comp_end([ox, oy, oz], feed, f, x, y, z)
                     if m.feed_rate == 0.0:
                         return k
-                    prog = m.prog
-                    end = [prog[0] if x is None else float(x),
-                           prog[1] if y is None else float(y),
-                           prog[2] if z is None else float(z)]
                     m.motion_mode = code
                     m.cycle_il_flag = False
-                    self.k = k
-                    mark = len(buf)
-                    try:
-                        m.arc_comp2(code, base + k + 1, None if r is None else float(r), end,
-                                    0.0 if i is None else float(i),
-                                    0.0 if j is None else float(j),
-                                    -1 if code == 20 else 1, m.feed_rate)
-                    except GCodeError:
-                        del buf[mark:]
-                        raise
-                    c, o = m.cur, m.out
-                    cx, cy, cz, ox, oy, oz = c[0], c[1], c[2], o[0], o[1], o[2]
+                    cx, cy, cz, ox, oy, oz = self.comp_move(
+                        buf, k, m.arc_comp2, code, base + k + 1,
+                        None if r is None else float(r), end,
+                        0.0 if i is None else float(i), 0.0 if j is None else float(j),
+                        -1 if code == 20 else 1, m.feed_rate)
                     feed, mode = m.feed_rate, code
                     k += 1
                     continue
@@ -353,22 +353,9 @@ class FastPath:
             m.motion_mode = code
             m.cycle_il_flag = False
             return True
-        w = {}
-        if x is not None:
-            w["x"] = float(x)
-        if y is not None:
-            w["y"] = float(y)
-        if z is not None:
-            w["z"] = float(z)
-        if code >= 20:
-            if i is not None:
-                w["i"] = float(i)
-            if j is not None:
-                w["j"] = float(j)
-            if k is not None:
-                w["k"] = float(k)
-            if r is not None:
-                w["r"] = float(r)
+        # the words the motion reads: X Y Z, and I J K R for arcs
+        values = (x, y, z, i, j, k, r) if code >= 20 else (x, y, z)
+        w = {c: float(v) for c, v in zip("xyzijkr", values) if v is not None}
         if f is not None:
             fv = float(f)
             w["f"] = fv
