@@ -311,7 +311,9 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
                        "die cavity needs a flat end mill", ctx.job_file)
     if ctx.stock is None:
         raise JobError(f"{where}: the job needs a [stock] box", ctx.job_file)
-    pts = points_from_params(params["points"], params["points_file"], ctx.job_file, where)
+    pts = ctx.parts.get("curve-points", (params["points"], params["points_file"]),
+                        lambda: points_from_params(params["points"], params["points_file"],
+                                                   ctx.job_file, where)).copy()
     src = params["points_file"] or ctx.job_file
     curve = build_curve(pts, close=params["close"], file=src)
     if not curve.closed:

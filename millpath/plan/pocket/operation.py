@@ -101,7 +101,7 @@ def check_fit(region, free, tool, file) -> None:
 def plan(ctx: PlanContext, params: dict) -> PlanResult:
     file = ctx.job_file
     tool = end_mill(ctx, params, "a pocket")
-    regions = load_regions(params, ctx.units, file)
+    regions = load_regions(params, ctx.units, file, ctx.parts)
     R, D = tool.radius, tool.diameter
     allow = params["finish_allowance"]
     heights = operation_heights(ctx, params)

@@ -117,7 +117,7 @@ def _collinear(a, b, c) -> bool:
 def plan(ctx: PlanContext, params: dict) -> PlanResult:
     file = ctx.job_file
     tool = end_mill(ctx, params, "a profile")
-    regions = load_regions(params, ctx.units, file)
+    regions = load_regions(params, ctx.units, file, ctx.parts)
     R = tool.radius
     rho = params["lead_radius"] or tool.diameter
     if rho <= R * 1.0001:
