@@ -130,7 +130,7 @@ class FastPath:
             comp_arcs = (comp_line and m.plane == "XY" and not m.ijk_abs
                          and not m.arc_not_allowed)
             return (c[0], c[1], c[2], o[0], o[1], o[2], m.feed_rate, m.motion_mode, simple,
-                    arcs_ok, PLANE_CODE[m.plane], m._state_idx, RADIUS_TOLERANCE[units],
+                    arcs_ok, PLANE_CODE[m.plane], m.state_index, RADIUS_TOLERANCE[units],
                     SPIRAL_TOLERANCE[units], units)
 
         (cx, cy, cz, ox, oy, oz, feed, mode, simple, arcs_ok, pcode, state, rtol,
@@ -303,7 +303,7 @@ class FastPath:
             store = m.store
             feed = m.feed_rate if code == 10 else 0.0
             store.buf += PACK(o[0], o[1], o[2], end[0], end[1], end[2], feed, 0.0, 0.0, 0.0,
-                              1 if code == 10 else 0, n, 0, PLANE_CODE[m.plane], m._state_idx)
+                              1 if code == 10 else 0, n, 0, PLANE_CODE[m.plane], m.state_index)
             m.out = end
             m.cur = end
             m.motion_mode = code
@@ -347,7 +347,7 @@ class FastPath:
             store = m.store
             store.buf += PACK(o[0], o[1], o[2], end[0], end[1], end[2], m.feed_rate,
                               center[0], center[1], center[2], 2, n, -1 if code == 20 else 1,
-                              PLANE_CODE[plane], m._state_idx)
+                              PLANE_CODE[plane], m.state_index)
             m.out = end
             m.cur = end
             m.motion_mode = code
