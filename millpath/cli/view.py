@@ -27,6 +27,7 @@ from millpath.errors import MillpathError
               default=Path("view.html"), show_default=True, help="HTML file to write.")
 def command(program: Path, tools_path: Path | None, stock_text: str,
             design_path: Path | None, resolution: float | None, machine_units: str | None,
+            spindle_tool: int,
             tolerance: float | None, output: Path) -> None:
     """Write an interactive 3D view of PROGRAM: tool path, stock, simulated stock
     coloured by deviation from the design, and a player that runs it move by move."""
@@ -36,7 +37,8 @@ def command(program: Path, tools_path: Path | None, stock_text: str,
     if tolerance is not None and not tolerance >= 0:
         raise MillpathError(f"--tolerance must be a length >= 0, not {tolerance}")
     sp = simulate_program(program, tools_path, stock_text, design_path, resolution,
-                          progress=sys.stderr.isatty(), machine_units=machine_units)
+                          progress=sys.stderr.isatty(), machine_units=machine_units,
+                          spindle_tool=spindle_tool)
     motions = approach_from_above(sp.motions, sp.stock.zmax)
     if not motions:
         raise MillpathError("the program has no motion to show", program)
