@@ -9,7 +9,6 @@ after an error nothing in the output folder has changed.
 from __future__ import annotations
 
 import bisect
-import json
 import math
 import time
 from dataclasses import dataclass, field
@@ -188,20 +187,13 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False,
 
     designs = [r.design for r in results if r.design is not None]
     design = MinDesign(designs) if designs else None
-    report: dict[str, Any] = {
-        "job": str(job.path) if job.path else None,
-        "name": job.name,
-        "units": job.units,
-        "tool_table_units": job.table_units,
-        "program": "program.ngc",
-        "lines": program.count("\n"),
-        "bytes": len(program.encode()),
-        "moves": tp.counts(),
-        "stock": list(stock.box),
-        "fit": {"mode": job.fit, "tolerance": job.fit_tolerance},
-    }
-    if job.reference:
-        report["reference"] = job.reference
+    from millpath.report.document import OperationSection, PlanSection, RunReport
+    report = RunReport(job=str(job.path) if job.path else None, name=job.name, units=job.units,
+                       tool_table_units=job.table_units, program="program.ngc",
+                       lines=program.count("\n"), bytes=len(program.encode()),
+                       moves=tp.counts(), stock=list(stock.box),
+                       fit={"mode": job.fit, "tolerance": job.fit_tolerance},
+                       reference=job.reference or None)
     from millpath.simulate import motion_times
     from millpath.verify.approach import approach_from_above
     motions = approach_from_above(motions, stock.zmax)
@@ -213,38 +205,31 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False,
         res = default_resolution(job, stock, tp)
         sim = simulate_motions(motions, job.tools, stock, resolution=res, design=design,
                                machine=job.machine, progress=progress)
-        report["verification"] = sim.to_json()
+        report.verification = sim.to_json()
     else:
-        report["verification"] = {"skipped": "simulation disabled in the job"}
-    report["cycle_time_s"] = round(float(np.sum(times)), 3)
+        report.verification = {"skipped": "simulation disabled in the job"}
+    report.cycle_time_s = float(np.sum(times))
     counts_by_op: dict[int, dict[str, int]] = {}
     for m in tp.moves:
         c = counts_by_op.setdefault(m.op, {"rapid": 0, "line": 0, "arc": 0, "cubic": 0,
                                           "drill": 0})
         if m.kind in c:
             c[m.kind] += 1
-    report["operations"] = [
-        {"type": o.type, "name": o.name, "tool": o.tool, "spindle": o.spindle,
-         "moves": counts_by_op.get(i, {}), "cycle_time_s": round(op_secs[i], 3),
-         **({"in_process": o.info["in_process"]} if "in_process" in o.info else {})}
+    report.operations = [
+        OperationSection(o.type, o.name, o.tool, o.spindle, counts_by_op.get(i, {}),
+                         op_secs[i], o.info.get("in_process"))
         for i, o in enumerate(tp.ops)]
-    for r in results:
-        for k, v in r.report.items():
-            if k in report and isinstance(report[k], dict) and isinstance(v, dict):
-                report[k].update(v)
-            elif k in report and isinstance(report[k], list) and isinstance(v, list):
-                report[k].extend(v)
-            else:
-                report[k] = v
+    report.plans = [PlanSection(i, op_type, r.report)
+                    for i, ((op_type, _), r) in enumerate(zip(job.operations, results))]
 
-    problems = _safety_gate(report, job, tp, move_lines, motions, sim)
+    problems = _safety_gate(report.to_json(), job, tp, move_lines, motions, sim)
     program_name = "program.ngc"
     posted = program                  # as interpreted: the viewer's lines refer to it
     if problems:
         program, program_name = _unsafe_program(program, problems, force)
-    report["program"] = program_name if (force or not problems) else None
-    report["safety"] = {"status": "ok" if not problems else ("forced" if force else "refused"),
-                        "problems": [p.to_json() for p in problems]}
+    report.program = program_name if (force or not problems) else None
+    report.safety = {"status": "ok" if not problems else ("forced" if force else "refused"),
+                     "problems": [p.to_json() for p in problems]}
 
     from millpath.report.preview import render_preview
     out = Path(outdir)
@@ -263,15 +248,16 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False,
         write_view(tmp / "view.html", program=posted, motions=motions, tools=job.tools,
                    stock=stock, units=job.units, sim=sim, design=design, title=job.name,
                    toolpath=tp, move_lines=move_lines)
-        report["seconds"] = round(time.perf_counter() - t0, 3)
-        (tmp / "report.json").write_text(json.dumps(report, indent=2, default=_json_default))
+        from millpath.report.document import write_report
+        report.seconds = time.perf_counter() - t0
+        written = write_report(tmp / "report.json", report)
         files = [out / f.name for f in sorted(tmp.iterdir()) if not f.name.startswith(".")]
     if problems and not force:
         from millpath.verify.gate import UnsafeProgramError, summary
         raise UnsafeProgramError(f"program refused: {summary(problems)}; no program.ngc "
                                  f"written (report and pictures in {out}; --force writes "
-                                 f"program.unsafe.ngc)", job.path, report, problems)
-    return RunResult(job, tp, program, report, files, time.perf_counter() - t0)
+                                 f"program.unsafe.ngc)", job.path, written, problems)
+    return RunResult(job, tp, program, written, files, time.perf_counter() - t0)
 
 
 def _safety_gate(report: dict, job: Job, tp: Toolpath, move_lines, motions, sim) -> list:
@@ -315,13 +301,3 @@ def _seconds_per_operation(tp: Toolpath, move_lines: list[int | None], motions,
         k = bisect.bisect_right(keys, mo.line) - 1
         secs[starts[max(k, 0)][1]] += float(t)
     return secs
-
-
-def _json_default(o: Any) -> Any:
-    if isinstance(o, (np.floating, np.integer)):
-        return o.item()
-    if isinstance(o, np.ndarray):
-        return o.tolist()
-    if isinstance(o, Path):
-        return str(o)
-    raise TypeError(f"cannot write {type(o).__name__} to JSON")

@@ -12,6 +12,8 @@ from pathlib import Path
 import click
 from rich.console import Console
 
+from millpath.report.document import plan_sections
+
 
 def print_verification(console: Console, report: dict) -> None:
     """The safety figures of a run, green when clean and red when not."""
@@ -24,8 +26,8 @@ def print_verification(console: Console, report: dict) -> None:
         return f"[{'red' if n else 'green'}]{label} {n}[/]"
     holder = int(ver.get("holder_contacts") or 0)
     rapids = int(ver.get("rapids_through_material") or 0)
-    feats = report.get("features") or {}
-    unmachined = len(feats.get("unmachinable") or []) if isinstance(feats, dict) else 0
+    unmachined = sum(len(f.get("unmachinable") or [])
+                     for f in plan_sections(report, "features") if isinstance(f, dict))
     problems = (report.get("safety") or {}).get("problems", [])
     gouge_bad = any(p["kind"] == "gouge" for p in problems)
     tols = sorted({p["detail"] for p in problems if p["kind"] == "gouge"})

@@ -64,9 +64,15 @@ def render_stock(zmap: ZMap, path: str | Path, *, title: str = "", units: str = 
     sm = cm.ScalarMappable(norm=norm, cmap=cmap)
     cb = fig.colorbar(sm, ax=ax, shrink=0.85)
     cb.set_label(f"stock top Z{f' ({units})' if units else ''}")
+    return _save_plan_view(fig, ax, path, title or "simulated stock")
+
+
+def _save_plan_view(fig, ax, path, title: str) -> Path:
+    """Label the plan view ``ax`` (X, Y, equal scale, ``title``), write ``fig`` to
+    ``path``."""
     ax.set_xlabel("X")
     ax.set_ylabel("Y")
-    ax.set_title(title or "simulated stock")
+    ax.set_title(title)
     ax.set_aspect("equal")
     fig.tight_layout()
     p = Path(path)
@@ -156,12 +162,5 @@ def render_deviation(zmap: ZMap, design, path: str | Path, *, title: str = "",
     cb.set_label(f"deviation{u}: red = gouge (below design), blue = material left")
     cb.set_ticks(ticks)
     cb.set_ticklabels([f"{t:.3g}" for t in ticks])
-    ax.set_xlabel("X")
-    ax.set_ylabel("Y")
-    ax.set_title(title or f"deviation from design: max gouge {gmax:.4g}, "
-                          f"max left {lmax:.4g}{u}")
-    ax.set_aspect("equal")
-    fig.tight_layout()
-    p = Path(path)
-    fig.savefig(p)
-    return p
+    return _save_plan_view(fig, ax, path, title or f"deviation from design: max gouge "
+                                              f"{gmax:.4g}, max left {lmax:.4g}{u}")

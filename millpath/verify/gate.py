@@ -153,10 +153,10 @@ def _gouges(ver: dict, g: GateInput) -> list[Problem]:
 
 
 def _unmachined(report: dict) -> list[Problem]:
-    feats = report.get("features")
-    if not isinstance(feats, dict):
-        return []
-    left = feats.get("unmachinable") or []
+    """The features no operation of the run could machine (each plan's ``features``
+    section of report.json)."""
+    left = [f for p in report.get("plans", []) if isinstance(p.get("features"), dict)
+            for f in p["features"].get("unmachinable") or []]
     if not left:
         return []
     first = left[0]

@@ -15,6 +15,7 @@ from millpath.errors import GeometryError, JobError
 from millpath.job.jobfile import load_job
 from millpath.plan.base import PlanContext
 from millpath.plan.diecavity import operation as op
+from millpath.report.document import plan_sections
 
 EXAMPLES = Path(millpath.__file__).parent / "examples"
 
@@ -268,7 +269,7 @@ def test_millpath_run_writes_the_curve_analysis(tmp_path, rs274):
     from millpath.pipeline import run_job
     run_job(EXAMPLES / "die-blanking" / "job.toml", tmp_path / "out")
     rep = json.loads((tmp_path / "out" / "report.json").read_text())
-    curve = rep["curve"]
+    (curve,) = plan_sections(rep, "curve")
     assert {"segments", "chords", "uniform_chords", "unreachable_corners"} <= set(curve)
     assert all({"chords", "steps", "deviations", "uniform_chords"} <= set(s)
                for s in curve["segments"])

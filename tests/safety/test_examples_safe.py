@@ -13,7 +13,7 @@ from pathlib import Path
 import pytest
 
 from millpath.interpret import interpret
-from millpath.interpret.difftest import compare_motions
+from support.difftest import compare_motions
 from millpath.io.tooltable import parse_tool_table, table_units, tool_table_text
 from millpath.job.jobfile import load_job
 from millpath.pipeline import fit_job, plan_job, post_job

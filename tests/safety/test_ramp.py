@@ -13,6 +13,7 @@ from click.testing import CliRunner
 from millpath.cli.main import cli
 from millpath.part.step.ap224 import read_part
 from millpath.part.step.shapes import feature_shapes
+from millpath.report.document import plan_sections
 
 FIXTURE = Path(__file__).resolve().parent / "fixtures" / "ramp_bore.stp"
 
@@ -63,7 +64,8 @@ def test_long_tools_machine_the_bore_then_the_hole_from_the_bore_floor(tmp_path)
                                  "--quiet"])
     assert r.exit_code == 0, r.stderr
     rep = json.loads((out / "report.json").read_text())
-    planned = {p["id"]: p for p in rep["features"]["planned"]}
+    (feats,) = plan_sections(rep, "features")
+    planned = {p["id"]: p for p in feats["planned"]}
     hole = next(p for p in planned.values() if p["z"] < 0)
     assert hole["z_start"] == pytest.approx(7.0)        # never from the stock top at 85
     v = rep["verification"]

@@ -164,13 +164,16 @@ def _order(tasks: list[_Task]) -> list[_Task]:
 
 def plan(ctx: PlanContext, params: dict) -> PlanResult:
     """Plan all machinable features of the AP224 file ``params['step']``."""
-    part = read_part(params["step"])
+    # the file, the solid and its mesh are read once per job (ctx.parts)
+    part = ctx.parts.get("step", params["step"], lambda: read_part(params["step"]))
     solid = None
+    solid_key = (params["step"], params["body"], params["setup"], params["stock_step"],
+                 ctx.stock.box if ctx.stock is not None else None, ctx.units)
     if not part.features:            # a B-rep solid: recognise its features
         from millpath.plan.features.solid import load_solid
-        solid = load_solid(params["step"], body=params["body"], setup=params["setup"],
-                           stock_step=params["stock_step"], job_stock=ctx.stock,
-                           job_units=ctx.units)
+        solid = ctx.parts.get("step-solid", solid_key, lambda: load_solid(
+            params["step"], body=params["body"], setup=params["setup"],
+            stock_step=params["stock_step"], job_stock=ctx.stock, job_units=ctx.units))
         part = solid.part
     job_mm = 25.4 if ctx.units == "inch" else 1.0
     k = part.units.length_mm / job_mm
@@ -353,7 +356,8 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
 
     if solid is not None:
         from millpath.plan.features.solid import SolidDesign
-        design = SolidDesign(solid.solid, tol, ctx.units)
+        design = ctx.parts.get("step-solid-design", (solid_key, tol),
+                               lambda: SolidDesign(solid.solid, tol, ctx.units))
     else:
         design = FeatureDesign(z_top, [t.shape for t in tasks] + unplanned,
                                reach=max(stock.size) * 2 + 100.0)

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from millpath.model import Toolpath
+from millpath.plan.entry import ramp_laps, ring_segments
 
 
 @dataclass(frozen=True)
@@ -158,9 +159,7 @@ def _ramp_ring(tp: Toolpath, ring: np.ndarray, z0: float, z1: float, feed: float
     """Descend from ``z0`` to ``z1`` following the closed ``ring`` (starting and ending at
     its first point), no steeper than :data:`RAMP_ANGLE`; a straight plunge when that
     would take more than :data:`RAMP_LAPS` laps."""
-    closed = np.vstack([ring, ring[:1]])
-    seg = np.hypot(*np.diff(closed, axis=0).T)
-    perim = float(seg.sum())
+    closed, seg, perim = ring_segments(ring)
     dz = z0 - z1
     if dz <= 1e-12:
         return
@@ -169,12 +168,7 @@ def _ramp_ring(tp: Toolpath, ring: np.ndarray, z0: float, z1: float, feed: float
         tp.line(ring[0][0], ring[0][1], z1, feed)
         return
     laps = max(1, int(math.ceil(dz / per_lap - 1e-9)))
-    total = laps * perim
-    run = 0.0
-    for _ in range(laps):
-        for p, L in zip(closed[1:], seg):
-            run += L
-            tp.line(p[0], p[1], z0 - dz * run / total, feed)
+    ramp_laps(tp, closed, seg, laps, z0, z1, feed)
 
 
 def _start_at(ring: np.ndarray, p: np.ndarray) -> np.ndarray:

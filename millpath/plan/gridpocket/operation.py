@@ -194,7 +194,9 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     inch = ctx.units == "inch"
     poly = pocket_polygon(params["polygon"], f)
     try:
-        surface = load_bottom(params["bottom"], poly, ctx.base_dir, f)
+        surface = ctx.parts.get(     # read once per job
+            "grid-bottom", (params["bottom"], poly.bounds, ctx.base_dir),
+            lambda: load_bottom(params["bottom"], poly, ctx.base_dir, f))
     except GeometryError as e:
         if e.file is None:
             e.file = str(f) if f else None

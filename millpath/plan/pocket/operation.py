@@ -40,6 +40,7 @@ from millpath.plan.pocket.emit import Emitter
 from millpath.plan.pocket.passes import Cut, offset_cuts, order_nearest, zigzag_cuts
 from millpath.plan.twod.field import MaterialField, Raster, stock_heights
 from millpath.plan.twod.geometry import GEOMETRY_PARAMS, default_tolerance, load_regions
+from millpath.plan.twod.heights import end_mill, operation_heights
 from millpath.plan.twod.offsets import offset, polygons, rings
 from millpath.plan.twod.writer import PathWriter
 
@@ -99,24 +100,15 @@ def check_fit(region, free, tool, file) -> None:
 
 def plan(ctx: PlanContext, params: dict) -> PlanResult:
     file = ctx.job_file
-    tool = ctx.tool(params["tool"])
-    if tool.type not in ("flat", "bull"):
-        raise JobError(f"tool: a pocket needs a flat or bull end mill, tool {tool.number} "
-                       f"is {tool.type}", file)
-    regions = load_regions(params, ctx.units, file)
+    tool = end_mill(ctx, params, "a pocket")
+    regions = load_regions(params, ctx.units, file, ctx.parts)
     R, D = tool.radius, tool.diameter
     allow = params["finish_allowance"]
+    heights = operation_heights(ctx, params)
+    top, upper, safe, clearance = (heights.top, heights.upper, heights.safe_z,
+                                   heights.clearance)
     stock_top = ctx.stock.zmax if ctx.stock is not None else None
-    top = params["top"] if params["top"] is not None else stock_top
-    if top is None:
-        raise JobError("top: needed when the job gives no [stock]", file)
     floor = top - params["depth"]
-    mm = ctx.units == "mm"
-    clearance = 0.5 if mm else 0.02
-    upper = max(top, stock_top if stock_top is not None else top)
-    safe = params["safe_z"] if params["safe_z"] is not None else upper + (5.0 if mm else 0.2)
-    if safe <= upper:
-        raise JobError(f"safe_z: {safe:g} is not above the stock top {upper:g}", file)
     stepover = params["stepover"] or 0.4 * D
     if stepover > D:
         raise JobError(f"stepover: {stepover:g} is more than the tool diameter", file)

@@ -39,6 +39,7 @@ from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.profile.leads import leads, start_on_longest
 from millpath.plan.twod.field import MaterialField, Raster, densify, stock_heights
 from millpath.plan.twod.geometry import GEOMETRY_PARAMS, default_tolerance, load_regions
+from millpath.plan.twod.heights import end_mill, operation_heights
 from millpath.plan.twod.offsets import offset, polygons
 from millpath.plan.twod.writer import PathWriter
 
@@ -115,26 +116,17 @@ def _collinear(a, b, c) -> bool:
 
 def plan(ctx: PlanContext, params: dict) -> PlanResult:
     file = ctx.job_file
-    tool = ctx.tool(params["tool"])
-    if tool.type not in ("flat", "bull"):
-        raise JobError(f"tool: a profile needs a flat or bull end mill, tool {tool.number} "
-                       f"is {tool.type}", file)
-    regions = load_regions(params, ctx.units, file)
+    tool = end_mill(ctx, params, "a profile")
+    regions = load_regions(params, ctx.units, file, ctx.parts)
     R = tool.radius
     rho = params["lead_radius"] or tool.diameter
     if rho <= R * 1.0001:
         raise JobError(f"lead_radius: {rho:g} must be larger than the tool radius {R:g}", file)
+    heights = operation_heights(ctx, params)
+    top, upper, safe, clearance = (heights.top, heights.upper, heights.safe_z,
+                                   heights.clearance)
     stock_top = ctx.stock.zmax if ctx.stock is not None else None
-    top = params["top"] if params["top"] is not None else stock_top
-    if top is None:
-        raise JobError("top: needed when the job gives no [stock]", file)
     bottom = top - params["depth"]
-    mm = ctx.units == "mm"
-    clearance = 0.5 if mm else 0.02
-    upper = max(top, stock_top if stock_top is not None else top)
-    safe = params["safe_z"] if params["safe_z"] is not None else upper + (5.0 if mm else 0.2)
-    if safe <= upper:
-        raise JobError(f"safe_z: {safe:g} is not above the stock top {upper:g}", file)
     tab_h = params["tab_height"]
     if params["tabs"] and not 0 < tab_h < params["depth"]:
         raise JobError(f"tab_height: must be between 0 and the depth {params['depth']:g} "

@@ -37,11 +37,11 @@ from millpath.io.schema import Param
 from millpath.model.toolpath import Operation, Toolpath
 from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.surface.cutter import Cutter
-from millpath.plan.surface.dropcutter import MeshHeight, build_index
+from millpath.plan.surface.dropcutter import MeshHeight
 from millpath.plan.surface.estimate import Estimate, estimate_finish
 from millpath.plan.surface.linking import add_passes
 from millpath.plan.surface.sampler import Sampler
-from millpath.plan.surface.source import SURFACE_PARAMS, load_op_surface
+from millpath.plan.surface.source import SURFACE_PARAMS, load_op_surface, op_surface_index
 from millpath.plan.surface.steep_shallow import steep_shallow
 from millpath.plan.surface.toolchoice import choose_tool
 from millpath.plan.surface.waterline import WaterlineSettings, waterline
@@ -78,7 +78,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     inch = ctx.units == "inch"
     file = ctx.job_file
     mesh = load_op_surface(ctx, params)
-    index = build_index(mesh)
+    index = op_surface_index(ctx, params)
     design = MeshHeight(index)
     lo, hi = mesh.bounds
     extent = (float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1]))
@@ -300,7 +300,8 @@ def preflight(ctx: PlanContext, params: dict) -> None:
     tol = params["tolerance"] or (0.0002 if inch else 0.005)
     scallop = params["scallop"] or (0.0004 if inch else 0.01)
     tol_m = min(tol, 0.25 * scallop)
-    sampler = Sampler(build_index(mesh), cutter, params["angle"], (), z_floor=float(lo[2]))
+    sampler = Sampler(op_surface_index(ctx, params), cutter, params["angle"], (),
+                      z_floor=float(lo[2]))
     est, _ = estimate_finish(sampler, region, strategy=params["strategy"], scallop=scallop,
                              tolerance=tol, material_tolerance=tol_m,
                              side_step=params["side_step"], steep_angle=params["steep_angle"],

@@ -38,8 +38,9 @@ from millpath.plan.surface.dropcutter import MeshHeight, build_index
 from millpath.plan.surface.estimate import (ROUGH_MAX_RASTER, CoarseRaster,
                                             RoughEstimate, estimate_rough)
 from millpath.plan.surface.linking import add_passes
+from millpath.plan.surface.refine import refine_worst
 from millpath.plan.surface.sampler import Sampler
-from millpath.plan.surface.source import SURFACE_PARAMS, load_op_surface
+from millpath.plan.surface.source import SURFACE_PARAMS, load_op_surface, op_surface_index
 from millpath.plan.surface.waterline import index_runs
 from millpath.plan.surface.zigzag import Pass, in_region
 
@@ -172,26 +173,11 @@ def _refine_floor(sampler: Sampler, P: np.ndarray, level: float, allowance: floa
     ``tolerance`` at any of ``checks`` evenly spaced interior points (the points
     themselves are exact; beside a vertical wall the floor jumps, and a midpoint alone
     misses a jump in the first quarter of a chord); the worst point is inserted."""
-    t = np.arange(1, checks + 1) / (checks + 1.0)
-    for _ in range(20):
-        if len(P) < 2:
-            break
-        A, B = P[:-1], P[1:]
-        Q = A[:, None, :] + (B - A)[:, None, :] * t[None, :, None]
-        zt, _ = sampler.z_safe(Q[..., 0].ravel(), Q[..., 1].ravel())
-        want = np.maximum(zt.reshape(len(A), checks) + allowance, level)
-        over = want - Q[..., 2]
-        seg = np.hypot(B[:, 0] - A[:, 0], B[:, 1] - A[:, 1])
-        rows = np.arange(len(A))
-        worst = np.argmax(over, axis=1)
-        bad = (over[rows, worst] > tolerance) & (seg > 1e-3)
-        if not bad.any():
-            break
-        new = Q[rows, worst].copy()
-        new[:, 2] = want[rows, worst]
-        idx = np.nonzero(bad)[0]
-        P = np.insert(P, idx + 1, new[idx], axis=0)
-    return P
+    def judge(Q, zt):
+        want = np.maximum(zt + allowance, level)
+        return want - Q[..., 2], want
+
+    return refine_worst(sampler, P, judge, tolerance, 1e-3, checks)
 
 
 def _stock_top_near(remaining, tool, tol: float):
@@ -292,7 +278,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     lo, hi = mesh.bounds
     feed = params["feed"] or (60.0 if inch else 1500.0)
     plunge = params["plunge_feed"] or feed / 3.0
-    index = build_index(mesh)
+    index = op_surface_index(ctx, params)
     sampler = Sampler(index, cutter, params["angle"], tuple(tool.holder_cylinders()),
                       z_floor=min(float(lo[2]), ctx.stock.zmin),
                       holder_clearance=0.04 if inch else 1.0)

@@ -9,6 +9,7 @@ from millpath.io.schema import Param
 from millpath.part.surface.load import load_surface
 from millpath.part.surface.mesh import Mesh
 from millpath.plan.base import PlanContext
+from millpath.plan.surface.dropcutter import MeshIndex, build_index
 
 SURFACE_PARAMS = {
     "surface": Param("any", doc="STL/STEP/grid file, Bezier net or grid table, or "
@@ -19,39 +20,27 @@ SURFACE_PARAMS = {
 }
 
 
-#: the last surfaces loaded (a job's operations and their preflight share them)
-_LOADED: dict[str, Mesh] = {}
+def _surface_key(ctx: PlanContext, params: dict) -> tuple:
+    """Everything the operation's mesh depends on (see :mod:`millpath.part.cache`)."""
+    return (params["surface"], params["divisions"], ctx.base_dir, _chord_tolerance(ctx, params),
+            ctx.units, ctx.stock.box if ctx.stock is not None else None)
+
+
+def _chord_tolerance(ctx: PlanContext, params: dict) -> float:
+    return params["chord_tolerance"] or (0.0004 if ctx.units == "inch" else 0.01)
 
 
 def load_op_surface(ctx: PlanContext, params: dict) -> Mesh:
-    """The operation's ``surface`` as a mesh (see :mod:`millpath.part.surface.load`);
-    the same surface with the same placement is read once (the last four are kept,
-    files by their modification time)."""
-    tol = params["chord_tolerance"] or (0.0004 if ctx.units == "inch" else 0.01)
-    stock_box = ctx.stock.box if ctx.stock is not None else None
-    key = repr((params["surface"], params["divisions"], str(ctx.base_dir), tol, ctx.units,
-                stock_box, _mtimes(params["surface"], ctx.base_dir)))
-    if key not in _LOADED:
-        mesh = load_surface(params["surface"], params["divisions"], ctx.base_dir,
-                            ctx.job_file, chord_tolerance=tol, units=ctx.units,
-                            stock_box=stock_box)
-        while len(_LOADED) >= 4:
-            _LOADED.pop(next(iter(_LOADED)))
-        _LOADED[key] = mesh
-    return _LOADED[key]
+    """The operation's ``surface`` as a mesh (see :mod:`millpath.part.surface.load`),
+    loaded once per job (``ctx.parts``)."""
+    return ctx.parts.get("surface", _surface_key(ctx, params), lambda: load_surface(
+        params["surface"], params["divisions"], ctx.base_dir, ctx.job_file,
+        chord_tolerance=_chord_tolerance(ctx, params), units=ctx.units,
+        stock_box=ctx.stock.box if ctx.stock is not None else None))
 
 
-def _mtimes(surface, base_dir) -> tuple:
-    """Modification times of the files ``surface`` names (strings, or ``file``/``grid``
-    of a table); 0 where there is none."""
-    names = [surface] if isinstance(surface, str) else (
-        [v for k, v in surface.items() if k in ("file", "grid") and isinstance(v, str)]
-        if isinstance(surface, dict) else [])
-    out = []
-    for n in names:
-        p = Path(n) if Path(n).is_absolute() else Path(base_dir or ".") / n
-        try:
-            out.append(p.stat().st_mtime_ns)
-        except OSError:
-            out.append(0)
-    return tuple(out)
+def op_surface_index(ctx: PlanContext, params: dict) -> MeshIndex:
+    """The drop-cutter index (default cell) of the operation's surface, built once per
+    job."""
+    mesh = load_op_surface(ctx, params)
+    return ctx.parts.get("surface-index", _surface_key(ctx, params), lambda: build_index(mesh))

@@ -35,6 +35,7 @@ import numpy as np
 
 from millpath.errors import PlanningError
 from millpath.plan.surface.polyline import merge_collinear
+from millpath.plan.surface.refine import refine_worst
 from millpath.plan.surface.sampler import Sampler
 from millpath.plan.surface.steps import curvature_radius, feed_step, flat_side_step, side_step
 
@@ -307,27 +308,11 @@ def refine_chords(sampler: Sampler, P: np.ndarray, tol_g: float, tol_m: float,
     """Split segments of ``P`` (rows u, w, z) that deviate beyond tolerance at any of
     ``checks`` evenly spaced interior points (the midpoint alone misses a bump of the
     CL surface narrower than half a segment); the worst point is inserted."""
-    t = np.arange(1, checks + 1) / (checks + 1.0)
-    for _ in range(20):
-        if len(P) < 2:
-            break
-        A, B = P[:-1], P[1:]
-        Q = A[:, None, :] + (B - A)[:, None, :] * t[None, :, None]      # (m, k, 3)
-        zt, _ = sampler.z_safe(Q[..., 0].ravel(), Q[..., 1].ravel())
-        zt = zt.reshape(len(A), checks)
+    def judge(Q, zt):
         dev = zt - Q[..., 2]
-        over = np.maximum(dev - tol_g, -dev - tol_m)                   # > 0: outside
-        seg = np.hypot(B[:, 0] - A[:, 0], B[:, 1] - A[:, 1])
-        worst = np.argmax(over, axis=1)
-        rows = np.arange(len(A))
-        bad = (over[rows, worst] > 0) & (seg > min_len)
-        if not bad.any():
-            break
-        new = Q[rows, worst].copy()
-        new[:, 2] = zt[rows, worst]
-        idx = np.nonzero(bad)[0]
-        P = np.insert(P, idx + 1, new[idx], axis=0)
-    return P
+        return np.maximum(dev - tol_g, -dev - tol_m), zt                # > 0: outside
+
+    return refine_worst(sampler, P, judge, 0.0, min_len, checks)
 
 
 def refine_chords_many(sampler: Sampler, Ps: list[np.ndarray], tol_g: float, tol_m: float,
