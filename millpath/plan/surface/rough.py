@@ -34,7 +34,7 @@ from millpath.io.schema import Param
 from millpath.model.toolpath import Operation, Toolpath
 from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.surface.cutter import Cutter
-from millpath.plan.surface.dropcutter import MeshHeight, build_index
+from millpath.plan.surface.dropcutter import MeshHeight
 from millpath.plan.surface.estimate import (ROUGH_MAX_RASTER, CoarseRaster,
                                             RoughEstimate, estimate_rough)
 from millpath.plan.surface.linking import add_passes
@@ -252,7 +252,7 @@ def estimate(ctx: PlanContext, params: dict, sampler: Sampler | None = None
     d = 2 * cutter.radius
     station = min(0.5, cutter.radius / 4.0)          # as rough_passes
     if sampler is None:
-        sampler = Sampler(build_index(mesh), cutter, params["angle"])
+        sampler = Sampler(op_surface_index(ctx, params), cutter, params["angle"])
     us = CoarseRaster.build(sampler, region, n=40).us_per_drop
     bottom = float(lo[2]) + allowance
     e = estimate_rough(region, ctx.stock.zmax, bottom, stepdown, step_over, station,
