@@ -238,7 +238,7 @@ polygon = [[0, 0], [80, 0], [80, 50], [0, 50]]
 bottom = { bezier = [[-8, -12, -8], [-10, -14, -10], [-8, -12, -8]] }
 feed = 600
 spindle = 8000
-step = 5
+stepdown = 5
 motion = "arc"
 """)
     job, res = gp.plan_file(p)

@@ -16,7 +16,7 @@ Keys (job units: mm or inch; feeds in units per minute; Z absolute, tool tip):
 - ``navigation``: direction priority of the main path, ``wall-first`` (default, the
   thesis's Figs 9-12: the clockwise turn towards the wall first, then
   counter-clockwise) or ``straight-first`` (straight on first); see ``navigate``.
-- ``depths`` (absolute floor Z per roughing layer) or ``step`` (uniform depth of cut);
+- ``depths`` (absolute floor Z per roughing layer) or ``stepdown`` (uniform depth of cut);
   neither: a single finish layer. A roughing layer cuts at ``max(bottom, floor)`` the
   cells whose bottom is below its floor; the last layer is always the finish: every
   cell, down to the bottom, at ``finish_feed``.
@@ -102,28 +102,36 @@ def _grid_problem(v: list[float]) -> str | None:
 PARAMS: dict[str, Param] = {
     "tool": Param("int", positive=True, doc="tool number"),
     "polygon": Param("points", check=polygon_problem, doc="pocket walls [[x, y], ...]"),
-    "bottom": Param("table", check=_bottom_problem, doc="{bezier = [[...]]} or {points = 'f.csv'}"),
-    "grid": Param("floats", None, length=2, check=_grid_problem, doc="[dx, dy] cell size"),
-    "depths": Param("floats", None, check=_depths_problem, doc="floor Z of each layer"),
-    "step": Param("float", None, positive=True, doc="uniform depth of cut"),
+    "bottom": Param("table", check=_bottom_problem, doc="{bezier = [[...]]} or {points = "
+                                                        "'f.csv'}"),
+    "grid": Param("floats", None, length=2, check=_grid_problem, doc="[dx, dy] cell size",
+          unit="length"),
+    "depths": Param("floats", None, check=_depths_problem, doc="floor Z of each layer",
+          unit="length"),
+    "stepdown": Param("float", None, positive=True, doc="uniform depth of cut", unit="length"),
     "grid_centre": Param("floats", None, length=2, unit="length",
                          doc="[x, y] of one cell centre the grid is anchored to "
                              "(default: cells tile the bounding box from its corner)"),
     "navigation": Param("str", "wall-first", choices=("wall-first", "straight-first"),
                         doc="direction priority of the main path: the thesis's "
                             "(turn towards the wall first) or straight on first"),
-    "motion": Param("str", "line", choices=("line", "arc", "bezier")),
+    "motion": Param("str", "line", choices=("line", "arc", "bezier"),
+          doc="moves written: lines, arcs, or Bezier cubics (G5)"),
     "bezier_parameters": Param("str", "chord", choices=("chord", "uniform"),
                                doc="cubic fit parameters: chord length, or the thesis's "
                                    "uniform u1 = 1/(n-1)"),
-    "tolerance": Param("float", None, positive=True, doc="fitting tolerance"),
+    "tolerance": Param("float", None, positive=True, doc="fitting tolerance", unit="length"),
     "zigzag": Param("bool", True, doc="X and Y zigzag clean-up"),
-    "feed": Param("float", positive=True, doc="roughing feed"),
-    "finish_feed": Param("float", None, positive=True),
-    "plunge_feed": Param("float", None, positive=True),
-    "spindle": Param("float", positive=True, doc="rpm, clockwise (M3); required"),
-    "safe_z": Param("float", None, doc="retract height"),
-    "z_mode": Param("str", "tool", choices=("tool", "surface")),
+    "feed": Param("float", positive=True, doc="roughing feed", unit="feed"),
+    "finish_feed": Param("float", None, positive=True,
+          unit="feed", doc="feed of the finish layer (default: feed)"),
+    "plunge_feed": Param("float", None, positive=True,
+          unit="feed", doc="feed down into material (default: feed / 2)"),
+    "spindle": Param("float", positive=True, doc="rpm, clockwise (M3); required", unit="rpm"),
+    "safe_z": Param("float", None, doc="retract height", unit="length"),
+    "z_mode": Param("str", "tool", choices=("tool", "surface"),
+          doc="'tool': the real tool dropped onto the bottom (no gouge); 'surface': the tip on "
+              "the surface under the centre (the thesis)"),
     "force_grid": Param("bool", False, doc="accept cells larger than D/sqrt(2) "
                         "(leaves material uncut in plan view)"),
 }
@@ -209,7 +217,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         feed=feed, finish_feed=params["finish_feed"] or feed,
         plunge_feed=params["plunge_feed"] or feed / 2.0, safe_z=safe_z,
         tolerance=params["tolerance"] or (0.0002 if inch else 0.005),
-        depths=params["depths"], step=params["step"], motion=params["motion"],
+        depths=params["depths"], step=params["stepdown"], motion=params["motion"],
         zigzag=params["zigzag"], spindle=params["spindle"], z_mode=params["z_mode"],
         force_grid=params["force_grid"], navigation=params["navigation"],
         grid_anchor=tuple(params["grid_centre"]) if params["grid_centre"] else None,

@@ -73,7 +73,8 @@ def layer_floors(top: float, zmin: float, depths: list[float] | None, step: floa
     ``zmin`` are replaced by the finish layer.
     """
     if depths is not None and step is not None:
-        raise JobError("depths, step: give either a list of depths or a step, not both", file)
+        raise JobError("depths, stepdown: give either a list of depths or a stepdown, "
+                       "not both", file)
     floors: list[float] = []
     eps = 1e-9 * max(1.0, abs(top), abs(zmin))
     if depths is not None:
@@ -88,7 +89,7 @@ def layer_floors(top: float, zmin: float, depths: list[float] | None, step: floa
     elif step is not None:
         n = int(math.ceil((top - zmin) / step - 1e-9))
         if n > 10_000:
-            raise JobError(f"step: {step:g} makes {n} layers", file)
+            raise JobError(f"stepdown: {step:g} makes {n} layers", file)
         floors = [top - k * step for k in range(1, n) if top - k * step > zmin + eps]
     return floors + [-math.inf]
 

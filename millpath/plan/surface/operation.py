@@ -48,23 +48,42 @@ from millpath.plan.surface.zigzag import ZigzagSettings, zigzag
 
 PARAMS = {
     **SURFACE_PARAMS,
-    "tool": Param("int", None, positive=True),
-    "choose_tool": Param("bool", False),
-    "tolerance": Param("float", None, positive=True),
-    "scallop": Param("float", None, positive=True),
-    "angle": Param("float", 0.0),
-    "strategy": Param("str", "zigzag", choices=("zigzag", "waterline", "steep-shallow")),
-    "side_step": Param("str", "variable", choices=("published", "variable")),
-    "steep_angle": Param("float", 45.0, doc="degrees: waterline on slopes this steep and up"),
-    "stepdown_max": Param("float", None, positive=True),
-    "feed": Param("float", None, positive=True),
-    "plunge_feed": Param("float", None, positive=True),
-    "spindle": Param("float", 10000.0, positive=True),
-    "safe_z": Param("float", None),
-    "region": Param("floats", None, length=4),
+    "tool": Param("int", None, positive=True,
+          doc="ball, bull or flat end mill (tool number); or choose_tool"),
+    "choose_tool": Param("bool", False,
+          doc="pick the largest ball under the smallest concave radius whose holder clears the "
+              "part"),
+    "tolerance": Param("float", None, positive=True,
+          unit="length", doc="chordal tolerance along the passes (default 0.005 mm / 0.0002 in)"),
+    "scallop": Param("float", None, positive=True,
+          unit="length", doc="scallop (cusp) height left between passes (default 0.01 mm / 0.0004 "
+                             "in)"),
+    "angle": Param("float", 0.0, unit="deg", doc="pass direction from +X"),
+    "strategy": Param("str", "zigzag", choices=("zigzag", "waterline", "steep-shallow"),
+          doc="zigzag passes, waterline (constant-Z contours) or steep-shallow (both, split at "
+              "steep_angle)"),
+    "side_step": Param("str", "variable", choices=("published", "variable"),
+          doc="side step between passes: variable (from the local slope) or the published "
+              "formula"),
+    "steep_angle": Param("float", 45.0, doc="degrees: waterline on slopes this steep and up",
+          unit="deg"),
+    "stepdown_max": Param("float", None, positive=True,
+          unit="length", doc="largest step between waterline levels (default: the cutter's corner "
+                             "radius)"),
+    "feed": Param("float", None, positive=True,
+          unit="feed", doc="cutting feed (default 1000 mm/min / 40 in/min)"),
+    "plunge_feed": Param("float", None, positive=True,
+          unit="feed", doc="feed down into material (default: feed / 3)"),
+    "spindle": Param("float", 10000.0, positive=True, unit="rpm", doc="spindle speed"),
+    "safe_z": Param("float", None,
+          unit="length", doc="retract height (default: 5 mm / 0.2 in above the highest tool "
+                             "position)"),
+    "region": Param("floats", None, length=4,
+          unit="length", doc="[xmin, ymin, xmax, ymax] of the tool tip (default: the surface "
+                             "grown by the tool radius)"),
     "compare": Param("bool", False, doc="also plan the other side step (twice the work) "
                      "and report both pass counts"),
-    "name": Param("str", "surface finish"),
+    "name": Param("str", "surface finish", doc="operation name in the program and report"),
     "rest": Param("bool", False, doc="cut only where earlier operations left material"),
     "rest_allowance": Param("float", None, nonneg=True, unit="length",
                             doc="rest: stock thinner than this is left (default: scallop)"),
