@@ -28,6 +28,7 @@ import numpy as np
 from millpath.fit.arcs import LINUXCNC_ARC_ABS_INCH, LINUXCNC_ARC_ABS_MM
 from millpath.fit.segment import PLANE_NAMES, PLANES, segment
 from millpath.model.toolpath import Move, Toolpath
+from millpath.model.units import default
 
 __all__ = ["fit_toolpath", "fit_program", "fit_points", "FitSettings", "MODES"]
 
@@ -55,7 +56,7 @@ class FitSettings:
         inch = units == "inch"
         self.units = units
         self.mode = mode
-        self.decimals = decimals if decimals is not None else (5 if inch else 4)
+        self.decimals = decimals if decimals is not None else int(default("decimals", units))
         self.q = 10.0 ** -self.decimals
         # rounding every point to the grid moves it by up to sqrt(3)/2 grid steps
         self.tol = float(tolerance) - 0.8661 * self.q

@@ -30,6 +30,7 @@ import numpy as np
 from millpath.errors import MillpathError
 from millpath.fit import FitSettings, fit_points
 from millpath.fit.segment import PLANE_NAMES, PLANES
+from millpath.model.units import default
 
 _WORD = re.compile(r"([A-Za-z])\s*([-+]?(?:\d+\.?\d*|\.\d+))")
 _ALL_WORDS = re.compile(r"(?:\s*[A-Za-z]\s*[-+]?(?:\d+\.?\d*|\.\d+))*\s*$")
@@ -277,7 +278,7 @@ def _fit_run(st: _State, run: list[_Block], tol: float, mode: str,
              min_radius: float) -> "_Emitter | None":
     """The emitter holding a run's rewritten blocks (None: keep the run as written).
     ``st``: the state before the run, its motion mode the one the output is in."""
-    base = 5 if st.units != "mm" else 4
+    base = int(default("decimals", "inch" if st.units != "mm" else "mm"))
     d = base
     for b in run:
         for a in "XYZ":

@@ -36,6 +36,7 @@ from millpath.model.limits import Limits, count_needed
 from millpath.plan.registry import strategy
 from millpath.job.vocabulary import renamed
 from millpath.io.text import read_text
+from millpath.model.units import default
 
 TOP = {
     "units": Param("str", choices=("mm", "inch"), doc="units of every length in the job"),
@@ -192,7 +193,7 @@ def job_from_dict(data: dict, path: Path | None = None) -> Job:
                            path)
         _check_work(params, stock, limits, units, where, path)
         ops.append((op["type"], params))
-    default_tol = 0.0002 if units == "inch" else 0.005
+    default_tol = default("path_tolerance", units)
     return Job(path=path, units=units, name=top["name"] or (path.stem if path else "job"),
                stock=stock, machine=machine, tools=tools, operations=ops, fit=top["fit"],
                fit_tolerance=top["fit_tolerance"] or default_tol, simulation=sim,

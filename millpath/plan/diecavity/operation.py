@@ -52,6 +52,7 @@ from millpath.part.curve.points import points_from_params
 from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.diecavity.design import CavityDesign
 from millpath.plan.diecavity.roughing import rings, roughing_area
+from millpath.model.units import default
 
 PARAMS = {
     "tool": Param("int", positive=True, doc="flat end mill (tool number)"),
@@ -392,8 +393,8 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     total = top - bottom
     n_layers = max(1, int(math.ceil(total / params["stepdown"] - 1e-9)))
     zs = [top - min(total, (i + 1) * params["stepdown"]) for i in range(n_layers)]
-    safe = params["safe_z"] if params["safe_z"] is not None else top + (5.0 if ctx.units == "mm" else 0.2)
-    clear = 1.0 if ctx.units == "mm" else 0.04
+    safe = params["safe_z"] if params["safe_z"] is not None else top + default("safe_clearance", ctx.units)
+    clear = default("feed_clearance", ctx.units)
     feed = params["feed"]
     plunge = params["plunge_feed"] or feed / 2.0
     stepover = params["stepover"] or 0.5 * tool.diameter

@@ -59,6 +59,7 @@ from millpath.plan.features.region import (clear_general, general_regions, inner
                                            region_tool)
 from millpath.plan.features.select import (face_tool, hole_tool, matching_drill, pocket_tool,
                                            slot_tool)
+from millpath.model.units import default
 
 
 def _tools_check(v: Any) -> str | None:
@@ -175,7 +176,6 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         part = solid.part
     job_mm = 25.4 if ctx.units == "inch" else 1.0
     k = part.units.length_mm / job_mm
-    inch = ctx.units == "inch"
     shapes_set = solid.shapes if solid is not None else feature_shapes(part)
     shapes = [_scaled(s, k) for s in shapes_set.shapes]
     notes: list[str] = []
@@ -206,12 +206,12 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     z_top = stock.zmax
     allowance = params["allowance"]
     if allowance is None:
-        allowance = 0.008 if inch else 0.2
-    clearance = params["clearance"] or (0.2 if inch else 5.0)
-    h = paths.Heights(z_safe=z_top + clearance, r_plane=z_top + (0.04 if inch else 1.0))
-    breakthrough = 0.02 if inch else 0.5
-    tol = 0.0004 if inch else 0.01
-    cusp = params["taper_cusp"] or (0.0008 if inch else 0.02)
+        allowance = default("features_allowance", ctx.units)
+    clearance = params["clearance"] or default("safe_clearance", ctx.units)
+    h = paths.Heights(z_safe=z_top + clearance, r_plane=z_top + default("feed_clearance", ctx.units))
+    breakthrough = default("breakthrough", ctx.units)
+    tol = default("chord_tolerance", ctx.units)
+    cusp = params["taper_cusp"] or default("taper_cusp", ctx.units)
 
     mat = params["material"] or material_class(part.material)
     if not params["material"] and not part.material:

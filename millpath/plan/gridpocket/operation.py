@@ -44,6 +44,7 @@ from millpath.part.surface import BezierPatch, MeasuredGrid
 from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.gridpocket.cells import pocket_polygon, polygon_problem
 from millpath.plan.gridpocket.planner import PocketSpec, plan_pocket
+from millpath.model.units import default
 
 BOTTOM_KEYS = ("bezier", "box", "points", "interpolation")
 
@@ -193,7 +194,6 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     """Plan one grid-pocket operation (see the module docstring for the keys)."""
     f = ctx.job_file
     tool = ctx.tool(params["tool"])
-    inch = ctx.units == "inch"
     poly = pocket_polygon(params["polygon"], f)
     try:
         surface = load_bottom(params["bottom"], poly, ctx.base_dir, f)
@@ -207,7 +207,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     top = ctx.stock.zmax if ctx.stock is not None else 0.0
     safe_z = params["safe_z"]
     if safe_z is None:
-        safe_z = top + (0.2 if inch else 5.0)
+        safe_z = top + default("safe_clearance", ctx.units)
     if safe_z <= top:
         raise JobError(f"safe_z: {safe_z:g} must be above the stock top {top:g}", f)
     dx, dy = params["grid"] or (tool.diameter / 2.0, tool.diameter / 2.0)
@@ -216,7 +216,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         polygon=poly, surface=surface, tool=tool, units=ctx.units, dx=dx, dy=dy, top=top,
         feed=feed, finish_feed=params["finish_feed"] or feed,
         plunge_feed=params["plunge_feed"] or feed / 2.0, safe_z=safe_z,
-        tolerance=params["tolerance"] or (0.0002 if inch else 0.005),
+        tolerance=params["tolerance"] or default("path_tolerance", ctx.units),
         depths=params["depths"], step=params["stepdown"], motion=params["motion"],
         zigzag=params["zigzag"], spindle=params["spindle"], z_mode=params["z_mode"],
         force_grid=params["force_grid"], navigation=params["navigation"],

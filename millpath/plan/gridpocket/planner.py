@@ -32,6 +32,7 @@ from millpath.plan.gridpocket.fitmotion import Chain, Fitter
 from millpath.plan.gridpocket.navigate import adjacent, joined_edges, main_path, zigzag_runs
 from millpath.plan.gridpocket.zfield import ZField, sample_chain
 from millpath.plan.entry import helix_entry, ramp_entry
+from millpath.model.units import default
 
 
 @dataclass
@@ -255,7 +256,7 @@ class _Builder:
 
 def _decimals(units: str) -> int:
     """Decimals of coordinates in the posted program (the post's: 5 inch, 4 mm)."""
-    return 5 if units == "inch" else 4
+    return int(default("decimals", units))
 
 
 def _cells_xy(grid: PocketGrid, cells) -> np.ndarray:
@@ -301,7 +302,7 @@ def plan_pocket(spec: PocketSpec) -> tuple[Toolpath, dict]:
     grid = build_grid(spec.polygon, tool.radius, spec.dx, spec.dy, spec.file,
                       anchor=spec.grid_anchor)
     zf = ZField(spec.surface, tool, spec.z_mode, spec.polygon.bounds, spec.tolerance, spec.file)
-    max_radius = 100.0 if spec.units == "inch" else 2540.0
+    max_radius = default("max_arc_radius", spec.units)
     fitter = Fitter(spec.motion, spec.tolerance, max_radius, _decimals(spec.units),
                     spec.bezier_parameters)
     b = _Builder(spec, grid, zf, fitter)
@@ -411,7 +412,7 @@ def _length(tp: Toolpath) -> float:
     pos = None
     for m in tp.moves:
         if pos is not None and m.kind in ("line", "arc", "cubic"):
-            p = sample_move(pos, m, 0.01 if tp.units == "inch" else 0.25)
+            p = sample_move(pos, m, default("sample_step", tp.units))
             total += float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum())
         pos = m.end
     return total

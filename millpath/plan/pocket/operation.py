@@ -42,6 +42,7 @@ from millpath.plan.twod.field import MaterialField, Raster, stock_heights
 from millpath.plan.twod.geometry import GEOMETRY_PARAMS, default_tolerance, load_regions
 from millpath.plan.twod.offsets import offset, polygons, rings
 from millpath.plan.twod.writer import PathWriter
+from millpath.model.units import default
 
 
 def _fraction(v) -> str | None:
@@ -121,10 +122,9 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     if top is None:
         raise JobError("top: needed when the job gives no [stock]", file)
     floor = top - params["depth"]
-    mm = ctx.units == "mm"
-    clearance = 0.5 if mm else 0.02
+    clearance = default("entry_clearance", ctx.units)
     upper = max(top, stock_top if stock_top is not None else top)
-    safe = params["safe_z"] if params["safe_z"] is not None else upper + (5.0 if mm else 0.2)
+    safe = params["safe_z"] if params["safe_z"] is not None else upper + default("safe_clearance", ctx.units)
     if safe <= upper:
         raise JobError(f"safe_z: {safe:g} is not above the stock top {upper:g}", file)
     stepover = params["stepover"] or 0.4 * D

@@ -45,6 +45,7 @@ from millpath.plan.surface.steep_shallow import steep_shallow
 from millpath.plan.surface.toolchoice import choose_tool
 from millpath.plan.surface.waterline import WaterlineSettings, waterline
 from millpath.plan.surface.zigzag import ZigzagSettings, zigzag
+from millpath.model.units import default
 
 PARAMS = {
     **SURFACE_PARAMS,
@@ -109,7 +110,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
                      np.ptp(mesh.triangles[:, :, 1], axis=1))
     if params["choose_tool"]:
         tool, why = choose_tool(ctx.tools, index, design, region,
-                                max(4.0 * float(np.mean(ext)), 0.02 if inch else 0.5))
+                                max(4.0 * float(np.mean(ext)), default("choose_tool_min_size", ctx.units)))
         report["tool_choice"] = why
         if tool is None:
             reasons = "; ".join(f"T{c['tool']}: {c['rejected']}" for c in why["candidates"]
@@ -130,13 +131,13 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         # point reaches the edge on any slope (the tool rolls over the edge there)
         region = (extent[0] - cutter.radius, extent[1] - cutter.radius,
                   extent[2] + cutter.radius, extent[3] + cutter.radius)
-    tol = params["tolerance"] or (0.0002 if inch else 0.005)
-    scallop = params["scallop"] or (0.0004 if inch else 0.01)
-    feed = params["feed"] or (40.0 if inch else 1000.0)
+    tol = params["tolerance"] or default("path_tolerance", ctx.units)
+    scallop = params["scallop"] or default("scallop", ctx.units)
+    feed = params["feed"] or default("finish_feed", ctx.units)
     plunge = params["plunge_feed"] or feed / 3.0
     sampler = Sampler(index, cutter, params["angle"], tuple(tool.holder_cylinders()),
                       z_floor=float(lo[2]),
-                      holder_clearance=0.04 if inch else 1.0)
+                      holder_clearance=default("feed_clearance", ctx.units))
 
     tol_m = min(tol, 0.25 * scallop)
     est, _ = estimate_finish(sampler, region, strategy=strategy, scallop=scallop,
@@ -181,7 +182,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     safe_z = params["safe_z"]
     stock_top = ctx.stock.zmax if ctx.stock is not None else -np.inf
     if safe_z is None:
-        safe_z = max(top, stock_top) + (0.2 if inch else 5.0)
+        safe_z = max(top, stock_top) + default("safe_clearance", ctx.units)
     elif safe_z < top:
         raise JobError(f"safe_z: {safe_z:g} is below the highest tool position {top:.4g}", file)
     elif safe_z <= stock_top:
@@ -199,7 +200,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
             float(sum(np.linalg.norm(np.diff(p.points, axis=0), axis=1).sum()
                       for p in passes)), 4))
     links = add_passes(tp, sampler, passes, feed=feed, plunge_feed=plunge, safe_z=safe_z,
-                       clearance=0.04 if inch else 1.0, link_max=3.0 * cutter.radius,
+                       clearance=default("feed_clearance", ctx.units), link_max=3.0 * cutter.radius,
                        tolerance=tol,
                        approach_z=stock_top if ctx.stock is not None else np.inf)
     zres = res if strategy == "zigzag" else getattr(res, "zigzag", None)
@@ -311,8 +312,8 @@ def preflight(ctx: PlanContext, params: dict) -> None:
         lo[0] - cutter.radius, lo[1] - cutter.radius, hi[0] + cutter.radius,
         hi[1] + cutter.radius)
     inch = ctx.units == "inch"
-    tol = params["tolerance"] or (0.0002 if inch else 0.005)
-    scallop = params["scallop"] or (0.0004 if inch else 0.01)
+    tol = params["tolerance"] or default("path_tolerance", ctx.units)
+    scallop = params["scallop"] or default("scallop", ctx.units)
     tol_m = min(tol, 0.25 * scallop)
     sampler = Sampler(build_index(mesh), cutter, params["angle"], (), z_floor=float(lo[2]))
     est, _ = estimate_finish(sampler, region, strategy=params["strategy"], scallop=scallop,

@@ -37,6 +37,7 @@ from millpath.plan.surface.sampler import Sampler
 from millpath.plan.surface.source import SURFACE_PARAMS, load_op_surface
 from millpath.plan.surface.waterline import index_runs
 from millpath.plan.surface.zigzag import Pass, in_region
+from millpath.model.units import default
 
 PARAMS = {
     **SURFACE_PARAMS,
@@ -197,7 +198,6 @@ def _refine_floor(sampler: Sampler, P: np.ndarray, level: float, allowance: floa
 
 
 def plan(ctx: PlanContext, params: dict) -> PlanResult:
-    inch = ctx.units == "inch"
     file = ctx.job_file
     if ctx.stock is None:
         raise JobError("surface-rough needs the job's [stock] box (the layers start at its "
@@ -218,27 +218,27 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     else:
         region = (lo[0] - cutter.radius, lo[1] - cutter.radius,
                   hi[0] + cutter.radius, hi[1] + cutter.radius)
-    stepdown = params["stepdown"] or (0.08 if inch else 2.0)
+    stepdown = params["stepdown"] or default("rough_stepdown", ctx.units)
     step_over = params["stepover"] or 0.6 * 2.0 * cutter.radius
     if step_over > 2.0 * cutter.radius:
         raise JobError(f"stepover: {step_over:g} is more than the tool diameter", file)
-    allowance = params["allowance"] if params["allowance"] is not None else (
-        0.012 if inch else 0.3)
+    allowance = params["allowance"] if params["allowance"] is not None else \
+        default("rough_allowance", ctx.units)
     if allowance < 0:
         raise JobError("allowance: must not be negative", file)
-    feed = params["feed"] or (60.0 if inch else 1500.0)
+    feed = params["feed"] or default("rough_feed", ctx.units)
     plunge = params["plunge_feed"] or feed / 3.0
     index = build_index(mesh)
     sampler = Sampler(index, cutter, params["angle"], tuple(tool.holder_cylinders()),
                       z_floor=min(float(lo[2]), ctx.stock.zmin),
-                      holder_clearance=0.04 if inch else 1.0)
-    tol = 0.25 * allowance if allowance > 0 else (0.0004 if inch else 0.01)
+                      holder_clearance=default("feed_clearance", ctx.units))
+    tol = 0.25 * allowance if allowance > 0 else default("chord_tolerance", ctx.units)
     passes, levels = rough_passes(sampler, region, ctx.stock.zmax, stepdown, step_over,
                                   allowance, tol)
     if not passes:
         raise PlanningError("surface-rough: the stock top is already below the surface "
                             "plus allowance; nothing to rough", file)
-    clear = 0.2 if inch else 5.0
+    clear = default("safe_clearance", ctx.units)
     safe_z = params["safe_z"] if params["safe_z"] is not None else ctx.stock.zmax + clear
     if safe_z <= ctx.stock.zmax:
         raise JobError(f"safe_z: {safe_z:g} is not above the stock top {ctx.stock.zmax:g}",
@@ -247,7 +247,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     tp.begin(Operation("surface-rough", params["name"], tool.number, params["spindle"],
                        info={"stepdown": stepdown, "allowance": allowance}, tolerance=tol))
     links = add_passes(tp, sampler, passes, feed=feed, plunge_feed=plunge, safe_z=safe_z,
-                       clearance=0.04 if inch else 1.0, link_max=0.0, tolerance=tol,
+                       clearance=default("feed_clearance", ctx.units), link_max=0.0, tolerance=tol,
                        approach_z=ctx.stock.zmax, allowance=allowance)
     design = MeshHeight(index)
     section = {

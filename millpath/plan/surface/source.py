@@ -7,6 +7,7 @@ from millpath.io.schema import Param
 from millpath.part.surface.load import load_surface
 from millpath.part.surface.mesh import Mesh
 from millpath.plan.base import PlanContext
+from millpath.model.units import default
 
 SURFACE_PARAMS = {
     "surface": Param("any", doc="STL/STEP/grid file, Bezier net or grid table, or "
@@ -19,7 +20,7 @@ SURFACE_PARAMS = {
 
 def load_op_surface(ctx: PlanContext, params: dict) -> Mesh:
     """The operation's ``surface`` as a mesh (see :mod:`millpath.part.surface.load`)."""
-    tol = params["chord_tolerance"] or (0.0004 if ctx.units == "inch" else 0.01)
+    tol = params["chord_tolerance"] or default("chord_tolerance", ctx.units)
     return load_surface(params["surface"], params["divisions"], ctx.base_dir, ctx.job_file,
                         chord_tolerance=tol, units=ctx.units,
                         stock_box=ctx.stock.box if ctx.stock is not None else None)
