@@ -26,6 +26,7 @@ from millpath.model import Stock, Toolpath
 from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.registry import strategy
 from millpath.progress import QUIET, Progress
+from millpath.model.units import default
 
 
 class MinDesign:
@@ -127,9 +128,11 @@ def advance_stock(job: Job, stock: Stock, remaining, tp: Toolpath):
 
 
 def fit_job(job: Job, tp: Toolpath) -> Toolpath:
-    """The tool path with arcs/cubics fitted as the job asks (unchanged for fit = none)."""
+    """The tool path with arcs/cubics fitted as the job asks; for fit = none, collinear
+    points merged within the fit tolerance."""
     if job.fit == "none":
-        return tp
+        from millpath.fit.collinear import merge_collinear
+        return merge_collinear(tp, job.fit_tolerance)
     from millpath.fit import fit_toolpath
     radius = max((job.tools[o.tool].radius for o in tp.ops if o.tool in job.tools), default=0.0)
     return fit_toolpath(tp, job.fit_tolerance, job.fit, min_radius=radius)
@@ -179,7 +182,7 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False,
         raise MillpathError(f"the generated program does not interpret: line {e.line}: "
                             f"{e.message}", job.path) from None
     from millpath.verify.roundtrip import compare_toolpath
-    tol = 2e-4 if job.units == "mm" else 2e-5
+    tol = default("roundtrip", job.units)
     diffs = compare_toolpath(tp, move_lines, motions, tol)
     if diffs:
         raise MillpathError("interpreted program differs from the planned tool path: "
