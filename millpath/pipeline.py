@@ -259,9 +259,9 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False,
         render_preview(tp, tmp / "preview.png", title=job.name, stock=stock)
         if sim is not None:
             from millpath.simulate import render_deviation, render_stock
-            render_stock(sim.zmap, tmp / "stock.png")
+            render_stock(sim.zmap, tmp / "stock.png", units=job.units)
             if design is not None:
-                render_deviation(sim.zmap, design, tmp / "deviation.png")
+                render_deviation(sim.zmap, design, tmp / "deviation.png", units=job.units)
         from millpath.report.viewer import write_view
         write_view(tmp / "view.html", program=posted, motions=motions, tools=job.tools,
                    stock=stock, units=job.units, sim=sim, design=design, title=job.name,

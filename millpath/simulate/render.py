@@ -59,7 +59,7 @@ def render_stock(zmap: ZMap, path: str | Path, *, title: str = "", units: str = 
     ax.set_aspect("equal")
     fig.tight_layout()
     p = Path(path)
-    fig.savefig(p)
+    fig.savefig(p, bbox_inches="tight", pad_inches=0.15)   # labels never clipped
     plt.close(fig)
     return p
 
@@ -143,7 +143,7 @@ def render_deviation(zmap: ZMap, design, path: str | Path, *, title: str = "",
         ax.legend(loc="upper right", fontsize=8, framealpha=0.85)
     cb = fig.colorbar(im, ax=ax, shrink=0.85)
     u = f" ({units})" if units else ""
-    cb.set_label(f"deviation{u}: red = gouge (below design), blue = material left")
+    cb.set_label(f"deviation{u}\nred: gouge (below design), blue: material left")
     cb.set_ticks(ticks)
     cb.set_ticklabels([f"{t:.3g}" for t in ticks])
     ax.set_xlabel("X")
@@ -153,6 +153,6 @@ def render_deviation(zmap: ZMap, design, path: str | Path, *, title: str = "",
     ax.set_aspect("equal")
     fig.tight_layout()
     p = Path(path)
-    fig.savefig(p)
+    fig.savefig(p, bbox_inches="tight", pad_inches=0.15)   # labels never clipped
     plt.close(fig)
     return p
