@@ -171,8 +171,8 @@ def fit_toolpath(toolpath: Toolpath, tolerance: float, mode: str = "arcs", *,
 
 
 def fit_program(text: str, tolerance: float, mode: str = "arcs", *,
-                min_radius: float = 0.0, file: str | None = None) -> str:
+                min_radius: float = 0.0, file: str | None = None, stats=None) -> str:
     """Rewrite the runs of ``G1`` moves of an RS274NGC program within ``tolerance``
-    (program units); see :mod:`millpath.fit.program`."""
+    (program units); see :mod:`millpath.fit.program` (``stats``: a ``FitStats``)."""
     from millpath.fit.program import fit_program as _fp
-    return _fp(text, tolerance, mode, min_radius=min_radius, file=file)
+    return _fp(text, tolerance, mode, min_radius=min_radius, file=file, stats=stats)

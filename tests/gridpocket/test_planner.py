@@ -19,7 +19,7 @@ STEEP = 'bottom = { bezier = [[-0.2, -0.5, -0.2], [-0.3, -0.6, -0.3], [-0.2, -0.
 
 def test_params_are_exactly_the_keys_of_the_issue():
     assert set(operation.PARAMS) == {
-        "tool", "polygon", "bottom", "grid", "depths", "step", "motion", "tolerance",
+        "tool", "polygon", "bottom", "grid", "depths", "stepdown", "motion", "tolerance",
         "zigzag", "feed", "finish_feed", "plunge_feed", "spindle", "safe_z", "z_mode",
         "force_grid",
         "navigation", "grid_centre", "bezier_parameters"}        # issue 17
