@@ -66,7 +66,7 @@ def test_planning_errors_name_the_job_file(tmp_path, gp):
         (L_POCKET + STEEP + "feed = 10\nsafe_z = -0.1\n", JobError, "safe_z"),
         (L_POCKET + 'bottom = { points = "missing.csv" }\nfeed = 10\n', GeometryError,
          "missing.csv"),
-        (L_POCKET + STEEP + "feed = 10\ndepths = [-0.1]\nstep = 0.1\n", JobError, "either"),
+        (L_POCKET + STEEP + "feed = 10\ndepths = [-0.1]\nstepdown = 0.1\n", JobError, "either"),
         (L_POCKET + 'bottom = { bezier = [[0, 0], [0, 0]], box = [0, 0, 2, 2] }\nfeed = 10\n',
          GeometryError, "does not reach the pocket outline at (2.0625, 0)"),
     ]
@@ -94,7 +94,7 @@ def _ops(res):
 
 def test_layers_and_phase_order(tmp_path, gp):
     p = gp.write_job(tmp_path, "tool = 1\n" + L_POCKET + STEEP + "feed = 10\nfinish_feed = 7\n"
-                  "plunge_feed = 3\nstep = 0.12\ngrid = [0.125, 0.125]\n")
+                  "plunge_feed = 3\nstepdown = 0.12\ngrid = [0.125, 0.125]\n")
     job, res = gp.plan_file(p)
     phases = [op.info["phase"] for op in res.toolpath.ops]
     assert phases == ["rough", "rough", "rough", "finish", "wall", "zigzag_x", "zigzag_y"]

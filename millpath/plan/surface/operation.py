@@ -40,7 +40,7 @@ from millpath.plan.surface.dropcutter import MeshHeight, build_index
 from millpath.plan.surface.estimate import Estimate, estimate_finish
 from millpath.plan.surface.linking import add_passes
 from millpath.plan.surface.sampler import Sampler
-from millpath.plan.surface.source import SURFACE_PARAMS, load_op_surface
+from millpath.plan.surface.source import SURFACE_PARAMS, indexed, load_op_surface
 from millpath.plan.surface.steep_shallow import steep_shallow
 from millpath.plan.surface.toolchoice import choose_tool
 from millpath.plan.surface.waterline import WaterlineSettings, waterline
@@ -95,7 +95,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     inch = ctx.units == "inch"
     file = ctx.job_file
     mesh = load_op_surface(ctx, params)
-    index = build_index(mesh)
+    index = indexed(ctx, mesh)
     design = MeshHeight(index)
     lo, hi = mesh.bounds
     extent = (float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1]))

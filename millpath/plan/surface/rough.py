@@ -31,10 +31,10 @@ from millpath.io.schema import Param
 from millpath.model.toolpath import Operation, Toolpath
 from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.surface.cutter import Cutter
-from millpath.plan.surface.dropcutter import MeshHeight, build_index
+from millpath.plan.surface.dropcutter import MeshHeight
 from millpath.plan.surface.linking import add_passes
 from millpath.plan.surface.sampler import Sampler
-from millpath.plan.surface.source import SURFACE_PARAMS, load_op_surface
+from millpath.plan.surface.source import SURFACE_PARAMS, indexed, load_op_surface
 from millpath.plan.surface.waterline import index_runs
 from millpath.plan.surface.zigzag import Pass, in_region
 from millpath.model.units import default
@@ -228,7 +228,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         raise JobError("allowance: must not be negative", file)
     feed = params["feed"] or default("rough_feed", ctx.units)
     plunge = params["plunge_feed"] or feed / 3.0
-    index = build_index(mesh)
+    index = indexed(ctx, mesh)
     sampler = Sampler(index, cutter, params["angle"], tuple(tool.holder_cylinders()),
                       z_floor=min(float(lo[2]), ctx.stock.zmin),
                       holder_clearance=default("feed_clearance", ctx.units))

@@ -7,6 +7,7 @@ from millpath.io.schema import Param
 from millpath.part.surface.load import load_surface
 from millpath.part.surface.mesh import Mesh
 from millpath.plan.base import PlanContext
+from millpath.plan.surface.dropcutter import MeshIndex, build_index
 from millpath.model.units import default
 
 SURFACE_PARAMS = {
@@ -21,6 +22,20 @@ SURFACE_PARAMS = {
 def load_op_surface(ctx: PlanContext, params: dict) -> Mesh:
     """The operation's ``surface`` as a mesh (see :mod:`millpath.part.surface.load`)."""
     tol = params["chord_tolerance"] or default("chord_tolerance", ctx.units)
-    return load_surface(params["surface"], params["divisions"], ctx.base_dir, ctx.job_file,
-                        chord_tolerance=tol, units=ctx.units,
-                        stock_box=ctx.stock.box if ctx.stock is not None else None)
+    src = params["surface"]
+    name = src if isinstance(src, str) else src.get("file", "surface") \
+        if isinstance(src, dict) else "surface"
+    with ctx.progress.task(f"reading {name}", total=1) as bar:
+        mesh = load_surface(src, params["divisions"], ctx.base_dir, ctx.job_file,
+                            chord_tolerance=tol, units=ctx.units,
+                            stock_box=ctx.stock.box if ctx.stock is not None else None)
+        bar.advance()
+    return mesh
+
+
+def indexed(ctx: PlanContext, mesh: Mesh) -> MeshIndex:
+    """The drop-cutter index of ``mesh`` (a progress bar while it is built)."""
+    with ctx.progress.task(f"indexing {len(mesh.triangles):,} triangles", total=1) as bar:
+        index = build_index(mesh)
+        bar.advance()
+    return index
