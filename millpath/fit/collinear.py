@@ -6,6 +6,11 @@ in :func:`millpath.fit.fit_toolpath`; moves under cutter radius compensation, ra
 arcs, cubics and cycles stay as they are. ``tolerance`` (toolpath units): every dropped
 point is within it of the segment that replaces it (the distance to the segment, not
 the infinite line, so a path that turns back is never merged across the turn).
+
+An operation that promises its own ``tolerance`` (a chordal error already spent by its
+planner: surfaces, die contours) is merged only within half a step of the post's number
+grid (0.00005 mm / 0.000005 in), what the rounding of the program moves it anyway, so
+its promise holds: straight and flat stretches still become one move.
 """
 
 from __future__ import annotations
@@ -14,6 +19,7 @@ import numpy as np
 from numba import njit
 
 from millpath.model.toolpath import Toolpath
+from millpath.model.units import default
 
 
 @njit(cache=True)
@@ -51,9 +57,10 @@ def kept_points(P: np.ndarray, tol: float) -> np.ndarray:
 
 
 def merge_collinear(toolpath: Toolpath, tolerance: float) -> Toolpath:
-    """A new toolpath whose line runs keep only the points needed within ``tolerance``,
-    or within the operation's own ``tolerance`` where that is smaller."""
+    """A new toolpath whose line runs keep only the points needed within ``tolerance``
+    (within the post's half grid step for operations with their own tolerance)."""
     out = Toolpath(units=toolpath.units, moves=[], ops=list(toolpath.ops))
+    grid = 0.5 * 10.0 ** -default("decimals", toolpath.units)
     moves = toolpath.moves
     comp_on = False
     start = None
@@ -69,7 +76,7 @@ def merge_collinear(toolpath: Toolpath, tolerance: float) -> Toolpath:
             if len(run) >= 2:
                 P = np.array([start] + [r.end for r in run], dtype=float)
                 op_tol = toolpath.ops[m.op].tolerance if m.op < len(toolpath.ops) else None
-                tol = min(tolerance, op_tol) if op_tol else tolerance
+                tol = min(tolerance, grid) if op_tol is not None else tolerance
                 idx = kept_points(P, float(tol))
                 out.moves.extend(run[k - 1] for k in idx[1:])
             else:

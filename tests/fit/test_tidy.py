@@ -82,12 +82,17 @@ def test_a_path_turning_back_on_itself_is_not_merged_across_the_turn():
     assert (20, 0, 0) in ends and len(ends) == 3     # rapid, to 20, back to 0
 
 
-def test_the_operation_tolerance_caps_the_merge():
+def test_an_operation_with_its_own_tolerance_is_merged_only_within_the_post_grid():
+    """Its chordal budget is spent by its planner: only what rounding to 0.0001 mm moves
+    anyway (half a step) may go; an exactly straight stretch still becomes one move."""
     rng = np.random.default_rng(7)
     pts = _raster(rng, 0.002)
-    tp = _tp(pts, tol=0.001)
+    tp = _tp(pts, tol=0.01)
     out = merge_collinear(tp, 0.005)
-    assert _dist_to_polyline(_polyline(tp), _polyline(out)).max() <= 0.001 + 1e-9
+    assert _dist_to_polyline(_polyline(tp), _polyline(out)).max() <= 0.00005 + 1e-12
+    straight = [(0.0, 0.0, 0.0)] + [(0.5 * k, 0.25 * k, -0.1 * k) for k in range(1, 101)]
+    out = merge_collinear(_tp(straight, tol=0.01), 0.005)
+    assert [m.end for m in out.moves] == [straight[0], straight[-1]]
 
 
 def _feeds(program: str) -> list[str]:
