@@ -25,6 +25,7 @@ from millpath.model import Stock, Toolpath
 from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.registry import strategy
 from millpath.progress import QUIET, Progress
+from millpath.model.units import default
 
 
 class MinDesign:
@@ -63,22 +64,13 @@ def plan_job(job: Job, progress: Progress = QUIET) -> tuple[Toolpath, list[PlanR
         check = getattr(strategy(op_type, f"operations[{i}]", job.path), "preflight", None)
         if check is not None:          # refuse an impossible request before any work
             check(ctx, params)
-    for i, (op_type, params) in enumerate(job.operations):
-        mod = strategy(op_type, f"operations[{i}]", job.path)
-        res = mod.plan(ctx, params)
-        if res.toolpath.units != job.units:
-            raise PlanningError(f"operations[{i}]: strategy returned {res.toolpath.units} "
-                                f"moves for a {job.units} job", job.path)
-        if ctx.stock is None and res.stock is not None:
-            ctx.stock = res.stock
-        try:
-            res.toolpath.check_finite()
-        except ValueError as e:
-            raise PlanningError(f"operations[{i}]: {e}", job.path) from None
-        if carry and ctx.stock is not None:
-            ctx.remaining = advance_stock(job, ctx.stock, ctx.remaining, res.toolpath)
-        total.extend(res.toolpath)
-        results.append(res)
+    with progress.task("planning operations", total=len(job.operations)) as bar:
+        for i, (op_type, params) in enumerate(job.operations):
+            bar.update(info=f"{i + 1}: {op_type}")
+            res = _plan_one(job, ctx, i, op_type, params, carry)
+            total.extend(res.toolpath)
+            results.append(res)
+            bar.advance()
     stock = job.stock or ctx.stock
     if stock is None:
         raise MillpathError("stock: the job gives no [stock] box and no operation implies one",
@@ -89,6 +81,24 @@ def plan_job(job: Job, progress: Progress = QUIET) -> tuple[Toolpath, list[PlanR
     if not total.moves:
         raise PlanningError("the job's operations produced no moves", job.path)
     return total, results, stock
+
+
+def _plan_one(job: Job, ctx: PlanContext, i: int, op_type: str, params: dict,
+              carry: bool) -> PlanResult:
+    """Plan operation ``i`` (and sweep it into the in-process stock when ``carry``)."""
+    res = strategy(op_type, f"operations[{i}]", job.path).plan(ctx, params)
+    if res.toolpath.units != job.units:
+        raise PlanningError(f"operations[{i}]: strategy returned {res.toolpath.units} "
+                            f"moves for a {job.units} job", job.path)
+    if ctx.stock is None and res.stock is not None:
+        ctx.stock = res.stock
+    try:
+        res.toolpath.check_finite()
+    except ValueError as e:
+        raise PlanningError(f"operations[{i}]: {e}", job.path) from None
+    if carry and ctx.stock is not None:
+        ctx.remaining = advance_stock(job, ctx.stock, ctx.remaining, res.toolpath)
+    return res
 
 
 def advance_stock(job: Job, stock: Stock, remaining, tp: Toolpath):
@@ -126,9 +136,11 @@ def advance_stock(job: Job, stock: Stock, remaining, tp: Toolpath):
 
 
 def fit_job(job: Job, tp: Toolpath) -> Toolpath:
-    """The tool path with arcs/cubics fitted as the job asks (unchanged for fit = none)."""
+    """The tool path with arcs/cubics fitted as the job asks; for fit = none, collinear
+    points merged within the fit tolerance."""
     if job.fit == "none":
-        return tp
+        from millpath.fit.collinear import merge_collinear
+        return merge_collinear(tp, job.fit_tolerance)
     from millpath.fit import fit_toolpath
     radius = max((job.tools[o.tool].radius for o in tp.ops if o.tool in job.tools), default=0.0)
     return fit_toolpath(tp, job.fit_tolerance, job.fit, min_radius=radius)
@@ -162,23 +174,36 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False,
     When the simulation finds a problem (see :mod:`millpath.verify.gate`) the report,
     pictures and viewer are written without the program and UnsafeProgramError is
     raised; with ``force`` the program is written as ``program.unsafe.ngc`` headed by
-    the list of problems."""
-    t0 = time.perf_counter()
-    job = load_job(job_path)
-    tp, results, stock = plan_job(job, Progress(progress))
-    tp = fit_job(job, tp)
+    the list of problems. ``progress``: bars on stderr for every stage."""
+    prog = Progress(progress)
+    with prog.session():
+        return _run(job_path, outdir, prog, force)
 
-    program, move_lines = post_job(job, tp, stock)
+
+def _run(job_path: str | Path, outdir: str | Path, prog: Progress, force: bool) -> RunResult:
+    t0 = time.perf_counter()
+    with prog.task("reading the job", total=1) as bar:
+        job = load_job(job_path)
+        bar.advance()
+    tp, results, stock = plan_job(job, prog)
+    with prog.task("fitting and posting", total=2) as bar:
+        tp = fit_job(job, tp)
+        bar.advance()
+        program, move_lines = post_job(job, tp, stock)
+        bar.advance()
 
     from millpath.interpret import InterpreterError, interpret
     table = tool_table_text(job.tools, job.units, job.table_units)
     try:        # the program as the machine will run it: with tools.tbl as written
-        motions = interpret(program, parse_tool_table(table), machine_units=job.table_units)
+        with prog.task("interpreting the program", total=1) as bar:
+            motions = interpret(program, parse_tool_table(table),
+                                machine_units=job.table_units)
+            bar.advance()
     except InterpreterError as e:
         raise MillpathError(f"the generated program does not interpret: line {e.line}: "
                             f"{e.message}", job.path) from None
     from millpath.verify.roundtrip import compare_toolpath
-    tol = 2e-4 if job.units == "mm" else 2e-5
+    tol = default("roundtrip", job.units)
     diffs = compare_toolpath(tp, move_lines, motions, tol)
     if diffs:
         raise MillpathError("interpreted program differs from the planned tool path: "
@@ -204,7 +229,7 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False,
         from millpath.simulate import simulate_motions
         res = default_resolution(job, stock, tp)
         sim = simulate_motions(motions, job.tools, stock, resolution=res, design=design,
-                               machine=job.machine, progress=progress)
+                               machine=job.machine, progress=prog)
         report.verification = sim.to_json()
     else:
         report.verification = {"skipped": "simulation disabled in the job"}
@@ -234,20 +259,23 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False,
     from millpath.report.preview import render_preview
     out = Path(outdir)
     files = []
-    with staged_dir(out) as tmp:
+    with staged_dir(out) as tmp, prog.task("rendering pictures and viewer", total=4) as bar:
         if force or not problems:
             (tmp / program_name).write_text(program)
             (tmp / "tools.tbl").write_text(table)
         render_preview(tp, tmp / "preview.png", title=job.name, stock=stock)
+        bar.advance()
         if sim is not None:
             from millpath.simulate import render_deviation, render_stock
-            render_stock(sim.zmap, tmp / "stock.png")
+            render_stock(sim.zmap, tmp / "stock.png", units=job.units)
             if design is not None:
-                render_deviation(sim.zmap, design, tmp / "deviation.png")
+                render_deviation(sim.zmap, design, tmp / "deviation.png", units=job.units)
+        bar.advance(2)
         from millpath.report.viewer import write_view
         write_view(tmp / "view.html", program=posted, motions=motions, tools=job.tools,
                    stock=stock, units=job.units, sim=sim, design=design, title=job.name,
                    toolpath=tp, move_lines=move_lines)
+        bar.advance()
         from millpath.report.document import write_report
         report.seconds = time.perf_counter() - t0
         written = write_report(tmp / "report.json", report)

@@ -34,7 +34,9 @@ from millpath.io.schema import Param, parse_toml, validate
 from millpath.model import Machine, Stock, Tool
 from millpath.model.limits import Limits, count_needed
 from millpath.plan.registry import strategy
+from millpath.job.vocabulary import renamed
 from millpath.io.text import read_text
+from millpath.model.units import default
 
 TOP = {
     "units": Param("str", choices=("mm", "inch"), doc="units of every length in the job"),
@@ -95,8 +97,8 @@ LIMITS = {
                             "stepover (default 20000)"),
 }
 #: operation keys that set a depth per layer / a distance between side-by-side passes
-LAYER_KEYS = ("stepdown", "step_down", "stepdown_max", "step")
-PASS_KEYS = ("stepover", "step_over")
+LAYER_KEYS = ("stepdown", "stepdown_max")
+PASS_KEYS = ("stepover",)
 SIMULATION = {
     "resolution": Param("float", None, positive=True, unit="length",
                         doc="Z-map cell size (default: a tenth of the smallest tool "
@@ -184,14 +186,14 @@ def job_from_dict(data: dict, path: Path | None = None) -> Job:
         if "type" not in op:
             raise JobError(f"{where}.type: missing required key", path)
         mod = strategy(op["type"], where, path)
-        body = {k: v for k, v in op.items() if k != "type"}
+        body = renamed(op["type"], {k: v for k, v in op.items() if k != "type"}, i, path)
         params = validate(body, mod.PARAMS, where, path, base)
         if "tool" in params and isinstance(params["tool"], int) and params["tool"] not in tools:
             raise JobError(f"{where}.tool: tool {params['tool']} is not in the job's [[tools]]",
                            path)
         _check_work(params, stock, limits, units, where, path)
         ops.append((op["type"], params))
-    default_tol = 0.0002 if units == "inch" else 0.005
+    default_tol = default("path_tolerance", units)
     return Job(path=path, units=units, name=top["name"] or (path.stem if path else "job"),
                stock=stock, machine=machine, tools=tools, operations=ops, fit=top["fit"],
                fit_tolerance=top["fit_tolerance"] or default_tol, simulation=sim,

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from millpath.io.schema import REQUIRED, UNITS, Param
+from millpath.job.vocabulary import RENAMED
 
 
 @dataclass(frozen=True)
@@ -99,4 +100,11 @@ def markdown() -> str:
             cells = [f"`{k.name}`", k.kind, k.default, k.unit, k.doc]
             lines.append("| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |")
         lines.append("")
+    lines += ["## Renamed keys", "",
+              "Old names still accepted, with a deprecation warning naming the new key "
+              "(giving both is an error).", "",
+              "| operation | old key | new key |", "|---|---|---|"]
+    for op, table in sorted(RENAMED.items()):
+        lines += [f"| {op} | `{old}` | `{new}` |" for old, new in table.items()]
+    lines.append("")
     return "\n".join(lines)

@@ -76,7 +76,7 @@ def _save_plan_view(fig, ax, path, title: str) -> Path:
     ax.set_aspect("equal")
     fig.tight_layout()
     p = Path(path)
-    fig.savefig(p)
+    fig.savefig(p, bbox_inches="tight", pad_inches=0.15)   # labels never clipped
     return p
 
 
@@ -159,7 +159,7 @@ def render_deviation(zmap: ZMap, design, path: str | Path, *, title: str = "",
         ax.legend(loc="upper right", fontsize=8, framealpha=0.85)
     cb = fig.colorbar(im, ax=ax, shrink=0.85)
     u = f" ({units})" if units else ""
-    cb.set_label(f"deviation{u}: red = gouge (below design), blue = material left")
+    cb.set_label(f"deviation{u}\nred: gouge (below design), blue: material left")
     cb.set_ticks(ticks)
     cb.set_ticklabels([f"{t:.3g}" for t in ticks])
     return _save_plan_view(fig, ax, path, title or f"deviation from design: max gouge "

@@ -27,6 +27,7 @@ from millpath.model.motion import Motion
 from millpath.model.stock import Machine, Stock
 from millpath.model.tool import Tool
 from millpath.model.toolpath import Toolpath
+from millpath.progress import QUIET, Progress
 from millpath.simulate.cycletime import motion_times, times_by_operation
 from millpath.simulate.kernel import BALL, BULL, DRILL, FLAT, sweep_chunk
 from millpath.simulate.path import Segments, motion_segments, toolpath_motions
@@ -94,7 +95,8 @@ def _tool_arrays(numbers: list[int], tools: dict[int, Tool]):
 
 
 def sweep(zmap: ZMap, segs: Segments, tools: dict[int, Tool], n_motions: int, *,
-          progress: bool = False, lines: list[int] | None = None) -> tuple[np.ndarray, np.ndarray]:
+          progress: "bool | Progress" = False, lines: list[int] | None = None
+          ) -> tuple[np.ndarray, np.ndarray]:
     """Cut ``segs`` into ``zmap`` in place. Returns per-motion flags (rapid through
     material, holder contact) as int8 arrays of length ``n_motions``. Chords of tool 0
     (no tool in the spindle) cut nothing; other tools missing from ``tools`` are a
@@ -124,25 +126,17 @@ def sweep(zmap: ZMap, segs: Segments, tools: dict[int, Tool], n_motions: int, *,
     nthreads = numba.get_num_threads()
     H = zmap.heights
     n = len(segs)
-    bar = None
-    if progress and n > CHUNK:
-        from rich.console import Console
-        from rich.progress import Progress
-        bar = Progress(transient=True, console=Console(stderr=True))
-        bar.start()
-        task = bar.add_task("simulating", total=n)
-    try:
+    bars = progress if isinstance(progress, Progress) else Progress(bool(progress))
+    if not isinstance(progress, Progress) and n <= CHUNK:
+        bars = QUIET
+    with bars.task("simulating: chords swept", total=n) as bar:
         for a in range(0, n, CHUNK):
             b = min(n, a + CHUNK)
             sweep_chunk(H, zmap.zmin, zmap.x0, zmap.y0, zmap.dx, zmap.dy, BAND,
                         segs.start[a:b], segs.end[a:b], seg_tool[a:b],
                         segs.rapid[a:b], segs.motion[a:b], *arrays, eps,
                         rapid_hit, holder_hit, nthreads)
-            if bar is not None:
-                bar.update(task, completed=b)
-    finally:
-        if bar is not None:
-            bar.stop()
+            bar.update(completed=b)
     return rapid_hit[:n_motions], holder_hit[:n_motions]
 
 
@@ -266,7 +260,7 @@ def _lift_start(motions: list[Motion], stock: Stock) -> list[Motion]:
 
 def simulate_motions(motions: list[Motion], tools: dict[int, Tool], stock: Stock, *,
                      resolution: float, design=None, machine: Machine | None = None,
-                     progress: bool = False, corner_angle: float = 10.0) -> SimResult:
+                     progress: "bool | Progress" = False, corner_angle: float = 10.0) -> SimResult:
     """Simulate interpreted motion (tool tip = motion coordinates, program units).
 
     The first motion, and the first after each tool change, start above their end
@@ -288,7 +282,7 @@ def simulate_motions(motions: list[Motion], tools: dict[int, Tool], stock: Stock
 
 def simulate_toolpath(toolpath: Toolpath, tools: dict[int, Tool], stock: Stock, *,
                       resolution: float, design=None, machine: Machine | None = None,
-                      progress: bool = False, corner_angle: float = 10.0) -> SimResult:
+                      progress: "bool | Progress" = False, corner_angle: float = 10.0) -> SimResult:
     """Simulate a Toolpath directly (units: the toolpath's).
 
     The tool starts above the first move's end point at the stock top or higher, and

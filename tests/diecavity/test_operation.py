@@ -50,7 +50,7 @@ def _finish_xy(motions, z):
 
 def test_params_keys_are_the_issue_keys():
     assert set(op.PARAMS) == {"tool", "points", "points_file", "close", "tolerance", "depth",
-                              "step_down", "allowance", "stepover", "compensation", "entry", "feed",
+                              "stepdown", "allowance", "stepover", "compensation", "entry", "feed",
                               "plunge_feed", "spindle", "safe_z", "breakthrough"}
 
 
@@ -196,7 +196,7 @@ type = "die-cavity"
 tool = 1
 tolerance = 0.01
 depth = 5.0
-step_down = 2.5
+stepdown = 2.5
 feed = 500.0
 {extra}
 """
@@ -250,7 +250,7 @@ def test_inch_job_control_and_cam_interpret_alike(rs274):
     got = {}
     for comp in ("cam", "control"):
         params = validate({"tool": 3, "points": pts.tolist(), "tolerance": 0.0001,
-                           "depth": 0.25, "step_down": 0.125, "allowance": 0.01, "feed": 20.0,
+                           "depth": 0.25, "stepdown": 0.125, "allowance": 0.01, "feed": 20.0,
                            "compensation": comp}, op.PARAMS, "op", None)
         res = op.plan(ctx, params)
         prog = post(res.toolpath, tools)

@@ -53,25 +53,29 @@ from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.diecavity.design import CavityDesign
 from millpath.plan.diecavity.roughing import rings, roughing_area
 from millpath.plan.entry import ramp_laps, ring_segments
+from millpath.model.units import default
 
 PARAMS = {
     "tool": Param("int", positive=True, doc="flat end mill (tool number)"),
     "points": Param("points", None, doc="outline points [x, y], four per segment"),
     "points_file": Param("path", None, doc="CSV of outline points x, y"),
     "close": Param("bool", True, doc="blend the last segment back to the first"),
-    "tolerance": Param("float", positive=True, doc="chordal tolerance (job units)"),
-    "depth": Param("float", positive=True, doc="cavity depth below the stock top"),
-    "step_down": Param("float", positive=True, doc="depth per layer"),
-    "allowance": Param("float", 0.0, nonneg=True, doc="wall stock left by roughing"),
-    "stepover": Param("float", None, positive=True, doc="roughing stepover (default 0.5 D)"),
-    "compensation": Param("str", "cam", choices=("cam", "control")),
+    "tolerance": Param("float", positive=True, doc="chordal tolerance (job units)", unit="length"),
+    "depth": Param("float", positive=True, doc="cavity depth below the stock top", unit="length"),
+    "stepdown": Param("float", positive=True, doc="depth per layer", unit="length"),
+    "allowance": Param("float", 0.0, nonneg=True, doc="wall stock left by roughing", unit="length"),
+    "stepover": Param("float", None, positive=True, doc="roughing stepover (default 0.5 D)",
+          unit="length"),
+    "compensation": Param("str", "cam", choices=("cam", "control"),
+          doc="'cam': the tool-centre path; 'control': the contour between G41 and G40"),
     "entry": Param("str", "line", choices=("line", "arc"),
                    doc="lead-in/out under G41: line, or line + tangent arc (control only)"),
-    "feed": Param("float", positive=True),
-    "plunge_feed": Param("float", None, positive=True, doc="default: feed / 2"),
-    "spindle": Param("float", 0.0),
-    "safe_z": Param("float", None, doc="default: stock top + 5 mm (0.2 in)"),
-    "breakthrough": Param("float", 0.0, nonneg=True, doc="below the block bottom"),
+    "feed": Param("float", positive=True, unit="feed", doc="cutting feed"),
+    "plunge_feed": Param("float", None, positive=True, doc="default: feed / 2", unit="feed"),
+    "spindle": Param("float", 0.0,
+          unit="rpm", doc="spindle speed, clockwise (M3); 0: spindle left off"),
+    "safe_z": Param("float", None, doc="default: stock top + 5 mm (0.2 in)", unit="length"),
+    "breakthrough": Param("float", 0.0, nonneg=True, doc="below the block bottom", unit="length"),
 }
 
 #: the post-processor writes 4 decimals in mm and 5 in inch; the programmed contour is
@@ -397,10 +401,10 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     through = depth >= thick - 1e-9
     bottom = (st.zmin - params["breakthrough"]) if through else top - depth
     total = top - bottom
-    n_layers = max(1, int(math.ceil(total / params["step_down"] - 1e-9)))
-    zs = [top - min(total, (i + 1) * params["step_down"]) for i in range(n_layers)]
-    safe = params["safe_z"] if params["safe_z"] is not None else top + (5.0 if ctx.units == "mm" else 0.2)
-    clear = 1.0 if ctx.units == "mm" else 0.04
+    n_layers = max(1, int(math.ceil(total / params["stepdown"] - 1e-9)))
+    zs = [top - min(total, (i + 1) * params["stepdown"]) for i in range(n_layers)]
+    safe = params["safe_z"] if params["safe_z"] is not None else top + default("safe_clearance", ctx.units)
+    clear = default("feed_clearance", ctx.units)
     feed = params["feed"]
     plunge = params["plunge_feed"] or feed / 2.0
     stepover = params["stepover"] or 0.5 * tool.diameter

@@ -32,6 +32,7 @@ from millpath.plan.gridpocket.fitmotion import Chain, Fitter
 from millpath.plan.gridpocket.navigate import adjacent, joined_edges, main_path, zigzag_runs
 from millpath.plan.gridpocket.zfield import ZField, sample_chain
 from millpath.plan.entry import helix_entry, ramp_entry
+from millpath.model.units import default
 
 
 @dataclass
@@ -73,7 +74,8 @@ def layer_floors(top: float, zmin: float, depths: list[float] | None, step: floa
     ``zmin`` are replaced by the finish layer.
     """
     if depths is not None and step is not None:
-        raise JobError("depths, step: give either a list of depths or a step, not both", file)
+        raise JobError("depths, stepdown: give either a list of depths or a stepdown, "
+                       "not both", file)
     floors: list[float] = []
     eps = 1e-9 * max(1.0, abs(top), abs(zmin))
     if depths is not None:
@@ -88,7 +90,7 @@ def layer_floors(top: float, zmin: float, depths: list[float] | None, step: floa
     elif step is not None:
         n = int(math.ceil((top - zmin) / step - 1e-9))
         if n > 10_000:
-            raise JobError(f"step: {step:g} makes {n} layers", file)
+            raise JobError(f"stepdown: {step:g} makes {n} layers", file)
         floors = [top - k * step for k in range(1, n) if top - k * step > zmin + eps]
     return floors + [-math.inf]
 
@@ -254,7 +256,7 @@ class _Builder:
 
 def _decimals(units: str) -> int:
     """Decimals of coordinates in the posted program (the post's: 5 inch, 4 mm)."""
-    return 5 if units == "inch" else 4
+    return int(default("decimals", units))
 
 
 def _cells_xy(grid: PocketGrid, cells) -> np.ndarray:
@@ -300,7 +302,7 @@ def plan_pocket(spec: PocketSpec) -> tuple[Toolpath, dict]:
     grid = build_grid(spec.polygon, tool.radius, spec.dx, spec.dy, spec.file,
                       anchor=spec.grid_anchor)
     zf = ZField(spec.surface, tool, spec.z_mode, spec.polygon.bounds, spec.tolerance, spec.file)
-    max_radius = 100.0 if spec.units == "inch" else 2540.0
+    max_radius = default("max_arc_radius", spec.units)
     fitter = Fitter(spec.motion, spec.tolerance, max_radius, _decimals(spec.units),
                     spec.bezier_parameters)
     b = _Builder(spec, grid, zf, fitter)
@@ -410,7 +412,7 @@ def _length(tp: Toolpath) -> float:
     pos = None
     for m in tp.moves:
         if pos is not None and m.kind in ("line", "arc", "cubic"):
-            p = sample_move(pos, m, 0.01 if tp.units == "inch" else 0.25)
+            p = sample_move(pos, m, default("sample_step", tp.units))
             total += float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum())
         pos = m.end
     return total

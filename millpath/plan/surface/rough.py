@@ -6,7 +6,7 @@ meets an even skin instead of the whole block. At every point of a pass the tip 
 to ``max(layer Z, drop-cutter Z + allowance)``: the drop-cutter Z (exact, holder and
 shank clearance included, see :mod:`.sampler`) never lets the tool touch the surface,
 the layer Z never lets it take more than ``stepdown`` at once. Passes run along
-``angle`` (degrees from +X) ``step_over`` apart; each layer keeps only the stretches
+``angle`` (degrees from +X) ``stepover`` apart; each layer keeps only the stretches
 that still have material above their target (the layer above did not reach them).
 The rows stop up to a step-over short of a wall, so each layer ends with a contour
 pass along the line where the floor rises through the layer (the boundary of what the
@@ -14,7 +14,7 @@ layer can reach, traced on a fine raster with ``contourpy``), leaving an even
 allowance-plus-staircase on steep walls instead of step-over-wide slivers.
 
 Keys (job units; feeds in units per minute): ``surface`` (as for surface-finish),
-``divisions``, ``tool``, ``stepdown``, ``step_over`` (length; default 0.6 x the tool
+``divisions``, ``tool``, ``stepdown``, ``stepover`` (length; default 0.6 x the tool
 diameter), ``allowance`` (default 0.3 mm / 0.012 in), ``angle``, ``feed``,
 ``plunge_feed``, ``spindle``, ``safe_z``, ``region`` (tool-tip box, default: the
 surface grown by the tool radius), ``name``; ``rest``: keep only the stretches of the
@@ -43,20 +43,29 @@ from millpath.plan.surface.sampler import Sampler
 from millpath.plan.surface.source import SURFACE_PARAMS, load_op_surface, op_surface_index
 from millpath.plan.surface.waterline import index_runs
 from millpath.plan.surface.zigzag import Pass, in_region
+from millpath.model.units import default
 
 PARAMS = {
     **SURFACE_PARAMS,
-    "tool": Param("int", None, positive=True),
-    "stepdown": Param("float", None, positive=True),
-    "step_over": Param("float", None, positive=True),
-    "allowance": Param("float", None),
-    "angle": Param("float", 0.0),
-    "feed": Param("float", None, positive=True),
-    "plunge_feed": Param("float", None, positive=True),
-    "spindle": Param("float", 8000.0, positive=True),
-    "safe_z": Param("float", None),
-    "region": Param("floats", None, length=4),
-    "name": Param("str", "surface rough"),
+    "tool": Param("int", None, positive=True, doc="end mill (tool number)"),
+    "stepdown": Param("float", None, positive=True,
+          unit="length", doc="depth per layer (default 2 mm / 0.08 in)"),
+    "stepover": Param("float", None, positive=True,
+          unit="length", doc="distance between passes (default 0.6 x the tool diameter)"),
+    "allowance": Param("float", None,
+          unit="length", doc="stock left above the surface (default 0.3 mm / 0.012 in)"),
+    "angle": Param("float", 0.0, unit="deg", doc="pass direction from +X"),
+    "feed": Param("float", None, positive=True,
+          unit="feed", doc="cutting feed (default 1500 mm/min / 60 in/min)"),
+    "plunge_feed": Param("float", None, positive=True,
+          unit="feed", doc="feed down into material (default: feed / 3)"),
+    "spindle": Param("float", 8000.0, positive=True, unit="rpm", doc="spindle speed"),
+    "safe_z": Param("float", None,
+          unit="length", doc="retract height (default: above the stock top)"),
+    "region": Param("floats", None, length=4,
+          unit="length", doc="[xmin, ymin, xmax, ymax] of the tool tip (default: the surface "
+                             "grown by the tool radius)"),
+    "name": Param("str", "surface rough", doc="operation name in the program and report"),
     "rest": Param("bool", False, doc="cut only where earlier operations left material"),
 }
 
@@ -208,7 +217,6 @@ def _stock_top_near(remaining, tool, tol: float):
 
 def _settings(ctx: PlanContext, params: dict):
     """(mesh, tool, cutter, region, stepdown, step_over, allowance), checked."""
-    inch = ctx.units == "inch"
     file = ctx.job_file
     if ctx.stock is None:
         raise JobError("surface-rough needs the job's [stock] box (the layers start at its "
@@ -229,12 +237,12 @@ def _settings(ctx: PlanContext, params: dict):
     else:
         region = (lo[0] - cutter.radius, lo[1] - cutter.radius,
                   hi[0] + cutter.radius, hi[1] + cutter.radius)
-    stepdown = params["stepdown"] or (0.08 if inch else 2.0)
-    step_over = params["step_over"] or 0.6 * 2.0 * cutter.radius
+    stepdown = params["stepdown"] or default("rough_stepdown", ctx.units)
+    step_over = params["stepover"] or 0.6 * 2.0 * cutter.radius
     if step_over > 2.0 * cutter.radius:
-        raise JobError(f"step_over: {step_over:g} is more than the tool diameter", file)
-    allowance = params["allowance"] if params["allowance"] is not None else (
-        0.012 if inch else 0.3)
+        raise JobError(f"stepover: {step_over:g} is more than the tool diameter", file)
+    allowance = params["allowance"] if params["allowance"] is not None else \
+        default("rough_allowance", ctx.units)
     if allowance < 0:
         raise JobError("allowance: must not be negative", file)
     return mesh, tool, cutter, region, stepdown, step_over, allowance
@@ -299,7 +307,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     if not passes and rest_info is None:
         raise PlanningError("surface-rough: the stock top is already below the surface "
                             "plus allowance; nothing to rough", file)
-    clear = 0.2 if inch else 5.0
+    clear = default("safe_clearance", ctx.units)
     safe_z = params["safe_z"] if params["safe_z"] is not None else ctx.stock.zmax + clear
     if safe_z <= ctx.stock.zmax:
         raise JobError(f"safe_z: {safe_z:g} is not above the stock top {ctx.stock.zmax:g}",
@@ -317,7 +325,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         "operation": params["name"], "tool": tool.number,
         "cutter": f"{cutter.kind} D{2 * cutter.radius:g}", "layers": len(levels),
         "levels": [round(z, 4) for z in levels], "stepdown": stepdown,
-        "step_over": step_over, "allowance": allowance, "pieces": len(passes),
+        "stepover": step_over, "allowance": allowance, "pieces": len(passes),
         "retracts": links["retract"], "estimate": est.to_json(),
         "cl_points": int(sum(len(p.points) for p in passes)),
     }

@@ -13,6 +13,7 @@ from millpath.errors import JobError
 from millpath.io.schema import Param
 from millpath.part.cache import PartCache
 from millpath.part.drawing import Region, read_dxf, region_from_polygon, regions_from_loops
+from millpath.model.units import default
 
 GEOMETRY_PARAMS = {
     "dxf": Param("path", None, doc="DXF drawing of the contours"),
@@ -27,7 +28,7 @@ GEOMETRY_PARAMS = {
 
 
 def default_tolerance(units: str) -> float:
-    return 0.0005 if units == "inch" else 0.01
+    return default("drawing_tolerance", units)
 
 
 def load_regions(params: dict, units: str, file=None,

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 from millpath.errors import JobError
 from millpath.model import Tool
+from millpath.model.units import default
 from millpath.plan.base import PlanContext
 
 
@@ -44,10 +45,10 @@ def operation_heights(ctx: PlanContext, params: dict) -> Heights:
     top = params["top"] if params["top"] is not None else stock_top
     if top is None:
         raise JobError("top: needed when the job gives no [stock]", file)
-    mm = ctx.units == "mm"
-    clearance = 0.5 if mm else 0.02
+    clearance = default("entry_clearance", ctx.units)
     upper = max(top, stock_top if stock_top is not None else top)
-    safe = params["safe_z"] if params["safe_z"] is not None else upper + (5.0 if mm else 0.2)
+    safe = params["safe_z"] if params["safe_z"] is not None else \
+        upper + default("safe_clearance", ctx.units)
     if safe <= upper:
         raise JobError(f"safe_z: {safe:g} is not above the stock top {upper:g}", file)
     return Heights(top, upper, safe, clearance)

@@ -25,11 +25,12 @@ from millpath.report.viewer.motionpack import (ViewOperation, operations_from_pr
 from millpath.report.viewer.page import b64, render_page
 from millpath.report.viewer.stocksurface import display_surface
 from millpath.report.viewer.toolshape import tool_shape
+from millpath.model.units import default
 
 
 def default_tolerance(units: str) -> float:
     """Deviation shown as neutral by default: 0.01 mm, or 0.0005 inch."""
-    return 0.0005 if units == "inch" else 0.01
+    return default("drawing_tolerance", units)
 
 
 def _le(a: np.ndarray, dtype: str) -> str:
