@@ -50,14 +50,9 @@ def test_rs274_runs_the_program_with_the_table_as_written(example, machine_units
     assert compare_motions(ours, theirs.motions, tol) == [], name
 
 
-#: known open defects (issue 14.5), strict so that a fix makes this list fail: the thesis
-#: examples' wall pass starts with a straight descent 0.004 in into the band of material
-#: the main path left along the wall, which the grid-pocket planner does not model; the
+#: known open defects (issue 14.5), strict so that a fix makes this list fail: the
 #: features planner enters the general pockets it recognises in a solid by plunging
-THESIS = "the wall pass descends 0.004 in into the wall band left by the main path"
-KNOWN_PLUNGES = {"pocket-thesis": THESIS, "pocket-thesis-arc": THESIS,
-                 "pocket-thesis-bezier": THESIS,
-                 "solid-hole-model": "recognised general pockets are entered by plunging"}
+KNOWN_PLUNGES = {"solid-hole-model": "recognised general pockets are entered by plunging"}
 
 
 @pytest.mark.slow
