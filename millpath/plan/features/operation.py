@@ -521,7 +521,8 @@ def _cut(tp: Toolpath, t: _Task, tool: Tool, sp, h: paths.Heights, z_start: floa
     if t.strategy == "region":
         rough, finish = general_regions(s, tool, allowance, stock)
         clear_general(tp, rough, finish, z_start, floor, h, step_down=step_down,
-                      stepover=stepover, feed=sp.feed, plunge_feed=sp.plunge)
+                      stepover=stepover, feed=sp.feed, plunge_feed=sp.plunge,
+                      tool_radius=tool.radius)
         return {"z": floor, "levels": len(paths.levels(z_start, floor, step_down)),
                 "z_start": z_start}
     if t.strategy == "circular":
