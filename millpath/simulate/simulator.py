@@ -266,7 +266,8 @@ def _lift_start(motions: list[Motion], stock: Stock) -> list[Motion]:
 
 def simulate_motions(motions: list[Motion], tools: dict[int, Tool], stock: Stock, *,
                      resolution: float, design=None, machine: Machine | None = None,
-                     progress: bool = False, corner_angle: float = 10.0) -> SimResult:
+                     progress: bool = False, corner_angle: float = 10.0,
+                     chord_tol: float | None = None) -> SimResult:
     """Simulate interpreted motion (tool tip = motion coordinates, program units).
 
     The first motion, and the first after each tool change, start above their end
@@ -274,12 +275,14 @@ def simulate_motions(motions: list[Motion], tools: dict[int, Tool], stock: Stock
     ``tools`` maps tool numbers (``Motion.tool``) to shapes; ``machine`` defaults to
     ``Machine()`` (mm rates: pass ``Machine.default_for("inch")`` for inch programs).
     Counts are per motion: ``rapids_through_material`` traverses that removed material,
-    ``holder_contacts`` motions where the shank or holder met material.
+    ``holder_contacts`` motions where the shank or holder met material. ``chord_tol``:
+    how far the chords of arcs and cubics may stray from them (default
+    ``resolution / 20``; the gouge measured includes this error).
     """
     machine = machine or Machine()
     motions = _lift_start(list(motions), stock)
     zmap = ZMap.from_stock(stock, resolution)
-    segs = motion_segments(motions, resolution / 20.0)
+    segs = motion_segments(motions, chord_tol or resolution / 20.0)
     lines = [m.line for m in motions]
     flags = sweep(zmap, segs, tools, len(motions), progress=progress, lines=lines)
     times = motion_times(motions, machine, corner_angle=corner_angle)
