@@ -177,8 +177,12 @@ def _row_blocks(zmap: ZMap, rows: int = 256):
         yield j0, min(ny, j0 + rows)
 
 
-def _cut_mask(zmap: ZMap, h: np.ndarray) -> np.ndarray:
-    return h < zmap.ztop - 1e-9 * max(1.0, abs(zmap.ztop))
+def _cut_mask(zmap: ZMap, h: np.ndarray, j0: int = 0) -> np.ndarray:
+    """Cells of rows ``j0 ..`` (``h``) that a tool lowered (never the air around a bar)."""
+    eps = 1e-9 * max(1.0, abs(zmap.ztop))
+    if zmap.initial is None:
+        return h < zmap.ztop - eps
+    return h < zmap.initial[j0:j0 + len(h)] - eps
 
 
 @dataclass
@@ -200,7 +204,7 @@ def compare_design(zmap: ZMap, design) -> Comparison:
     for j0, j1 in _row_blocks(zmap):
         dc, lo, hi = _design_rows(zmap, design, j0, j1)
         h = zmap.heights[j0:j1]
-        g = np.where(_cut_mask(zmap, h), lo - h, 0.0)
+        g = np.where(_cut_mask(zmap, h, j0), lo - h, 0.0)
         k = int(np.argmax(g))
         if g.flat[k] > gouge:
             gouge = float(g.flat[k])
@@ -235,7 +239,7 @@ def deviation(zmap: ZMap, design) -> np.ndarray:
         o = out[j0:j1]
         above = h > hi
         o[above] = (h - hi)[above]
-        below = (h < lo) & _cut_mask(zmap, h)
+        below = (h < lo) & _cut_mask(zmap, h, j0)
         o[below] = (h - lo)[below]
     return out
 

@@ -4,6 +4,7 @@ axis -Z are read, planned and machined where the file puts them; with tools too 
 the run is refused with the reach message and writes no program."""
 
 import json
+import math
 from pathlib import Path
 
 import numpy as np
@@ -151,3 +152,49 @@ def test_slot_and_face_are_machined_where_the_file_puts_them(tmp_path):
     clear = np.abs(dist - 5.0) > 1e-6                                   # off the walls
     assert np.all(z[clear] <= np.where(dist <= 5.0, 12.5, 18.5)[clear] + 0.01)
     assert sim.removed_volume == pytest.approx(60 * 30 * 1.5 + 60 * 10 * 6.0, rel=0.01)
+
+
+def _annulus(r: float, cell: float) -> float:
+    """Area of the ring r +- half a cell diagonal: the most a Z-map of cells ``cell``
+    wide, filled where the cell centre is inside the circle, can differ from pi r^2."""
+    h = cell * math.sqrt(2.0) / 2.0
+    return math.pi * ((r + h) ** 2 - (r - h) ** 2)
+
+
+def test_cylindrical_stock_is_a_cylinder_in_the_zmap():
+    from millpath.model import Stock
+    from millpath.simulate.zmap import ZMap
+    st = Stock.from_cylinder(0.0, 0.0, 46.125, 0.0, 85.0)         # the RAMP bar
+    assert st.box == (-46.125, -46.125, 0.0, 46.125, 46.125, 85.0)
+    z = ZMap.from_stock(st, 0.25)
+    exact = math.pi * 46.125 ** 2 * 85.0
+    assert abs(z.material_volume() - exact) <= _annulus(46.125, 0.25) * 85.0
+    assert z.removed_volume() == 0.0
+    # the corners of the box hold no material
+    assert z.height_at(-46.0, -46.0) == 0.0 and z.height_at(0.0, 0.0) == 85.0
+
+
+def test_the_ramp_bar_is_simulated_as_a_cylinder(tmp_path):
+    from millpath.io.schema import validate
+    from millpath.model import Machine, Tool
+    from millpath.plan.base import PlanContext
+    from millpath.plan.features.operation import PARAMS, plan
+    from millpath.simulate import simulate_toolpath
+    tools = {1: Tool(1, "flat", 10.0, flutes=3, flute_length=90, stickout=100,
+                     holder=((40.0, 60.0),))}
+    (tmp_path / "p.stp").write_bytes(FIXTURE.read_bytes())
+    ctx = PlanContext(units="mm", stock=None, machine=Machine(), tools=tools,
+                      base_dir=tmp_path)
+    r = plan(ctx, validate({"step": "p.stp"}, PARAMS, "op", None, tmp_path))
+    assert r.stock.cylinder == (0.0, 0.0, 46.125)
+    sim = simulate_toolpath(r.toolpath, tools, r.stock, resolution=0.25, design=r.design)
+    assert sim.rapids_through_material == 0 and sim.holder_contacts == 0
+    assert sim.max_gouge <= 1e-6             # the air around the bar is not a gouge
+    bar = math.pi * 46.125 ** 2 * 85.0
+    bore = math.pi * 13.375 ** 2 * 78.0
+    hole = math.pi * 8.625 ** 2 * 7.0
+    z = sim.zmap
+    slack = (_annulus(46.125, z.dx) * 85.0 + _annulus(13.375, z.dx) * 78.0
+             + _annulus(8.625, z.dx) * 7.0)
+    assert abs(z.material_volume() - (bar - bore - hole)) <= slack
+    assert abs(sim.removed_volume - (bore + hole)) <= slack - _annulus(46.125, z.dx) * 85.0
