@@ -198,3 +198,25 @@ def test_the_ramp_bar_is_simulated_as_a_cylinder(tmp_path):
              + _annulus(8.625, z.dx) * 7.0)
     assert abs(z.material_volume() - (bar - bore - hole)) <= slack
     assert abs(sim.removed_volume - (bore + hole)) <= slack - _annulus(46.125, z.dx) * 85.0
+
+
+@pytest.mark.parametrize("stock, message", [
+    ("cylinder = [0, 0, 92.25, 0, 85]", None),
+    ("box = [0, 0, 0, 1, 1, 1]\ncylinder = [0, 0, 92.25, 0, 85]", "stock: give either"),
+    ("cylinder = [0, 0, -3, 0, 85]", "stock.cylinder: a cylinder needs a positive radius"),
+    ("cylinder = [0, 0, 92.25]", "stock.cylinder: expected 5 numbers"),
+])
+def test_a_job_stock_may_be_a_bar(tmp_path, stock, message):
+    from millpath.errors import JobError
+    from millpath.job.jobfile import load_job
+    p = tmp_path / "job.toml"
+    p.write_text(f'units = "mm"\n[stock]\n{stock}\n[[operations]]\ntype = "features"\n'
+                 'step = "part.stp"\n')
+    if message is None:
+        job = load_job(p)
+        assert job.stock.cylinder == (0.0, 0.0, 46.125)
+        assert job.stock.box == (-46.125, -46.125, 0.0, 46.125, 46.125, 85.0)
+        return
+    with pytest.raises(JobError) as e:
+        load_job(p)
+    assert str(e.value).startswith(str(p)) and message in str(e.value)
