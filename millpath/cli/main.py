@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import importlib
 import sys
+import logging
 import warnings
 
 import click
@@ -40,6 +41,11 @@ def _show_warning(message, category, filename, lineno, file=None, line=None) -> 
 class _Group(click.Group):
     def invoke(self, ctx: click.Context):
         debug = bool(ctx.params.get("debug"))
+        if not debug:
+            # libraries that log (ezdxf's "Ignored invalid DXF entity", numba) carry no
+            # news for a user; millpath's own findings are warnings or errors
+            logging.getLogger().addHandler(logging.NullHandler())
+            logging.getLogger().setLevel(logging.CRITICAL)
         with warnings.catch_warnings():
             if not debug:
                 warnings.simplefilter("ignore")

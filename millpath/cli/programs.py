@@ -48,8 +48,16 @@ def read_tools(path: Path | None, units: str, table_k: float = 1.0):
         return tools, tools
     from millpath.io.tooltable import read_tool_table
     entries = read_tool_table(path)
-    tools = {e.number: Tool(e.number, "flat", e.diameter * table_k, comment=e.comment)
-             for e in entries if e.diameter > 0}
+    # A table gives the diameter and the gauge length (Z), not the flutes, shank or holder:
+    # the cutter is taken to run the whole gauge length (no shank, no holder), so no holder
+    # contact is invented; a TOML library gives the real holder.
+    tools = {}
+    for e in entries:
+        if e.diameter > 0:
+            reach = e.offsets.get("Z", 0.0) * table_k
+            reach = reach if reach > 0 else 1e6
+            tools[e.number] = Tool(e.number, "flat", e.diameter * table_k, flute_length=reach,
+                                   stickout=reach, comment=e.comment)
     return tools, path
 
 

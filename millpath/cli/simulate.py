@@ -69,5 +69,7 @@ def command(program: Path, tools_path: Path | None, stock_text: str,
     click.echo(f"rapids through material  {j['rapids_through_material']}"
                + (f" (lines {', '.join(map(str, r.rapid_lines[:10]))})" if r.rapid_lines else ""))
     click.echo(f"holder contacts          {j['holder_contacts']}"
-               + (f" (lines {', '.join(map(str, r.holder_lines[:10]))})" if r.holder_lines else ""))
+               + (f" (lines {', '.join(map(str, r.holder_lines[:10]))})" if r.holder_lines else "")
+               + ("" if tools_path is None or tools_path.suffix.lower() == ".toml" else
+                  " (holders not checked: a tool table has no holder; use a .toml library)"))
     click.echo(f"cycle time       {j['cycle_time_s']:.1f} s")
