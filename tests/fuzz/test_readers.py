@@ -100,6 +100,14 @@ def test_step_ap224(tmp_path_factory, text):
     _check(read_part, text, tmp_path_factory.mktemp("stp"), ".stp")
 
 
+@settings(FUZZ, max_examples=80)
+@given(text=mutated(STEP))
+def test_step_p21_layer(tmp_path_factory, text):
+    """The ISO 10303-21 layer alone (any schema), as ``millpath`` reads every STEP file."""
+    from millpath.part.step.p21 import read
+    _check(read, text, tmp_path_factory.mktemp("p21"), ".stp")
+
+
 def _stl_bytes(seed: int) -> list[bytes]:
     """Binary STLs with random headers, counts and values (NaN, inf, huge included)."""
     rng = np.random.default_rng(seed)
