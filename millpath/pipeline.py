@@ -228,8 +228,12 @@ def _run(job_path: str | Path, outdir: str | Path, prog: Progress, force: bool) 
     if job.simulation.get("enabled", True):
         from millpath.simulate import simulate_motions
         res = default_resolution(job, stock, tp)
+        # chords of arcs within a tenth of the tightest tolerance: the measured gouge
+        # must not carry the measurement's own chord error (issue 14)
+        tols = [o.tolerance for o in tp.ops if o.tolerance]
+        chord = min([res / 20.0] + [0.1 * t for t in tols])
         sim = simulate_motions(motions, job.tools, stock, resolution=res, design=design,
-                               machine=job.machine, progress=prog)
+                               machine=job.machine, progress=prog, chord_tol=chord)
         report.verification = sim.to_json()
     else:
         report.verification = {"skipped": "simulation disabled in the job"}

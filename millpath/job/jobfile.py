@@ -58,8 +58,11 @@ TOP = {
     "operations": Param("list"),
 }
 
-STOCK = {"box": Param("floats", length=6, unit="length",
-                      doc="[xmin, ymin, zmin, xmax, ymax, zmax] of the raw block")}
+STOCK = {"box": Param("floats", None, length=6, unit="length",
+                      doc="[xmin, ymin, zmin, xmax, ymax, zmax] of the raw block"),
+         "cylinder": Param("floats", None, length=5, unit="length",
+                           doc="[cx, cy, diameter, zmin, zmax]: a bar with a vertical axis "
+                               "instead of a block (simulated as the bar)")}
 MACHINE = {
     "rapid": Param("float", None, positive=True, unit="feed",
                    doc="rapid rate (default 5000 mm/min, 200 in/min)"),
@@ -156,13 +159,20 @@ def job_from_dict(data: dict, path: Path | None = None) -> Job:
     stock = None
     if top["stock"] is not None:
         st = validate(top["stock"], STOCK, "stock", path)
+        if (st["box"] is None) == (st["cylinder"] is None):
+            raise JobError("stock: give either box = [...] or cylinder = [...]", path)
+        key = "box" if st["box"] is not None else "cylinder"
         try:
-            stock = Stock.from_box(st["box"])
+            if key == "box":
+                stock = Stock.from_box(st["box"])
+            else:
+                cx, cy, d, z0, z1 = st["cylinder"]
+                stock = Stock.from_cylinder(cx, cy, d / 2.0, z0, z1)
         except ValueError as e:
-            raise JobError(f"stock.box: {e}", path) from None
+            raise JobError(f"stock.{key}: {e}", path) from None
         side = max(stock.size)
         if side > limits.max_extent:
-            raise JobError(f"stock.box: a side of {side:g} {units} is larger than the "
+            raise JobError(f"stock.{key}: a side of {side:g} {units} is larger than the "
                            f"{limits.max_extent:g} {units} limit (wrong units? raise "
                            f"[limits] max_extent if the machine is that big)", path)
     machine = Machine.default_for(units)

@@ -73,7 +73,7 @@ def sections(op_type: str | None = None) -> list[Section]:
         out += [section("top level", "Keys at the top of the job file.", jobfile.TOP,
                         skip=("stock", "machine", "post", "simulation", "limits", "tools",
                               "operations")),
-                section("[stock]", "The raw block, in the part frame.", jobfile.STOCK),
+                section("[stock]", "The raw block (or bar), in the part frame.", jobfile.STOCK),
                 section("[machine]", "Machine limits, for the cycle time, and the machine's "
                         "units.", jobfile.MACHINE),
                 section("[post]", "Program conventions of the LinuxCNC post.", jobfile.POST),

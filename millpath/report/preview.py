@@ -83,7 +83,18 @@ def preview_figure(tp: Toolpath, title: str = "", stock=None):
     ax.set_xlabel(f"X [{tp.units}]")
     ax.set_ylabel(f"Y [{tp.units}]")
     ax.set_zlabel(f"Z [{tp.units}]")
-    if stock is not None:
+    if stock is not None and stock.cylinder is not None:       # a bar: end circles
+        cx, cy, r = stock.cylinder
+        a = np.linspace(0.0, 2.0 * np.pi, 97)
+        for z in (stock.zmin, stock.zmax):
+            ax.plot(cx + r * np.cos(a), cy + r * np.sin(a), np.full_like(a, z),
+                    color="0.35", lw=0.6)
+        for t in a[:-1:24]:
+            ax.plot([cx + r * np.cos(t)] * 2, [cy + r * np.sin(t)] * 2,
+                    [stock.zmin, stock.zmax], color="0.35", lw=0.6)
+        handles.append(Line2D([], [], color="0.35", label="stock"))
+        ax.legend(handles=handles, loc="upper left", fontsize=7)
+    elif stock is not None:
         x0, y0, z0, x1, y1, z1 = stock.box
         for (xa, ya), (xb, yb) in (((x0, y0), (x1, y0)), ((x1, y0), (x1, y1)),
                                    ((x1, y1), (x0, y1)), ((x0, y1), (x0, y0))):

@@ -171,8 +171,12 @@ def _row_blocks(zmap: ZMap, rows: int = 256):
         yield j0, min(ny, j0 + rows)
 
 
-def _cut_mask(zmap: ZMap, h: np.ndarray) -> np.ndarray:
-    return h < zmap.ztop - 1e-9 * max(1.0, abs(zmap.ztop))
+def _cut_mask(zmap: ZMap, h: np.ndarray, j0: int = 0) -> np.ndarray:
+    """Cells of rows ``j0 ..`` (``h``) that a tool lowered (never the air around a bar)."""
+    eps = 1e-9 * max(1.0, abs(zmap.ztop))
+    if zmap.initial is None:
+        return h < zmap.ztop - eps
+    return h < zmap.initial[j0:j0 + len(h)] - eps
 
 
 @dataclass
@@ -194,7 +198,7 @@ def compare_design(zmap: ZMap, design) -> Comparison:
     for j0, j1 in _row_blocks(zmap):
         dc, lo, hi = _design_rows(zmap, design, j0, j1)
         h = zmap.heights[j0:j1]
-        g = np.where(_cut_mask(zmap, h), lo - h, 0.0)
+        g = np.where(_cut_mask(zmap, h, j0), lo - h, 0.0)
         k = int(np.argmax(g))
         if g.flat[k] > gouge:
             gouge = float(g.flat[k])
@@ -229,7 +233,7 @@ def deviation(zmap: ZMap, design) -> np.ndarray:
         o = out[j0:j1]
         above = h > hi
         o[above] = (h - hi)[above]
-        below = (h < lo) & _cut_mask(zmap, h)
+        below = (h < lo) & _cut_mask(zmap, h, j0)
         o[below] = (h - lo)[below]
     return out
 
@@ -260,7 +264,8 @@ def _lift_start(motions: list[Motion], stock: Stock) -> list[Motion]:
 
 def simulate_motions(motions: list[Motion], tools: dict[int, Tool], stock: Stock, *,
                      resolution: float, design=None, machine: Machine | None = None,
-                     progress: "bool | Progress" = False, corner_angle: float = 10.0) -> SimResult:
+                     progress: "bool | Progress" = False, corner_angle: float = 10.0,
+                     chord_tol: float | None = None) -> SimResult:
     """Simulate interpreted motion (tool tip = motion coordinates, program units).
 
     The first motion, and the first after each tool change, start above their end
@@ -268,12 +273,14 @@ def simulate_motions(motions: list[Motion], tools: dict[int, Tool], stock: Stock
     ``tools`` maps tool numbers (``Motion.tool``) to shapes; ``machine`` defaults to
     ``Machine()`` (mm rates: pass ``Machine.default_for("inch")`` for inch programs).
     Counts are per motion: ``rapids_through_material`` traverses that removed material,
-    ``holder_contacts`` motions where the shank or holder met material.
+    ``holder_contacts`` motions where the shank or holder met material. ``chord_tol``:
+    how far the chords of arcs and cubics may stray from them (default
+    ``resolution / 20``; the gouge measured includes this error).
     """
     machine = machine or Machine()
     motions = _lift_start(list(motions), stock)
     zmap = ZMap.from_stock(stock, resolution)
-    segs = motion_segments(motions, resolution / 20.0)
+    segs = motion_segments(motions, chord_tol or resolution / 20.0)
     lines = [m.line for m in motions]
     flags = sweep(zmap, segs, tools, len(motions), progress=progress, lines=lines)
     times = motion_times(motions, machine, corner_angle=corner_angle)

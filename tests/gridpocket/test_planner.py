@@ -23,7 +23,7 @@ def test_params_are_exactly_the_keys_of_the_issue():
         "zigzag", "feed", "finish_feed", "plunge_feed", "spindle", "safe_z", "z_mode",
         "force_grid",
         "navigation", "grid_centre", "bezier_parameters",        # issue 17
-        "rest", "allowance"}                                     # issue 21
+        "rest", "rest_allowance"}                                     # issue 21
 
 
 def test_force_grid_accepts_cells_larger_than_d_over_sqrt2(tmp_path, gp):

@@ -203,9 +203,13 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
                                     file_stock.zmax))
     elif part.stock is not None:
         b = [v * k for v in part.stock.box()]
-        file_stock = Stock.from_box(b)
         if part.stock.shape == "cylinder":
-            notes.append("cylindrical stock: its bounding box is used")
+            # the bar's axis is its placement's Z, the stock frame's: centre (0, 0)
+            file_stock = Stock.from_cylinder(0.0, 0.0, b[3], b[2], b[5])
+            notes.append("cylindrical stock: simulated as the bar (no material outside "
+                         "its circle); planned within its bounding box")
+        else:
+            file_stock = Stock.from_box(b)
     stock = ctx.stock or file_stock
     if ctx.stock is not None and file_stock is not None and \
             max(abs(a - b) for a, b in zip(ctx.stock.box, file_stock.box)) > 1e-6:
@@ -548,7 +552,8 @@ def _cut(tp: Toolpath, t: _Task, tool: Tool, sp, h: paths.Heights, z_start: floa
     if t.strategy == "region":
         rough, finish = general_regions(s, tool, allowance, stock)
         clear_general(tp, rough, finish, z_start, floor, h, step_down=step_down,
-                      stepover=stepover, feed=sp.feed, plunge_feed=sp.plunge)
+                      stepover=stepover, feed=sp.feed, plunge_feed=sp.plunge,
+                      tool_radius=tool.radius)
         return {"z": floor, "levels": len(paths.levels(z_start, floor, step_down)),
                 "z_start": z_start}
     if t.strategy == "circular":

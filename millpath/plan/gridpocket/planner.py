@@ -5,7 +5,9 @@ Job units throughout (mm or inch); feeds in units per minute; Z is the tool tip.
 Order of cutting: the roughing layers, the finish layer (the last layer, at the bottom
 everywhere, with ``finish_feed``), the wall pass (one lap of the offset outline per
 layer floor, ending at the bottom, starting at the outline corner nearest to where the
-finish layer ended), then the X zigzag and the Y zigzag runs at the bottom.
+finish layer ended; each lap is entered straight down at the nearest cell its layer
+cleared and then across to the outline, never by a descent into the band of material
+left along the wall), then the X zigzag and the Y zigzag runs at the bottom.
 
 A layer with floor ``f`` puts each point at ``max(tip Z on the bottom, f)`` and skips
 the cells whose bottom is above ``f``; the finish layer visits every cell, so it takes
@@ -282,6 +284,20 @@ def _path_chunks(grid: PocketGrid, path) -> list[list]:
     return chunks
 
 
+def _wall_entry(grid: PocketGrid, path, start: np.ndarray, tries: int = 24):
+    """The centre (x, y) of the cell of ``path`` nearest to the wall-lap start ``start``
+    from which a straight move to it keeps the tool centre inside the offset outline;
+    None when the layer cut no cell or none qualifies."""
+    if not path:
+        return None
+    xy = _cells_xy(grid, path)
+    d = np.hypot(xy[:, 0] - start[0], xy[:, 1] - start[1])
+    for k in np.argsort(d, kind="stable")[:tries]:
+        if grid.segment_inside(xy[k], start):
+            return xy[k]
+    return None
+
+
 def _ring_from(ring: np.ndarray, pos, spacing: float) -> np.ndarray:
     """The closed ring starting at its vertex nearest to ``pos``, edges subdivided to at
     most ``spacing``."""
@@ -321,6 +337,7 @@ def plan_pocket(spec: PocketSpec) -> tuple[Toolpath, dict]:
     layers = []
     done = spec.top
     final_path: list = []
+    layer_paths: list[list] = []        # the cells each floor's layer cut (wall entries)
     for k, floor in enumerate(floors):
         finish = k == len(floors) - 1
         # a roughing layer skips cells whose bottom is above its floor (the finish layer
@@ -328,6 +345,7 @@ def plan_pocket(spec: PocketSpec) -> tuple[Toolpath, dict]:
         mask = grid.inside & (zc < (spec.top if finish else floor) - eps)
         path = main_path(mask, spec.dx, spec.dy, spec.navigation)
         phase = "finish" if finish else "rough"
+        layer_paths.append(path)
         layers.append({"floor": None if math.isinf(floor) else floor, "finish": finish,
                        "cells": len(path), "length": 0.0})
         if not path:
@@ -352,9 +370,19 @@ def plan_pocket(spec: PocketSpec) -> tuple[Toolpath, dict]:
     wall_done = spec.top
     wall_region = grid.region.buffer(spec.tolerance, quad_segs=16)
     shapely.prepare(wall_region)
-    for floor in floors:
+    for floor, path in zip(floors, layer_paths):
+        # each lap is entered from a cell its layer cleared to this floor: straight down
+        # there (cleared space), then across to the outline at the floor (issue 14: no
+        # descent into the band of material the layer left along the wall)
+        swept = (shapely.union_all(shapely.buffer(shapely.points(_cells_xy(grid, path)),
+                                                  tool.radius, quad_segs=16))
+                 if path else None)
         for ring in rings:
             pts = _ring_from(ring, b.pos, spacing)
+            entry = _wall_entry(grid, path, pts[0])
+            if entry is not None:
+                b.cleared = swept
+                b.cut(np.array([entry, pts[0]]), floor, spec.finish_feed, floor, wall_region)
             b.cut(pts, floor, spec.finish_feed, wall_done, wall_region)
         wall_done = floor
 

@@ -78,6 +78,8 @@ def scene_data(*, program: str, motions: list[Motion], tools: dict[int, Tool], s
         "program_name": program_name,
         "units": units,
         "stock": [float(v) for v in stock.box],
+        # a bar: [cx, cy, radius] of its circle (drawn instead of the box), else None
+        "stock_cylinder": None if stock.cylinder is None else [float(v) for v in stock.cylinder],
         "tolerance": float(tolerance if tolerance is not None else default_tolerance(units)),
         "verification": sim.to_json() if sim is not None else None,
         "operations": [{"name": o.name, "tool": o.tool, "first_line": o.first_line}
