@@ -79,6 +79,10 @@ PARAMS: dict[str, Param] = {
         "expected a solid's number (1, 2, ...) or name", doc="solid of a multi-body file"),
     "setup": Param("str", "+Z", choices=("+Z", "-Z", "+X", "-X", "+Y", "-Y"),
                    doc="the solid's axis pointing up"),
+    "unmachinable": Param("str", "refuse", choices=("refuse", "list"),
+                          doc="features this operation cannot machine (another setup, a "
+                              "surface operation, no tool): 'refuse' the program (the proof "
+                              "counts them) or 'list' them in the report, left on purpose"),
     "stock_step": Param("path", None, doc="STEP solid whose box is the stock"),
     "tool": Param("int", None, positive=True, doc="only milling cutter to use"),
     "tools": Param("list", None, check=_tools_check, doc="tool numbers allowed"),
@@ -386,6 +390,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         "tool_changes": len(groups),
         "planned": planned,
         "unmachinable": skipped,
+        "unmachinable_policy": params["unmachinable"],
         "notes": notes,
     }}
     if params["rest"] and ctx.remaining is not None:
