@@ -142,32 +142,8 @@ def fit_toolpath(toolpath: Toolpath, tolerance: float, mode: str = "arcs", *,
     if mode == "none":
         out.moves = list(moves)
         return out
-    comp_on = False
-    start = None            # where the tool is, if a fitted arc may start there
-    i = 0
-    n = len(moves)
-    while i < n:
-        m = moves[i]
-        if m.kind == "line" and not comp_on and start is not None:
-            j = i
-            while (j < n and moves[j].kind == "line" and moves[j].op == m.op
-                   and moves[j].feed == m.feed):
-                j += 1
-            run = moves[i:j]
-            out.moves.extend(_moves_for_run(start, run, s) if len(run) >= 2 else run)
-            start = moves[j - 1].end if j < n and moves[j].op == m.op else None
-            i = j
-            continue
-        out.moves.append(m)
-        if m.kind == "comp":
-            comp_on = m.comp != "off"
-            start = None
-        elif m.kind == "drill" or comp_on or (i + 1 < n and moves[i + 1].op != m.op):
-            start = None
-        else:
-            start = m.end
-        i += 1
-    return out
+    from millpath.fit.collinear import rebuild_line_runs
+    return rebuild_line_runs(toolpath, lambda start, run: _moves_for_run(start, run, s))
 
 
 def fit_program(text: str, tolerance: float, mode: str = "arcs", *,

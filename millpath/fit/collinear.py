@@ -56,14 +56,15 @@ def kept_points(P: np.ndarray, tol: float) -> np.ndarray:
     return np.nonzero(keep)[0]
 
 
-def merge_collinear(toolpath: Toolpath, tolerance: float) -> Toolpath:
-    """A new toolpath whose line runs keep only the points needed within ``tolerance``
-    (within the post's half grid step for operations with their own tolerance)."""
+def rebuild_line_runs(toolpath: Toolpath, replace) -> Toolpath:
+    """A new toolpath in which every run of two or more feed lines (same operation, same
+    feed, outside cutter compensation, starting where the tool is known) is replaced by
+    ``replace(start, run)`` (``start``: the tool position before the run; returns the
+    moves to write instead); every other move is kept as it is."""
     out = Toolpath(units=toolpath.units, moves=[], ops=list(toolpath.ops))
-    grid = 0.5 * 10.0 ** -default("decimals", toolpath.units)
     moves = toolpath.moves
     comp_on = False
-    start = None
+    start = None            # where the tool is, if a run may start there
     i, n = 0, len(moves)
     while i < n:
         m = moves[i]
@@ -73,14 +74,7 @@ def merge_collinear(toolpath: Toolpath, tolerance: float) -> Toolpath:
                    and moves[j].feed == m.feed):
                 j += 1
             run = moves[i:j]
-            if len(run) >= 2:
-                P = np.array([start] + [r.end for r in run], dtype=float)
-                op_tol = toolpath.ops[m.op].tolerance if m.op < len(toolpath.ops) else None
-                tol = min(tolerance, grid) if op_tol is not None else tolerance
-                idx = kept_points(P, float(tol))
-                out.moves.extend(run[k - 1] for k in idx[1:])
-            else:
-                out.moves.extend(run)
+            out.moves.extend(replace(start, run) if len(run) >= 2 else run)
             start = moves[j - 1].end if j < n and moves[j].op == m.op else None
             i = j
             continue
@@ -96,3 +90,16 @@ def merge_collinear(toolpath: Toolpath, tolerance: float) -> Toolpath:
     return out
 
 
+def merge_collinear(toolpath: Toolpath, tolerance: float) -> Toolpath:
+    """A new toolpath whose line runs keep only the points needed within ``tolerance``
+    (within the post's half grid step for operations with their own tolerance)."""
+    grid = 0.5 * 10.0 ** -default("decimals", toolpath.units)
+
+    def merged(start, run):
+        P = np.array([start] + [r.end for r in run], dtype=float)
+        op = run[0].op
+        op_tol = toolpath.ops[op].tolerance if op < len(toolpath.ops) else None
+        tol = min(tolerance, grid) if op_tol is not None else tolerance
+        idx = kept_points(P, float(tol))
+        return [run[k - 1] for k in idx[1:]]
+    return rebuild_line_runs(toolpath, merged)

@@ -64,6 +64,7 @@ from millpath.plan.features.region import (clear_general, general_regions, inner
 from millpath.plan.features.select import (face_tool, hole_tool, matching_drill, pocket_tool,
                                            slot_tool)
 from millpath.model.units import default
+from millpath.plan.restcut import REST_PARAMS
 
 
 def _tools_check(v: Any) -> str | None:
@@ -89,10 +90,7 @@ PARAMS: dict[str, Param] = {
     "allowance": Param("float", None, nonneg=True, unit="length",
                            doc="wall stock left by roughing, removed by the finishing pass "
                                "(default 0.2 mm / 0.008 in)"),
-    "rest": Param("bool", False, doc="cut only where earlier operations left material"),
-    "rest_allowance": Param("float", None, nonneg=True, unit="length",
-                            doc="rest: stock thinner than this is left (default: the "
-                                "in-process stock's cell)"),
+    **REST_PARAMS,
     "taper_cusp": Param("float", None, positive=True, unit="length",
                         doc="largest step left on a 'flat with taper' hole bottom's cone, "
                             "normal to it (default 0.02 mm / 0.0008 in)"),

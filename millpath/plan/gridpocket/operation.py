@@ -48,6 +48,7 @@ from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.gridpocket.cells import pocket_polygon, polygon_problem
 from millpath.plan.gridpocket.planner import PocketSpec, plan_pocket
 from millpath.model.units import default
+from millpath.plan.restcut import REST_PARAMS
 
 BOTTOM_KEYS = ("bezier", "box", "points", "interpolation")
 
@@ -136,10 +137,7 @@ PARAMS: dict[str, Param] = {
     "z_mode": Param("str", "tool", choices=("tool", "surface"),
           doc="'tool': the real tool dropped onto the bottom (no gouge); 'surface': the tip on "
               "the surface under the centre (the thesis)"),
-    "rest": Param("bool", False, doc="cut only where earlier operations left material"),
-    "rest_allowance": Param("float", None, nonneg=True, unit="length",
-                            doc="rest: stock thinner than this is left (default: the "
-                                "in-process stock's cell)"),
+    **REST_PARAMS,
     "force_grid": Param("bool", False, doc="accept cells larger than D/sqrt(2) "
                         "(leaves material uncut in plan view)"),
 }
