@@ -36,6 +36,7 @@ from millpath.simulate.zmap import ZMap
 _TYPE = {"flat": FLAT, "ball": BALL, "bull": BULL, "drill": DRILL}
 BAND = 32                     # rows per band (and block width of the skip test)
 CHUNK = 20_000                # chords per kernel call (progress granularity)
+MOTION_BLOCK = 100_000        # motions turned into chords at a time (bounds memory)
 
 
 @dataclass
@@ -280,11 +281,37 @@ def simulate_motions(motions: list[Motion], tools: dict[int, Tool], stock: Stock
     machine = machine or Machine()
     motions = _lift_start(list(motions), stock)
     zmap = ZMap.from_stock(stock, resolution)
-    segs = motion_segments(motions, chord_tol or resolution / 20.0)
     lines = [m.line for m in motions]
-    flags = sweep(zmap, segs, tools, len(motions), progress=progress, lines=lines)
+    flags, nseg = sweep_motions(zmap, motions, tools, chord_tol or resolution / 20.0,
+                                progress=progress, lines=lines)
     times = motion_times(motions, machine, corner_angle=corner_angle)
-    return _finish(zmap, design, motions, flags, times, resolution, lines, len(segs))
+    return _finish(zmap, design, motions, flags, times, resolution, lines, nseg)
+
+
+def sweep_motions(zmap: ZMap, motions: list[Motion], tools: dict[int, Tool],
+                  chord_tol: float, *, progress: "bool | Progress" = False,
+                  lines: list[int] | None = None, block: int = MOTION_BLOCK
+                  ) -> tuple[tuple[np.ndarray, np.ndarray], int]:
+    """Cut ``motions`` into ``zmap`` in order, ``block`` motions at a time (their chords
+    are made and swept one block after another, so memory does not grow with the
+    program's length). Returns the per-motion flags of :func:`sweep` and the number of
+    chords swept."""
+    n = len(motions)
+    rapid_hit = np.zeros(max(n, 1), np.int8)
+    holder_hit = np.zeros(max(n, 1), np.int8)
+    nseg = 0
+    bars = progress if isinstance(progress, Progress) else Progress(bool(progress))
+    with bars.task("simulating: motions swept", total=n) as bar:
+        for a in range(0, n, block):
+            b = min(n, a + block)
+            segs = motion_segments(motions[a:b], chord_tol)
+            segs.motion += a                      # indices into the whole program
+            r, h = sweep(zmap, segs, tools, b, lines=lines)
+            np.maximum(rapid_hit[:b], r, out=rapid_hit[:b])
+            np.maximum(holder_hit[:b], h, out=holder_hit[:b])
+            nseg += len(segs)
+            bar.update(completed=b)
+    return (rapid_hit[:n], holder_hit[:n]), nseg
 
 
 def simulate_toolpath(toolpath: Toolpath, tools: dict[int, Tool], stock: Stock, *,

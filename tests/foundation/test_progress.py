@@ -18,7 +18,7 @@ MOULD = ROOT / "millpath" / "examples" / "surface-mould" / "job.toml"
 
 #: stage label -> how many times it must show a completed count "n/n"
 STAGES = ("reading the job", "planning operations", "fitting and posting",
-          "interpreting the program", "simulating: chords swept",
+          "interpreting the program", "simulating: motions swept",
           "rendering pictures and viewer")
 
 
