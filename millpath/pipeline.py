@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from millpath.errors import MillpathError, PlanningError
+from millpath.errors import MillpathError, PlanningError, warn
 from millpath.io.atomic import staged_dir
 from millpath.io.tooltable import parse_tool_table, tool_table_text
 from millpath.job.jobfile import Job, load_job
@@ -86,6 +86,9 @@ def plan_job(job: Job, progress: Progress = QUIET) -> tuple[Toolpath, list[PlanR
 def _plan_one(job: Job, ctx: PlanContext, i: int, op_type: str, params: dict,
               carry: bool) -> PlanResult:
     """Plan operation ``i`` (and sweep it into the in-process stock when ``carry``)."""
+    if params.get("rest") and ctx.remaining is None:
+        warn(f"operations[{i}]: rest = true, but no earlier operation has cut the stock; "
+             "the whole operation is planned", job.path)
     res = strategy(op_type, f"operations[{i}]", job.path).plan(ctx, params)
     if res.toolpath.units != job.units:
         raise PlanningError(f"operations[{i}]: strategy returned {res.toolpath.units} "
