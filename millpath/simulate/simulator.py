@@ -330,9 +330,8 @@ def simulate_toolpath(toolpath: Toolpath, tools: dict[int, Tool], stock: Stock, 
     motions, src = toolpath_motions(toolpath)
     motions = _lift_start(motions, stock)
     zmap = ZMap.from_stock(stock, resolution)
-    segs = motion_segments(motions, resolution / 20.0)
-    rapid_hit, holder_hit = sweep(zmap, segs, tools, len(motions), progress=progress,
-                                  lines=src)
+    (rapid_hit, holder_hit), nseg = sweep_motions(zmap, motions, tools, resolution / 20.0,
+                                                  progress=progress, lines=src)
     # fold motion flags onto source moves
     nm = len(toolpath.moves)
     srca = np.asarray(src, np.int64)
@@ -343,6 +342,6 @@ def simulate_toolpath(toolpath: Toolpath, tools: dict[int, Tool], stock: Stock, 
         np.maximum.at(hm, srca, holder_hit)
     times = motion_times(motions, machine, corner_angle=corner_angle)
     res = _finish(zmap, design, motions, (rm[:nm], hm[:nm]), times, resolution,
-                  list(range(nm)), len(segs))
+                  list(range(nm)), nseg)
     res.per_operation = times_by_operation(toolpath, src, times)
     return res
