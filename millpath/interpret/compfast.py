@@ -20,7 +20,7 @@ from __future__ import annotations
 from math import acos, asin, atan2, cos, hypot, pi, sin, tan
 
 from millpath.interpret.arcs import (RADIUS_TOLERANCE, SPIRAL_RELATIVE, SPIRAL_TOLERANCE,
-                                     arc_center_r, find_turn)
+                                     arc_center_r)
 from millpath.interpret.comp import LEFT, RIGHT, SMALL
 from millpath.interpret.errors import GCodeError
 from millpath.interpret.store import KIND_CODE, PACK
@@ -52,6 +52,8 @@ def comp_run(m, lines: list[str], k: int, end_k: int, first, second, base: int) 
         elif q[0] == "A":
             qt = ARC
             _, qline, qa, qx, qy, qc1, qc2, qturn, qz, qfeed, qstate = q
+            if qturn != 1 and qturn != -1:
+                return k                           # a queued P-turn arc: the machine's code
         else:
             return k                               # a queued dwell: the machine's code
     cx, cy, cz = m.cur
@@ -186,9 +188,20 @@ def comp_run(m, lines: list[str], k: int, end_k: int, first, second, base: int) 
                     if qt == STRAIGHT:
                         if evalid and qa * (fx - e0) + qb * (fy - e1) < 0:
                             return k
-                    elif not _arc_end_ok(qa, qx, qy, qc1, qc2, qturn, e0, e1, fx, fy,
-                                         evalid, slack):
-                        return k
+                    else:
+                        # the queued arc's end moves to fx, fy: LinuxCNC's checks
+                        if abs(hypot(qx - qc1, qy - qc2) - hypot(fx - qc1, fy - qc2)) > 0.01:
+                            return k
+                        if qa and evalid:
+                            a0 = atan2(e1 - qc2, e0 - qc1)
+                            a1 = atan2(fy - qc2, fx - qc1)
+                            if qturn > 0:
+                                if a1 <= a0:
+                                    a1 += TWO_PI
+                            elif a0 <= a1:
+                                a0 += TWO_PI
+                            if abs(a1 - a0) > abs(qa) + slack:
+                                return k
                 # --- commit: nothing below can fail -------------------------------
                 if flush:
                     if qt == STRAIGHT:
@@ -314,9 +327,19 @@ def comp_run(m, lines: list[str], k: int, end_k: int, first, second, base: int) 
                     if qt == STRAIGHT:
                         if evalid and qa * (fx - e0) + qb * (fy - e1) < 0:
                             return k
-                    elif qt == ARC and not _arc_end_ok(qa, qx, qy, qc1, qc2, qturn, e0, e1,
-                                                       fx, fy, evalid, slack):
-                        return k
+                    elif qt == ARC:
+                        if abs(hypot(qx - qc1, qy - qc2) - hypot(fx - qc1, fy - qc2)) > 0.01:
+                            return k
+                        if qa and evalid:
+                            a0 = atan2(e1 - qc2, e0 - qc1)
+                            a1 = atan2(fy - qc2, fx - qc1)
+                            if qturn > 0:
+                                if a1 <= a0:
+                                    a1 += TWO_PI
+                            elif a0 <= a1:
+                                a0 += TWO_PI
+                            if abs(a1 - a0) > abs(qa) + slack:
+                                return k
                 elif beta > SMALL:
                     how = 1                        # convex: dequeue, corner arc
                 else:
@@ -356,7 +379,16 @@ def comp_run(m, lines: list[str], k: int, end_k: int, first, second, base: int) 
                     evalid = True
                 qt = ARC
                 qline, qstate, qturn = n, state, turn
-                qa = find_turn(px, py, centerx, centery, turn, ex, ey)
+                # find_turn(px, py, centerx, centery, turn, ex, ey), written out
+                a0 = atan2(py - centery, px - centerx)
+                a1 = atan2(ey - centery, ex - centerx)
+                if turn > 0:
+                    if a1 <= a0:
+                        a1 += TWO_PI
+                else:
+                    if a0 <= a1:
+                        a0 += TWO_PI
+                qa = (a1 - a0) + 0.0
                 qx, qy, qc1, qc2, qz, qfeed = new_end_x, new_end_y, centerx, centery, ez, fr
             else:
                 return k
@@ -384,17 +416,3 @@ def comp_run(m, lines: list[str], k: int, end_k: int, first, second, base: int) 
             else:
                 m.queue = []
 
-
-def _arc_end_ok(l1: float, qx: float, qy: float, c1: float, c2: float, turn: int, e0: float,
-                e1: float, x: float, y: float, valid: bool, slack: float) -> bool:
-    """Whether the queued arc (sweep ``l1``, end ``qx, qy``, center ``c1, c2``) may end
-    at ``x, y`` instead (LinuxCNC's checks in move_endpoint_and_flush)."""
-    r1 = hypot(qx - c1, qy - c2)
-    r2 = hypot(x - c1, y - c2)
-    if abs(r1 - r2) > 0.01:
-        return False
-    if l1 and valid:
-        l2 = find_turn(e0, e1, c1, c2, turn, x, y)
-        if abs(l2) > abs(l1) + slack:
-            return False
-    return True
