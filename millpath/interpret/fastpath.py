@@ -15,6 +15,7 @@ import re
 from math import hypot
 
 from millpath.interpret.compfast import comp_run
+from millpath.interpret.cycles import CYCLES
 from millpath.interpret.errors import GCodeError
 from millpath.interpret.arcs import (RADIUS_TOLERANCE, SPIRAL_RELATIVE, SPIRAL_TOLERANCE,
                                      arc_center_r)
@@ -37,13 +38,36 @@ _FREE = re.compile(
     + "|".join([rf"[Gg]{_W}0*+([0-3])(?![\d.])(?![^(;]*[Gg])"]
                + [rf"[{u}{u.lower()}]{_W}{_NUM}(?![^(;]*[{u}{u.lower()}])" for u in "XYZIJKRF"])
     + rf"){_W})*+(?:\([^()]*+\){_W}|;.*+)?+\r?")
+# ``_FREE`` without its look-aheads (each scans the rest of the line: more than half
+# the time of a match): a duplicate is found by counting letters instead (match_free)
+_FREE_WORDS = re.compile(
+    rf"{_W}(?:[Nn]{_W}\d++(?:\.\d*+)?+{_W})?+(?:(?:"
+    + "|".join([rf"[Gg]{_W}0*+([0-3])(?![\d.])"]
+               + [rf"[{u}{u.lower()}]{_W}{_NUM}" for u in "XYZIJKRF"])
+    + rf"){_W})*+(?:\([^()]*+\){_W}|;.*+)?+\r?")
+#: all a line matched by ``_FREE_WORDS`` without a comment may hold but word letters
+_NOT_WORD_LETTERS = b"0123456789.+- \t\rNn"
 _LETTERS = "xyzijkrf"
+
+
+def match_free(line: str):
+    """``_FREE.fullmatch(line)``, sooner: the words in any order without the look-aheads,
+    then, on an ASCII line without a comment, as many word letters as words found (a
+    letter given twice leaves fewer words than letters); other lines go to ``_FREE``."""
+    mt = _FREE_WORDS.fullmatch(line)
+    if mt is None:
+        return None
+    if "(" in line or ";" in line or not line.isascii():
+        return _FREE.fullmatch(line)
+    if len(line.encode().translate(None, _NOT_WORD_LETTERS)) != 9 - mt.groups().count(None):
+        return None                # a word twice: the general reader reports it
+    return mt
 
 
 def match_simple(line: str):
     """Regex match of a simple motion line (words G0-G3 X Y Z I J K R F, plain numbers,
     any order and case), or None; ``groups()`` are (g, x, y, z, i, j, k, r, f)."""
-    return _FAST.fullmatch(line) or _FREE.fullmatch(line)
+    return _FAST.fullmatch(line) or match_free(line)
 
 
 class FastPath:
@@ -53,7 +77,7 @@ class FastPath:
         self.m = machine
         self.match = match_simple
         self.sampled = None
-        self.first, self.second = _FAST.fullmatch, _FREE.fullmatch
+        self.first, self.second = _FAST.fullmatch, match_free
         self.blk = Block(0, "")
         self.k = 0
 
@@ -66,9 +90,9 @@ class FastPath:
             sample = lines[::step]
             hits = sum(1 for s in sample if _FAST.fullmatch(s))
             if hits >= 0.7 * len(sample):
-                self.first, self.second = _FAST.fullmatch, _FREE.fullmatch
+                self.first, self.second = _FAST.fullmatch, match_free
             else:
-                self.first, self.second = _FREE.fullmatch, _FAST.fullmatch
+                self.first, self.second = match_free, _FAST.fullmatch
         return self.first, self.second
 
     def run(self, lines: list[str], k: int, base: int = 0, stop: int | None = None) -> int:
@@ -277,6 +301,34 @@ class FastPath:
             return False
         return self.groups(*mt.groups(), n)
 
+    def cycle_line(self, code: int, x, y, z, r, f, n: int) -> bool:
+        """A line of modal X Y Z R (F) words under canned cycle ``code``."""
+        if f is not None and f[0] == "-":
+            return False
+        return self.motion_words(code, (x, y, z, None, None, None, r), f, n)
+
+    def motion_words(self, code: int, values: tuple, f, n: int) -> bool:
+        """Set the line's F word, then run motion ``code`` on the words ``values``
+        (X Y Z I J K R, None when absent), as the general path would."""
+        m = self.m
+        w = {c: float(v) for c, v in zip("xyzijkr", values) if v is not None}
+        if f is not None:
+            fv = float(f)
+            w["f"] = fv
+            if m.feed_mode != 1:
+                m.feed_rate = fv
+        blk = self.blk
+        blk.line = n
+        blk.words = w
+        store = m.store
+        mark = len(store)
+        try:
+            m.motion(code, blk)
+        except GCodeError:
+            store.truncate(mark)
+            raise
+        return True
+
     def groups(self, g, x, y, z, i, j, k, r, f, n: int) -> bool:
         """Execute a simple line from its regex groups; False to use the general reader."""
         m = self.m
@@ -294,7 +346,11 @@ class FastPath:
         else:
             code = m.motion_mode
             if code not in (0, 10, 20, 30):
-                return False
+                if code not in CYCLES or i is not None or j is not None or k is not None:
+                    return False
+                # X Y Z R of a canned cycle in force: the block's checks cannot fail for
+                # these words, so only the motion remains (the cycle's own errors)
+                return self.cycle_line(code, x, y, z, r, f, n)
         if code < 20 and (i is not None or j is not None or k is not None or r is not None):
             return False
         if f is not None and f[0] == "-":
@@ -364,21 +420,5 @@ class FastPath:
             m.cycle_il_flag = False
             return True
         # the words the motion reads: X Y Z, and I J K R for arcs
-        values = (x, y, z, i, j, k, r) if code >= 20 else (x, y, z)
-        w = {c: float(v) for c, v in zip("xyzijkr", values) if v is not None}
-        if f is not None:
-            fv = float(f)
-            w["f"] = fv
-            if m.feed_mode != 1:
-                m.feed_rate = fv
-        blk = self.blk
-        blk.line = n
-        blk.words = w
-        store = m.store
-        mark = len(store)
-        try:
-            m.motion(code, blk)
-        except GCodeError:
-            store.truncate(mark)
-            raise
-        return True
+        values = (x, y, z, i, j, k, r) if code >= 20 else (x, y, z, None, None, None, None)
+        return self.motion_words(code, values, f, n)
