@@ -38,9 +38,9 @@ def comp_run(m, lines: list[str], k: int, end_k: int, first, second, base: int) 
     (g, x, y, z, i, j, k, r, f)); return the index of the first line not executed.
     Line ``k`` is source line ``base + k + 1``. Call only with compensation on and past
     its entry move (``comp_side``, ``comp_radius > 0``, not ``comp_first``)."""
-    if (m.plane != "XY" or not m.dist_abs or m.feed_mode != 0 or len(m.queue) > 1):
+    if (m.plane != "XY" or not m.dist_abs or m.feed_mode != 0 or len(m.comp.queue) > 1):
         return k
-    queue = m.queue
+    queue = m.comp.queue
     qt = NONE
     qkind = qline = qturn = qstate = 0
     qa = qb = qx = qy = qz = qc1 = qc2 = qfeed = qd2 = 0.0
@@ -57,17 +57,17 @@ def comp_run(m, lines: list[str], k: int, end_k: int, first, second, base: int) 
         else:
             return k                               # a queued dwell: the machine's code
     cx, cy, cz = m.cur
-    px, py, pz = m.prog
+    px, py, pz = m.comp.prog
     ox, oy, oz = m.out
-    e0, e1 = m.endpoint
-    evalid = m.endpoint_valid
+    e0, e1 = m.comp.endpoint
+    evalid = m.comp.endpoint_valid
     feed_rate = m.feed_rate
     mode = m.motion_mode
-    arcs_ok = not m.ijk_abs and not m.arc_not_allowed
-    side = m.comp_side
+    arcs_ok = not m.ijk_abs and not m.comp.arc_not_allowed
+    side = m.comp.side
     left = side == LEFT
     right = side == RIGHT
-    radius = m.comp_radius
+    radius = m.comp.radius
     units = m.units
     rtol = RADIUS_TOLERANCE[units]
     stol = SPIRAL_TOLERANCE[units]
@@ -401,18 +401,18 @@ def comp_run(m, lines: list[str], k: int, end_k: int, first, second, base: int) 
     finally:
         if k > start:
             m.cur = [cx, cy, cz]
-            m.prog = [px, py, pz]
+            m.comp.prog = [px, py, pz]
             m.out = [ox, oy, oz]
-            m.endpoint = [e0, e1]
-            m.endpoint_valid = evalid
+            m.comp.endpoint = [e0, e1]
+            m.comp.endpoint_valid = evalid
             m.feed_rate = feed_rate
             m.motion_mode = mode
-            m.cycle_il_flag = False
-            m.arc_not_allowed = False      # arcs ran only when allowed; a straight allows
+            m.cycles.il_flag = False
+            m.comp.arc_not_allowed = False      # arcs ran only when allowed; a straight allows
             if qt == STRAIGHT:
-                m.queue = [["S", qkind, qline, qa, qb, qd2, qx, qy, qz, qfeed, qstate]]
+                m.comp.queue = [["S", qkind, qline, qa, qb, qd2, qx, qy, qz, qfeed, qstate]]
             elif qt == ARC:
-                m.queue = [["A", qline, qa, qx, qy, qc1, qc2, qturn, qz, qfeed, qstate]]
+                m.comp.queue = [["A", qline, qa, qx, qy, qc1, qc2, qturn, qz, qfeed, qstate]]
             else:
-                m.queue = []
+                m.comp.queue = []
 

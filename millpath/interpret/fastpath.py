@@ -116,7 +116,7 @@ class FastPath:
         m = self.m
         if f is not None:
             m.feed_rate = float(f)
-        prog = m.prog
+        prog = m.comp.prog
         return [prog[0] if x is None else float(x), prog[1] if y is None else float(y),
                 prog[2] if z is None else float(z)]
 
@@ -143,16 +143,16 @@ class FastPath:
         comp_line = comp_arcs = False
 
         def load():
-            simple = (not m.comp_side and m.dist_abs and m.feed_mode == 0)
-            arcs_ok = (simple and not m.ijk_abs and not m.arc_not_allowed
+            simple = (not m.comp.side and m.dist_abs and m.feed_mode == 0)
+            arcs_ok = (simple and not m.ijk_abs and not m.comp.arc_not_allowed
                        and m.plane == "XY")
             units = m.units
             c, o = m.cur, m.out
             nonlocal comp_line, comp_arcs
-            comp_line = (m.comp_side and m.comp_radius > 0.0 and not m.comp_first
+            comp_line = (m.comp.side and m.comp.radius > 0.0 and not m.comp.first
                          and m.dist_abs and m.feed_mode == 0)
             comp_arcs = (comp_line and m.plane == "XY" and not m.ijk_abs
-                         and not m.arc_not_allowed)
+                         and not m.comp.arc_not_allowed)
             return (c[0], c[1], c[2], o[0], o[1], o[2], m.feed_rate, m.motion_mode, simple,
                     arcs_ok, PLANE_CODE[m.plane], m.state_index, RADIUS_TOLERANCE[units],
                     SPIRAL_TOLERANCE[units], units)
@@ -192,11 +192,11 @@ class FastPath:
                     if code == 10 and m.feed_rate == 0.0:
                         return k
                     m.motion_mode = code
-                    m.arc_not_allowed = False
-                    m.cycle_il_flag = False
+                    m.comp.arc_not_allowed = False
+                    m.cycles.il_flag = False
                     # straight_comp2 changes only the position (and the feed set above)
                     cx, cy, cz, ox, oy, oz = self.comp_move(
-                        buf, k, m.straight_comp2, code, base + k + 1, end,
+                        buf, k, m.comp.straight2, code, base + k + 1, end,
                         m.feed_rate if code == 10 else 0.0)
                     feed, mode = m.feed_rate, code
                     k += 1
@@ -209,9 +209,9 @@ class FastPath:
                     if m.feed_rate == 0.0:
                         return k
                     m.motion_mode = code
-                    m.cycle_il_flag = False
+                    m.cycles.il_flag = False
                     cx, cy, cz, ox, oy, oz = self.comp_move(
-                        buf, k, m.arc_comp2, code, base + k + 1,
+                        buf, k, m.comp.arc2, code, base + k + 1,
                         None if r is None else float(r), end,
                         0.0 if i is None else float(i), 0.0 if j is None else float(j),
                         -1 if code == 20 else 1, m.feed_rate)
@@ -223,10 +223,10 @@ class FastPath:
                     m.cur, m.out = [cx, cy, cz], [ox, oy, oz]
                     m.feed_rate, m.motion_mode = feed, mode
                     if moved:
-                        m.cycle_il_flag = False
+                        m.cycles.il_flag = False
                         moved = False
                     if straight:
-                        m.arc_not_allowed = False
+                        m.comp.arc_not_allowed = False
                         straight = False
                     self.k = k
                     ok = one(g, x, y, z, i, j, kk, r, f, base + k + 1)
@@ -290,9 +290,9 @@ class FastPath:
             m.cur, m.out = [cx, cy, cz], [ox, oy, oz]
             m.feed_rate, m.motion_mode = feed, mode
             if moved:
-                m.cycle_il_flag = False
+                m.cycles.il_flag = False
             if straight:
-                m.arc_not_allowed = False
+                m.comp.arc_not_allowed = False
 
     def try_line(self, raw: str, n: int) -> bool:
         """Execute ``raw`` if it has the simple shape; False to use the general reader."""
@@ -355,7 +355,7 @@ class FastPath:
             return False
         if f is not None and f[0] == "-":
             return False
-        if code < 20 and m.dist_abs and not (m.comp_side and m.comp_radius > 0.0) and (
+        if code < 20 and m.dist_abs and not (m.comp.side and m.comp.radius > 0.0) and (
                 code == 0 or m.feed_mode == 0):
             # straight move without compensation: LinuxCNC's convert_straight, inlined
             if f is not None:
@@ -373,11 +373,11 @@ class FastPath:
             m.out = end
             m.cur = end
             m.motion_mode = code
-            m.arc_not_allowed = False
-            m.cycle_il_flag = False
+            m.comp.arc_not_allowed = False
+            m.cycles.il_flag = False
             return True
-        if code >= 20 and m.dist_abs and not m.comp_side and m.feed_mode == 0 \
-                and not m.ijk_abs and not m.arc_not_allowed and r is None:
+        if code >= 20 and m.dist_abs and not m.comp.side and m.feed_mode == 0 \
+                and not m.ijk_abs and not m.comp.arc_not_allowed and r is None:
             # arc with incremental I/J/K and no compensation: convert_arc2, inlined
             if f is not None:
                 m.feed_rate = float(f)
@@ -417,7 +417,7 @@ class FastPath:
             m.out = end
             m.cur = end
             m.motion_mode = code
-            m.cycle_il_flag = False
+            m.cycles.il_flag = False
             return True
         # the words the motion reads: X Y Z, and I J K R for arcs
         values = (x, y, z, i, j, k, r) if code >= 20 else (x, y, z, None, None, None, None)

@@ -55,7 +55,7 @@ class OffsetsMixin:
         return [x, y, z]
 
     def coordinate_system(self, code: int) -> None:
-        if self.comp_side:
+        if self.comp.side:
             raise GCodeError("Cannot change coordinate systems with cutter radius "
                              "compensation on")
         index = {540: 1, 550: 2, 560: 3, 570: 4, 580: 5, 590: 6, 591: 7, 592: 8, 593: 9}[code]
@@ -82,7 +82,7 @@ class OffsetsMixin:
         elif code in (280, 300):
             self.home(code, blk)
         elif code in (281, 301):
-            if self.comp_side:
+            if self.comp.side:
                 raise GCodeError("Cannot set reference point with cutter compensation in "
                                  "effect")
             base = 5161 if code == 281 else 5181
@@ -101,7 +101,7 @@ class OffsetsMixin:
         p = int(w.get("p", 0) + 0.0001)
         if p == 0:
             p = self.origin_index
-        if self.comp_side and p == self.origin_index:
+        if self.comp.side and p == self.origin_index:
             raise GCodeError("Cannot change the active coordinate system with cutter radius "
                              "compensation on")
         params = self.params
@@ -199,7 +199,7 @@ class OffsetsMixin:
         self.tools[t] = (d, x, y, z)
 
     def axis_offsets(self, code: int, w: dict) -> None:
-        if self.comp_side:
+        if self.comp.side:
             raise GCodeError("Cannot change axis offsets with cutter radius comp")
         p = self.params
         if code in (520, 920):
