@@ -20,14 +20,14 @@ from __future__ import annotations
 from math import acos, asin, atan2, cos, hypot, pi, sin, tan
 
 from millpath.interpret.arcs import (RADIUS_TOLERANCE, SPIRAL_RELATIVE, SPIRAL_TOLERANCE,
-                                     arc_center_r)
+                                     TINY)
 from millpath.interpret.comp import LEFT, RIGHT, SMALL
-from millpath.interpret.errors import GCodeError
 from millpath.interpret.store import KIND_CODE, PACK
 
 T_ARC = KIND_CODE["arc"]
 HALF_PI = pi / 2.0
 TWO_PI = 2 * pi
+ONE_MINUS_TINY = 1.0 - TINY
 #: queued move kinds (``machine.queue`` entries start with "S" or "A")
 NONE, STRAIGHT, ARC = 0, 1, 2
 
@@ -249,11 +249,28 @@ def comp_run(m, lines: list[str], k: int, end_k: int, first, second, base: int) 
                 if r is not None:
                     if x is None and y is None:
                         return k
-                    try:
-                        centerx, centery = arc_center_r(code == 20, units, px, py, ex, ey,
-                                                        float(r))
-                    except GCodeError:
+                    # arc_center_r(code == 20, units, px, py, ex, ey, R), written out;
+                    # its errors go to the machine's code
+                    if ex == px and ey == py:
                         return k
+                    radius_word = float(r)
+                    abs_r = abs(radius_word)
+                    mx = (ex + px) / 2.0
+                    my = (ey + py) / 2.0
+                    half = hypot(mx - ex, my - ey)
+                    if half - abs_r > rtol:
+                        return k
+                    if abs_r == 0.0 or half / abs_r > ONE_MINUS_TINY:
+                        half = abs_r
+                    theta = atan2(ey - py, ex - px)
+                    if ((code == 20 and radius_word > 0)
+                            or (code != 20 and radius_word < 0)):
+                        theta = theta - HALF_PI
+                    else:
+                        theta = theta + HALF_PI
+                    off = abs_r * cos(asin(half / abs_r) if abs_r else 0.0)
+                    centerx = mx + off * cos(theta)
+                    centery = my + off * sin(theta)
                 else:
                     centerx = px if i is None else px + float(i)
                     centery = py if j is None else py + float(j)

@@ -48,6 +48,9 @@ _FREE_WORDS = re.compile(
 #: all a line matched by ``_FREE_WORDS`` without a comment may hold but word letters
 _NOT_WORD_LETTERS = b"0123456789.+- \t\rNn"
 _LETTERS = "xyzijkrf"
+#: G40, G41/G42 with an optional whole D word, then the rest of the line (a simple move)
+_COMP_SWITCH = re.compile(r"[ \t]*+[Gg]0*4([012])(?![\d.])[ \t]*+"
+                          r"(?:[Dd][ \t]*+(\d++)(?![\d.])[ \t]*+)?+(.*+)")
 
 
 def match_free(line: str):
@@ -177,7 +180,27 @@ class FastPath:
                 if mt is None:
                     mt = second(line)
                     if mt is None:
-                        return k
+                        sw = _COMP_SWITCH.fullmatch(line)
+                        if sw is None:
+                            return k
+                        # G40 / G41 Dn / G42 Dn, G40 with a G0/G1 move: the machine's own
+                        # executors, without the general reader
+                        m.cur, m.out = [cx, cy, cz], [ox, oy, oz]
+                        m.feed_rate, m.motion_mode = feed, mode
+                        if moved:
+                            m.cycles.il_flag = False
+                            moved = False
+                        if straight:
+                            m.comp.arc_not_allowed = False
+                            straight = False
+                        self.k = k
+                        ok = self.comp_switch(sw, base + k + 1)
+                        (cx, cy, cz, ox, oy, oz, feed, mode, simple, arcs_ok, pcode, state,
+                         rtol, stol, units) = load()
+                        if not ok:
+                            return k
+                        k += 1
+                        continue
                 g, x, y, z, i, j, kk, r, f = mt.groups()
                 if g is None:
                     code = mode if (x is not None or y is not None or z is not None) else -1
@@ -293,6 +316,38 @@ class FastPath:
                 m.cycles.il_flag = False
             if straight:
                 m.comp.arc_not_allowed = False
+
+    def comp_switch(self, sw, n: int) -> bool:
+        """Execute a line matched by ``_COMP_SWITCH`` (G40, G41/G42 with an optional
+        whole D, or G40 followed by a simple G0/G1 move) as the general path would:
+        compensation switched, then the move; on an error, nothing of the line is kept.
+        False (nothing done) to use the general reader."""
+        m = self.m
+        code = 400 + 10 * int(sw.group(1))
+        d, rest = sw.group(2), sw.group(3)
+        mt = None
+        if rest:
+            if code != 400 or d is not None:
+                return False
+            mt = self.match(rest)
+            if mt is None:
+                return False
+            g, x, y, z, i, j, k, r, f = mt.groups()
+            if (g not in ("0", "1") or i is not None or j is not None or k is not None
+                    or r is not None or (f is not None and f[0] == "-")):
+                return False
+        elif code == 400 and d is not None:
+            return False                      # D with G40: the reader's error
+        store = m.store
+        mark = len(store)
+        try:
+            m.comp.on_off(code, {} if d is None else {"d": float(d)})
+            if mt is not None:
+                self.groups(g, x, y, z, i, j, k, r, f, n)
+        except GCodeError:
+            store.truncate(mark)
+            raise
+        return True
 
     def try_line(self, raw: str, n: int) -> bool:
         """Execute ``raw`` if it has the simple shape; False to use the general reader."""

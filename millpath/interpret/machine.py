@@ -51,8 +51,8 @@ class Machine(OffsetsMixin):
         # read and written back by a compensated run (interpret/compfast.py): the queued
         # move and the end point it is checked against
         "comp.queue", "comp.endpoint", "comp.endpoint_valid",
-        # called: the motion executors
-        "motion", "comp.straight2", "comp.arc2"})
+        # called: the motion executors, and G40/G41/G42 of a line without other words
+        "motion", "comp.straight2", "comp.arc2", "comp.on_off"})
 
     def __init__(self, tools: dict, machine_units: str = "inch"):
         if machine_units not in ("inch", "mm"):

@@ -108,6 +108,36 @@ G1 X20 Y0
 G3 X30 Y10 I5 J0
 M2
 """
+# the compensation switches the fast path executes itself (G40, G41/G42 with a whole D
+# or none, G40 with a G0/G1 move)
+P["switches"] = """G21 F100
+G0 X-10 Y-10
+g41 d1
+G1 X0 Y0
+G1 X20 Y0
+G40 G0 X30 Y-10
+G42
+G1 X40 Y0
+G1 X40 Y20
+G40
+G1 X50 Y30 F200
+G41 D0
+G1 X60 Y40
+G40 g1 x70 y30
+M2
+"""
+P["switch_on_when_on"] = "G21 F10\nG0 X-10\nG41 D1\nG1 X0 Y0\nG42 D1\nM2\n"
+P["switch_missing_tool"] = "G21 F10\nG41 D7\nM2\n"
+P["switch_d_with_g40"] = "G21 F10\nG40 D1\nM2\n"
+P["switch_exit_gouges"] = """G21 F100
+G0 X-10 Y-10
+G41 D3
+G1 X0 Y0
+G1 X30 Y0
+G1 X30 Y5
+G40 G1 X29 Y5
+M2
+"""
 P["inch_run"] = """G20 F10
 G0 X-1 Y-1
 G42 D1
@@ -134,6 +164,8 @@ def test_most_programs_run_and_some_fail():
     from millpath.interpret import run
     errors = {name: run(text, TOOLS).error for name, text in P.items()}
     assert sum(e is None for e in errors.values()) >= 4
+    assert errors["switches"] is None
     for name in ("bad_arc_in_run", "spiral_arc_in_run", "gouge_in_run",
-                 "arc_radius_under_tool_in_run"):
+                 "arc_radius_under_tool_in_run", "switch_on_when_on", "switch_missing_tool",
+                 "switch_d_with_g40", "switch_exit_gouges"):
         assert errors[name] is not None, name
