@@ -1,8 +1,8 @@
 """Compensated runs: G0-G3 lines under G41/G42 in G17, executed with the whole state in
 local variables (the hot loop of a compensated program).
 
-The same computation as :class:`millpath.interpret.comp.CompMixin`'s
-``straight_comp2``, ``arc_comp2`` and ``move_endpoint_and_flush`` (LinuxCNC's
+The same computation as :class:`millpath.interpret.comp.Compensation`'s
+``straight2``, ``arc2`` and ``move_endpoint_and_flush`` (LinuxCNC's
 convert_straight_comp2, convert_arc_comp2, move_endpoint_and_flush) for the usual case,
 XY with at most one queued move, written out in one function: no method calls, lists or
 queue entries per move. The queued move lives in a handful of locals and goes back to

@@ -208,7 +208,7 @@ class FastPath:
                     code = (ord(g) - 48) * 10
                 if (comp_line and code in (0, 10) and i is None and j is None and kk is None
                         and r is None and (f is None or f[0] != "-")):
-                    # G0/G1 with compensation on (not the entry move): straight_comp2.
+                    # G0/G1 with compensation on (not the entry move): comp.straight2.
                     # With compensation on, every line goes through the machine, so its
                     # position and feed are the locals' already.
                     end = self.comp_end(f, x, y, z)
@@ -217,7 +217,7 @@ class FastPath:
                     m.motion_mode = code
                     m.comp.arc_not_allowed = False
                     m.cycles.il_flag = False
-                    # straight_comp2 changes only the position (and the feed set above)
+                    # comp.straight2 changes only the position (and the feed set above)
                     cx, cy, cz, ox, oy, oz = self.comp_move(
                         buf, k, m.comp.straight2, code, base + k + 1, end,
                         m.feed_rate if code == 10 else 0.0)
@@ -227,7 +227,7 @@ class FastPath:
                 if (comp_arcs and code >= 20 and kk is None and (f is None or f[0] != "-")
                         and ((r is None) != (i is None and j is None))
                         and (r is None or x is not None or y is not None)):
-                    # G2/G3 in G17 with compensation on (not the entry move): arc_comp2
+                    # G2/G3 in G17 with compensation on (not the entry move): comp.arc2
                     end = self.comp_end(f, x, y, z)
                     if m.feed_rate == 0.0:
                         return k

@@ -6,10 +6,13 @@ Positions are program coordinates in program units (``units``), like LinuxCNC's
 Tool table values are in machine units and converted when read. Motion goes to a
 :class:`MotionList`; with cutter radius compensation on, moves wait in a queue until
 the next move fixes their end points, as in LinuxCNC. Work systems, G10, G28/G30
-references and G92/G52 offsets are in ``offsets.py``. Two executors keep their own
-state and run on this one: ``self.comp`` (:class:`~millpath.interpret.comp.Compensation`)
-and ``self.cycles`` (:class:`~millpath.interpret.cycles.Cycles`); o-word flow is
-:class:`~millpath.interpret.oword.Flow`.
+references and G92/G52 offsets are set by ``self.offsets``
+(:class:`~millpath.interpret.offsets.Offsets`, on this state). Two executors keep their
+own state and run on this one: ``self.comp``
+(:class:`~millpath.interpret.comp.Compensation`) and ``self.cycles``
+(:class:`~millpath.interpret.cycles.Cycles`); o-word flow is
+:class:`~millpath.interpret.oword.Flow`. The machine itself holds the modal state,
+position, offsets, tool and parameters, reads blocks and runs the motion.
 """
 
 from __future__ import annotations
@@ -21,7 +24,7 @@ from millpath.interpret.comp import Compensation
 from millpath.interpret.cycles import CYCLES, Cycles
 from millpath.interpret.errors import GCodeError
 from millpath.gcode.lexer import AXES, Block, c_int
-from millpath.interpret.offsets import OffsetsMixin, rotate
+from millpath.interpret.offsets import Offsets, rotate
 from millpath.model.nurbs import Nurbs
 from millpath.interpret.store import KIND_CODE, PACK, MotionList, PLANE_CODE
 
@@ -32,7 +35,7 @@ T_TRAVERSE, T_FEED, T_ARC, T_CUBIC, T_DWELL, T_NURBS = (
 MM_PER_INCH = 25.4
 
 
-class Machine(OffsetsMixin):
+class Machine:
     """RS274NGC interpreter state; see the module docstring."""
 
     #: All :mod:`millpath.interpret.fastpath` may touch on a Machine (a test holds it
@@ -88,6 +91,7 @@ class Machine(OffsetsMixin):
         self.retract_r_plane = True             # rs274's default retract mode is G99
         self.comp = Compensation(self)          # the compensation executor and its state
         self.cycles = Cycles(self)              # the canned-cycle executor and its state
+        self.offsets = Offsets(self)            # work systems, G10, G28/G30, G52/G92
         self.spline_i = 0.0
         self.spline_j = 0.0
         self.nurbs_points: list[tuple[float, float, float]] = []    # G5.2 (x, y, w)
@@ -181,7 +185,7 @@ class Machine(OffsetsMixin):
         if 8 in g:
             self.tool_length_offset(g[8], w)
         if 12 in g:
-            self.coordinate_system(g[12])
+            self.offsets.coordinate_system(g[12])
         if 13 in g and self.comp.side:
             raise GCodeError("Cannot change control mode with cutter radius compensation on")
         if 3 in g:
@@ -194,7 +198,7 @@ class Machine(OffsetsMixin):
             self.retract_r_plane = g[10] == 990
         g0 = g.get(0, -1)
         if g0 not in (-1, 40, 530):
-            self.modal_0(g0, blk)
+            self.offsets.modal_0(g0, blk)
         if blk.motion != -1:
             self.motion(blk.motion, blk)
         if 4 in m:
@@ -746,7 +750,7 @@ class Machine(OffsetsMixin):
             c[0], c[1] = rotate(c[0], c[1], self.rotation)
             self.origin_index = 1
             self.params[5220] = 1.0
-            self.origin = self.work_offset_params(1)
+            self.origin = self.offsets.work_offset_params(1)
             self.rotation = self.params[5230]
             c[0], c[1] = rotate(c[0], c[1], -self.rotation)
             for k in range(3):
