@@ -185,14 +185,8 @@ class FastPath:
                             return k
                         # G40 / G41 Dn / G42 Dn, G40 with a G0/G1 move: the machine's own
                         # executors, without the general reader
-                        m.cur, m.out = [cx, cy, cz], [ox, oy, oz]
-                        m.feed_rate, m.motion_mode = feed, mode
-                        if moved:
-                            m.cycles.il_flag = False
-                            moved = False
-                        if straight:
-                            m.comp.arc_not_allowed = False
-                            straight = False
+                        self.put_back(cx, cy, cz, ox, oy, oz, feed, mode, moved, straight)
+                        moved = straight = False
                         self.k = k
                         ok = self.comp_switch(sw, base + k + 1)
                         (cx, cy, cz, ox, oy, oz, feed, mode, simple, arcs_ok, pcode, state,
@@ -243,14 +237,8 @@ class FastPath:
                     continue
                 if (not simple or code < 0 or code > 30
                         or (code >= 20 and not arcs_ok)):
-                    m.cur, m.out = [cx, cy, cz], [ox, oy, oz]
-                    m.feed_rate, m.motion_mode = feed, mode
-                    if moved:
-                        m.cycles.il_flag = False
-                        moved = False
-                    if straight:
-                        m.comp.arc_not_allowed = False
-                        straight = False
+                    self.put_back(cx, cy, cz, ox, oy, oz, feed, mode, moved, straight)
+                    moved = straight = False
                     self.k = k
                     ok = one(g, x, y, z, i, j, kk, r, f, base + k + 1)
                     (cx, cy, cz, ox, oy, oz, feed, mode, simple, arcs_ok, pcode, state, rtol,
@@ -310,12 +298,19 @@ class FastPath:
                 k += 1
             return k
         finally:
-            m.cur, m.out = [cx, cy, cz], [ox, oy, oz]
-            m.feed_rate, m.motion_mode = feed, mode
-            if moved:
-                m.cycles.il_flag = False
-            if straight:
-                m.comp.arc_not_allowed = False
+            self.put_back(cx, cy, cz, ox, oy, oz, feed, mode, moved, straight)
+
+    def put_back(self, cx: float, cy: float, cz: float, ox: float, oy: float, oz: float,
+                 feed: float, mode: int, moved: bool, straight: bool) -> None:
+        """Write the loop's locals back to the machine: position, output point, feed,
+        motion mode, and the flags a move (``moved``) or a straight move clears."""
+        m = self.m
+        m.cur, m.out = [cx, cy, cz], [ox, oy, oz]
+        m.feed_rate, m.motion_mode = feed, mode
+        if moved:
+            m.cycles.il_flag = False
+        if straight:
+            m.comp.arc_not_allowed = False
 
     def comp_switch(self, sw, n: int) -> bool:
         """Execute a line matched by ``_COMP_SWITCH`` (G40, G41/G42 with an optional
