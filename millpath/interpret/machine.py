@@ -11,8 +11,9 @@ references and G92/G52 offsets are set by ``self.offsets``
 own state and run on this one: ``self.comp``
 (:class:`~millpath.interpret.comp.Compensation`) and ``self.cycles``
 (:class:`~millpath.interpret.cycles.Cycles`); o-word flow is
-:class:`~millpath.interpret.oword.Flow`. The machine itself holds the modal state,
-position, offsets, tool and parameters, reads blocks and runs the motion.
+:class:`~millpath.interpret.oword.Flow`. The state (modal state, position, offsets, tool,
+parameters, recorded motion) is :class:`~millpath.interpret.state.MachineState`; the
+machine adds block execution and the motion executor.
 """
 
 from __future__ import annotations
@@ -26,17 +27,17 @@ from millpath.interpret.errors import GCodeError
 from millpath.gcode.lexer import AXES, Block, c_int
 from millpath.interpret.offsets import Offsets, rotate
 from millpath.model.nurbs import Nurbs
-from millpath.interpret.store import KIND_CODE, PACK, MotionList, PLANE_CODE
+from millpath.interpret.state import MM_PER_INCH, PLANE_AXES, MachineState
+from millpath.interpret.store import KIND_CODE
 
-PLANE_AXES = {"XY": (0, 1, 2), "XZ": (2, 0, 1), "YZ": (1, 2, 0)}
 PLANE_OF_G = {170: "XY", 180: "XZ", 190: "YZ"}
 T_TRAVERSE, T_FEED, T_ARC, T_CUBIC, T_DWELL, T_NURBS = (
     KIND_CODE[k] for k in ("traverse", "feed", "arc", "cubic", "dwell", "nurbs"))
-MM_PER_INCH = 25.4
 
 
-class Machine:
-    """RS274NGC interpreter state; see the module docstring."""
+class Machine(MachineState):
+    """The RS274NGC interpreter: its state (:class:`MachineState`), block execution, the
+    motion executor and the composed executors; see the module docstring."""
 
     #: All :mod:`millpath.interpret.fastpath` may touch on a Machine (a test holds it
     #: to this): the modal state it checks before taking a line (read), the position,
@@ -58,99 +59,10 @@ class Machine:
         "motion", "comp.straight2", "comp.arc2", "comp.on_off"})
 
     def __init__(self, tools: dict, machine_units: str = "inch"):
-        if machine_units not in ("inch", "mm"):
-            raise ValueError("machine_units must be 'inch' or 'mm'")
-        self.tools = tools
-        self.machine_units = machine_units
-        self.units = "mm"                       # rs274 starts in mm
-        self.plane = "XY"
-        self.axes = PLANE_AXES["XY"]
-        self.dist_abs = True
-        self.ijk_abs = False
-        self.feed_mode = 0                      # 0 units/min, 1 inverse time, 2 per rev
-        self.feed_rate = 0.0
-        self.speed = 0.0
-        self.spindle_dir = 0
-        self.motion_mode = 800                  # G80
-        self.cur = [0.0, 0.0, 0.0]
-        self.out = [0.0, 0.0, 0.0]              # end of the last emitted motion
-        self.origin_index = 1
-        self.origin = [0.0, 0.0, 0.0]           # work offset, program units
-        self.rotation = 0.0                     # XY rotation of the work system, degrees
-        self.axis_offset = [0.0, 0.0, 0.0]      # G92/G52 offset, program units
-        self.tlo = [0.0, 0.0, 0.0]              # tool length offset, program units
-        self.params = [0.0] * 5602
-        self.params[5220] = 1.0
-        self.named: dict[str, float] = {}
-        self.selected_tool = 0
-        self.spindle_tool = 0
-        self.spindle_data_tool = 0              # whose table row pocket 0 holds (M6 only)
-        self.toolchange_flag = False
-        self.tlo_effect = [0.0, 0.0, 0.0]       # TLO shifts of ``cur`` since the last move
-        self.tlo_mark = 0
-        self.retract_r_plane = True             # rs274's default retract mode is G99
+        super().__init__(tools, machine_units)
         self.comp = Compensation(self)          # the compensation executor and its state
         self.cycles = Cycles(self)              # the canned-cycle executor and its state
         self.offsets = Offsets(self)            # work systems, G10, G28/G30, G52/G92
-        self.spline_i = 0.0
-        self.spline_j = 0.0
-        self.nurbs_points: list[tuple[float, float, float]] = []    # G5.2 (x, y, w)
-        self.nurbs_order = 3
-        self.store = MotionList()
-        self._state_key = None
-        self._state_idx = 0
-        self.touch_state()
-        self.ended = False
-
-    # --- units and output -----------------------------------------------------------
-    def user_to_prog(self, v: float) -> float:
-        """Machine (tool table, parameter) units to program units."""
-        if self.units == self.machine_units:
-            return v
-        return v * MM_PER_INCH if self.units == "mm" else v / MM_PER_INCH
-
-    def prog_to_user(self, v: float) -> float:
-        if self.units == self.machine_units:
-            return v
-        return v / MM_PER_INCH if self.units == "mm" else v * MM_PER_INCH
-
-    @property
-    def state_index(self) -> int:
-        """Index in ``store.states`` of the modal state (tool length offset, tool,
-        spindle, feed mode) the next motion is recorded with."""
-        return self._state_idx
-
-    def touch_state(self) -> None:
-        key = ((self.tlo[0], self.tlo[1], self.tlo[2]), self.spindle_tool,
-               self.speed * self.spindle_dir,
-               "inverse_time" if self.feed_mode == 1 else "units_per_minute")
-        if key != self._state_key:
-            self._state_key = key
-            self.store.states.append(key)
-            self._state_idx = len(self.store.states) - 1
-
-    def emit(self, kind: int, line: int, end, feed: float = 0.0, center=None, rot: int = 0,
-             state: int | None = None) -> None:
-        o = self.out
-        st = self._state_idx if state is None else state
-        if center is None:
-            self.store.buf += PACK(o[0], o[1], o[2], end[0], end[1], end[2], feed, 0.0, 0.0,
-                                   0.0, kind, line, rot, PLANE_CODE[self.plane], st)
-        else:
-            self.store.buf += PACK(o[0], o[1], o[2], end[0], end[1], end[2], feed, center[0],
-                                   center[1], center[2], kind, line, rot,
-                                   PLANE_CODE[self.plane], st)
-        self.out = [end[0], end[1], end[2]]
-
-    def emit_dwell(self, line: int, seconds: float, state: int | None = None) -> None:
-        o = self.out
-        self.store.buf += PACK(o[0], o[1], o[2], o[0], o[1], o[2], 0.0, seconds, 0.0, 0.0,
-                               T_DWELL, line, 0, PLANE_CODE[self.plane],
-                               self._state_idx if state is None else state)
-
-    def sync_out(self) -> None:
-        """The current point moved without motion (offsets changed)."""
-        self.out = list(self.cur)
 
     # --- block execution ------------------------------------------------------------
     def execute(self, blk: Block) -> None:
