@@ -41,7 +41,8 @@ from millpath.plan.surface.dropcutter import MeshHeight
 from millpath.plan.surface.estimate import Estimate, estimate_finish
 from millpath.plan.surface.linking import add_passes
 from millpath.plan.surface.sampler import Sampler
-from millpath.plan.surface.source import SURFACE_PARAMS, load_op_surface, op_surface_index
+from millpath.plan.surface.source import (PLUNGE_FEED, SURFACE_PARAMS, load_op_surface,
+                                          op_surface_index, plunge_feed)
 from millpath.plan.surface.steep_shallow import steep_shallow
 from millpath.plan.surface.toolchoice import choose_tool
 from millpath.plan.surface.waterline import WaterlineSettings, waterline
@@ -74,8 +75,7 @@ PARAMS = {
                              "radius)"),
     "feed": Param("float", None, positive=True,
           unit="feed", doc="cutting feed (default 1000 mm/min / 40 in/min)"),
-    "plunge_feed": Param("float", None, positive=True,
-          unit="feed", doc="feed down into material (default: feed / 3)"),
+    "plunge_feed": PLUNGE_FEED,
     "spindle": Param("float", 10000.0, positive=True, unit="rpm", doc="spindle speed"),
     "safe_z": Param("float", None,
           unit="length", doc="retract height (default: 5 mm / 0.2 in above the highest tool "
@@ -135,7 +135,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     tol = params["tolerance"] or default("path_tolerance", ctx.units)
     scallop = params["scallop"] or default("scallop", ctx.units)
     feed = params["feed"] or default("finish_feed", ctx.units)
-    plunge = params["plunge_feed"] or feed / 3.0
+    plunge = plunge_feed(params, feed)
     sampler = Sampler(index, cutter, params["angle"], tuple(tool.holder_cylinders()),
                       z_floor=float(lo[2]),
                       holder_clearance=default("feed_clearance", ctx.units))
