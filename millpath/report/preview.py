@@ -13,7 +13,7 @@ from millpath.model import Toolpath
 from millpath.model.toolpath import sample_move
 
 
-def _polylines(tp: Toolpath, step: float):
+def path_runs(tp: Toolpath, step: float):
     """Yield (op index, is_rapid, (n,3) points) runs of consecutive moves. Straight
     moves (rapid, line) are given by their end points, as they are drawn (a straight
     segment stays straight in the picture's projection); arcs and cubics are sampled
@@ -65,6 +65,7 @@ def preview_figure(tp: Toolpath, title: str = "", stock=None):
     from matplotlib.figure import Figure
     from matplotlib.lines import Line2D
     from matplotlib.ticker import MaxNLocator
+    from mpl_toolkits.mplot3d.art3d import Line3DCollection
     ends = tp.ends()
     extent = ends if len(ends) else np.zeros((1, 3))
     if stock is not None:
@@ -77,13 +78,21 @@ def preview_figure(tp: Toolpath, title: str = "", stock=None):
     ax = fig.add_subplot(111, projection="3d")
     ax.set_autoscale_on(False)      # the limits are set below, from ``extent``
     colours = colormaps["tab10"]
+    # one collection of every run in program order (later runs drawn over earlier
+    # ones), drawn before the stock's wire frame: as many lines would be, in one artist
+    ax.computed_zorder = False
+    runs, colour, width, style = [], [], [], []
     seen_ops: set[int] = set()
-    for op, rapid, pts in _polylines(tp, step):
-        if rapid:
-            ax.plot(pts[:, 0], pts[:, 1], pts[:, 2], color="0.6", lw=0.5, ls="--")
-        else:
-            ax.plot(pts[:, 0], pts[:, 1], pts[:, 2], color=colours(op % 10), lw=0.6)
+    for op, rapid, pts in path_runs(tp, step):
+        runs.append(pts)
+        colour.append("0.6" if rapid else colours(op % 10))
+        width.append(0.5 if rapid else 0.6)
+        style.append("--" if rapid else "-")
+        if not rapid:
             seen_ops.add(op)
+    if runs:
+        ax.add_collection3d(Line3DCollection(runs, colors=colour, linewidths=width,
+                                             linestyles=style, zorder=Line2D.zorder))
     handles = [Line2D([], [], color="0.6", ls="--", label="rapid")]
     for op in sorted(seen_ops):
         o = tp.ops[op]
