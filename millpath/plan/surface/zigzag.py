@@ -151,11 +151,20 @@ def _station_steps(sampler: Sampler, u, W, r, h, fd, keep=None) -> np.ndarray:
     u = np.asarray(u, float)
     W = np.asarray(W, float)
     n = len(u)
-    z = sampler.z_cut(np.concatenate([u, u, u]), np.concatenate([W - fd, W, W + fd]))
+    uu, ww = np.concatenate([u, u, u]), np.concatenate([W - fd, W, W + fd])
+    z = sampler.z_cut(uu, ww)
     zm, z0, zp = z[:n], z[n:2 * n], z[2 * n:]
-    ok = np.isfinite(zm) & np.isfinite(z0) & np.isfinite(zp)
-    if keep is not None:
-        ok &= keep(sampler.xy(u, W))
+    if keep is None:
+        ok = np.isfinite(zm) & np.isfinite(z0) & np.isfinite(zp)
+    else:
+        # a neighbour row off the held ground (a wall the waterline finishes, or no
+        # surface) does not set the slope: one-sided difference from the other row
+        held = np.isfinite(z) & np.asarray(keep(sampler.xy(uu, ww)), bool)
+        hm, h0, hp = held[:n], held[n:2 * n], held[2 * n:]
+        zm0 = zm
+        zm = np.where(hm, zm, np.where(hp, 2.0 * z0 - zp, z0))
+        zp = np.where(hp, zp, np.where(hm, 2.0 * z0 - zm0, z0))
+        ok = h0
     out = np.full(n, np.nan)
     rho_cl, slope = curvature_radius(zm[ok], z0[ok], zp[ok], fd)
     cos = 1.0 / np.sqrt(1.0 + slope * slope)
@@ -250,10 +259,18 @@ def pass_lines(sampler: Sampler, design, s: ZigzagSettings) -> tuple[np.ndarray,
             dW = np.full(n, float(eps[known].min()))        # the worst station, whole pass
         else:
             e = np.where(known, eps, np.inf)
-            e = np.where(np.isfinite(e), e, float(eps[known].min()))
+            if hold is None:
+                e = np.where(np.isfinite(e), e, float(eps[known].min()))
+            else:
+                # a station where the scallop is not held (the waterline's side of a
+                # steep-shallow) runs on to where it is held again, at most the flat step
+                e = np.where(np.isfinite(e), e, _to_held(sampler, u, W, hold,
+                                                         flat_side_step(r, target)))
             dW = _between(sampler, u, W, e, r, target, fd, hold)   # each station its own
         dW = _look_ahead(sampler, u, W, dW, wmax, r, target, fd, s.side_step == "published",
                          hold)
+        if hold is not None and s.side_step != "published":
+            dW = _held_end(sampler, u, W, dW, hold)
         Wn = np.minimum(W + dW, wmax)
         steps.append(float(np.mean(Wn - W)))
         W = Wn
@@ -261,6 +278,36 @@ def pass_lines(sampler: Sampler, design, s: ZigzagSettings) -> tuple[np.ndarray,
         if s.on_line is not None:
             s.on_line(len(lines))
     return u, lines, steps
+
+
+def _held_end(sampler: Sampler, u, W, dW, hold, k: int = 16) -> np.ndarray:
+    """``dW`` shortened, at stations on held ground, to the last of ``k`` samples ahead
+    before the held ground ends: the next line lies at its border (a wall's foot), so
+    the held ground up to it is finished by the zigzag, not left to the waterline."""
+    t = np.arange(1, k + 1) / k
+    uu = np.repeat(u, k)
+    ww = (W[:, None] + dW[:, None] * t[None, :]).ravel()
+    h = np.asarray(hold(sampler.xy(uu, ww)), bool).reshape(len(u), k)
+    here = np.asarray(hold(sampler.xy(u, W)), bool)
+    ends = here & ~h.all(axis=1)
+    first_off = np.argmin(h, axis=1)                  # first sample off the held ground
+    last_on = np.where(first_off > 0, t[np.maximum(first_off - 1, 0)], 0.0)
+    out = dW.copy()
+    cut = ends & (first_off > 0)
+    out[cut] = dW[cut] * last_on[cut]
+    return out
+
+
+def _to_held(sampler: Sampler, u, W, hold, cap: float, k: int = 16) -> np.ndarray:
+    """Step in ``w`` from each line point ``(u, W)`` to the first of ``k`` samples
+    ``cap / k`` apart ahead where ``hold`` holds (``cap`` if none): a line crossing
+    ground where the scallop is not held does not jump over held ground beyond."""
+    d = cap * np.arange(1, k + 1) / k
+    uu = np.repeat(u, k)
+    ww = (W[:, None] + d[None, :]).ravel()
+    h = np.asarray(hold(sampler.xy(uu, ww)), bool).reshape(len(u), k)
+    first = np.where(h.any(axis=1), np.argmax(h, axis=1), k - 1)
+    return d[first]
 
 
 def _between(sampler: Sampler, u, W, step, r: float, target: float, fd: float,
