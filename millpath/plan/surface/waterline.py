@@ -290,11 +290,12 @@ class _Level:
             frozen = np.insert(frozen, ins + 1, False)
         return P
 
-    def contours(self, z: float) -> list[np.ndarray]:
+    def contours(self, z: float, keep: np.ndarray | None = None) -> list[np.ndarray]:
         """``(points, bracketed, valid, closed)`` of every contour at level ``z``: XY
         points moved onto the level (closed contours repeat their first point), whether
         each could be bracketed, and whether its raster node is valid (others are left
-        where marching squares put them and are never cut)."""
+        where marching squares put them and are never cut). Points whose node is
+        outside ``keep`` (a mask on the raster) are not moved (never cut either)."""
         out = []
         for L in self.gen.lines(z):
             L = np.asarray(L, float)
@@ -307,15 +308,16 @@ class _Level:
             d = self.uphill(L, nrm)
             # nodes whose contact is on the mesh's open boundary are not cut: skip them
             valid = self.R.nearest(self.R.valid, L)
+            move = valid if keep is None else valid & self.R.nearest(keep, L)
             Q = L.copy()
             ok = np.zeros(len(L), bool)
-            if valid.any():
-                Q[valid], ok[valid] = self.onto(L[valid], z, d[valid])
+            if move.any():
+                Q[move], ok[move] = self.onto(L[move], z, d[move])
                 # nothing under the tool on the low side: the level runs down the
                 # part's outer wall (the tool beside the part), not over the surface
                 beside = ~np.isfinite(drop(self.sampler.index, self.sampler.cutter,
-                                           Q[valid]).z)
-                valid[np.nonzero(valid)[0][beside]] = False
+                                           Q[move]).z)
+                valid[np.nonzero(move)[0][beside]] = False
             if closed:
                 Q[-1] = Q[0]
                 ok[-1] = ok[0]
@@ -422,7 +424,7 @@ def waterline(sampler: Sampler, s: WaterlineSettings, raster: Raster | None = No
     contours: list[list] = []
     worst = 0.0
     z = top
-    C = lv.contours(z)
+    C = lv.contours(z, keep)
     while True:
         levels.append(z)
         contours.append(C)
@@ -436,7 +438,7 @@ def waterline(sampler: Sampler, s: WaterlineSettings, raster: Raster | None = No
         dz = allowed(C)
         for _ in range(6):
             z2 = max(z - dz, bottom)
-            C2 = lv.contours(z2)
+            C2 = lv.contours(z2, keep)
             a2 = allowed(C2)
             ratio = chord_ratio(C, C2, z - z2)
             new = min(dz, a2, dz / ratio if ratio > 1.0 else dz)
@@ -456,10 +458,10 @@ def waterline(sampler: Sampler, s: WaterlineSettings, raster: Raster | None = No
         for Q, ok, valid, closed in C:
             good = ok & valid
             removed["edge"] += int((~valid).sum())
-            removed["unbracketed"] += int((valid & ~ok).sum())
+            inside = R.nearest(keep, Q) if keep is not None else np.ones(len(Q), bool)
+            removed["unbracketed"] += int((valid & ~ok & inside).sum())
             if keep is not None:
-                inside = R.nearest(keep, Q)
-                removed["outside_mask"] += int((good & ~inside).sum())
+                removed["outside_mask"] += int((valid & ~inside).sum())
                 good &= inside
             for run in index_runs(good, closed):
                 if len(run) < 2:

@@ -143,13 +143,19 @@ def _runmin(a: np.ndarray, k: int = 1) -> np.ndarray:
     return out
 
 
-def _station_steps(sampler: Sampler, u, W, r, h, fd, keep=None) -> np.ndarray:
+def _station_steps(sampler: Sampler, u, W, r, h, fd, keep=None, need=None) -> np.ndarray:
     """XY side step at each station from the published formula with the local curvature
     and slope across the passes. The scallop is limited to ``h`` measured vertically:
     the normal height used in the formula is ``h cos(slope)``. NaN where unknown (no
-    surface, or outside ``keep``). One drop-cutter batch for the three rows."""
+    surface, or outside ``keep``) or not ``need``-ed. One drop-cutter batch for the
+    three rows."""
     u = np.asarray(u, float)
     W = np.asarray(W, float)
+    if need is not None and not np.all(need):
+        out = np.full(len(u), np.nan)
+        if np.any(need):
+            out[need] = _station_steps(sampler, u[need], W[need], r, h, fd, keep)
+        return out
     n = len(u)
     uu, ww = np.concatenate([u, u, u]), np.concatenate([W - fd, W, W + fd])
     z = sampler.z_cut(uu, ww)
@@ -311,14 +317,15 @@ def _to_held(sampler: Sampler, u, W, hold, cap: float, k: int = 16) -> np.ndarra
 
 
 def _between(sampler: Sampler, u, W, step, r: float, target: float, fd: float,
-             keep=None) -> np.ndarray:
+             keep=None, need=None) -> np.ndarray:
     """Each station's step, also held to the steps found halfway to its neighbours (on
     the chord between their points): the passes are straight between stations, so the
     surface there counts too, but not what a neighbour meets farther along w."""
     if len(u) < 2:
         return np.asarray(step, float)
     um, wm = 0.5 * (u[1:] + u[:-1]), 0.5 * (W[1:] + W[:-1])
-    em = _station_steps(sampler, um, wm, r, target, fd, keep)
+    em = _station_steps(sampler, um, wm, r, target, fd, keep,
+                        None if need is None else need[1:] | need[:-1])
     em = np.where(np.isfinite(em), em, np.inf)
     out = np.asarray(step, float).copy()
     out[1:] = np.minimum(out[1:], em)
@@ -335,16 +342,17 @@ def _look_ahead(sampler: Sampler, u, W, dW, wmax, r: float, target: float,
     dW = np.asarray(dW, float).copy()
     for _ in range(rounds):
         Wn = np.minimum(W + dW, wmax)
-        ahead = _station_steps(sampler, u, Wn, r, target, fd, keep)
-        ok = np.isfinite(ahead) & (Wn < wmax - 1e-9)
+        live = Wn < wmax - 1e-9               # stations at the last line need no step
+        ahead = _station_steps(sampler, u, Wn, r, target, fd, keep, live)
+        ok = np.isfinite(ahead) & live
         if not ok.any():
             break
         new = np.where(ok, np.minimum(dW, ahead), dW)
         if uniform:
             new = np.full_like(dW, float(new.min()))
         else:
-            new = _between(sampler, u, Wn, new, r, target, fd, keep)
-        if np.allclose(new, dW, rtol=1e-3, atol=0.0):
+            new = _between(sampler, u, Wn, new, r, target, fd, keep, live)
+        if np.allclose(new[live], dW[live], rtol=1e-3, atol=0.0):
             break
         dW = new
     return dW
