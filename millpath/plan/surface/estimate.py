@@ -11,10 +11,13 @@ surface finishing operation, from a coarse drop-cutter raster and the step formu
 - waterline levels: the height over the level step ``min(stepdown_max, flat step x
   sin(the shallowest slope held))``; the contour length summed over all levels is the
   integral of the CL slope over the steep area (coarea formula).
-- points: pass lines x stations per line, contour length / raster spacing; CPU time:
-  drop-cutter queries (about 25 per zigzag point and 20 per waterline point, from the
-  planners' step, look-ahead, bisection and verification rounds) times the measured cost
-  of one query on the coarse raster, times the Python overhead per query batch.
+- points: pass lines x stations per line; contour length over the length per point of
+  the coarse raster's contours at the planners' merge tolerance (:func:`contour_spacing`).
+- CPU time: drop-cutter queries (about 35 per zigzag point, from the side steps,
+  look-ahead and verification rounds; 65 per raster spacing of contour length, from
+  the level search and the bisection onto each level; one per waterline raster node)
+  times the measured cost of one query on the coarse raster, times the measured
+  overhead around the kernels (bench/real_meshes.py's jobs, within about 2x).
 """
 
 from __future__ import annotations
@@ -30,9 +33,13 @@ from millpath.plan.surface.sampler import Sampler
 from millpath.plan.surface.steep_shallow import HOLD_MAX_SLOPE
 from millpath.plan.surface.steps import flat_side_step
 
-#: drop-cutter queries per planned CL point (measured on the bench jobs, rounded up)
-DROPS_PER_ZIGZAG_POINT = 25
-DROPS_PER_WATERLINE_POINT = 20
+#: drop-cutter queries per planned zigzag CL point and per waterline raster spacing of
+#: contour length (measured on bench/real_meshes.py's jobs: 34, and 63 to 65)
+DROPS_PER_ZIGZAG_POINT = 35
+DROPS_PER_CONTOUR_SPACING = 65
+#: CPU per query in the planners over CPU per query on the coarse raster (measured:
+#: 1.4 to 1.5 us against 0.64 to 1.0 us; array handling between the kernels)
+OVERHEAD = 1.8
 #: CPU seconds of Python work per CL point (array handling between the kernels)
 PYTHON_PER_POINT = 3e-5
 
@@ -211,17 +218,20 @@ def estimate_finish(sampler: Sampler, region, *, strategy: str, scallop: float,
             fin = np.isfinite(R.z)
             shallow = float((fin & (mag < steep_angle)).sum() / max(1, fin.sum()))
             zz_points = int(zz_points * max(shallow, 0.05))
-    wl_points = 0
+    wl_points = wl_drops = 0
     if strategy in ("waterline", "steep-shallow"):
         ss = strategy == "steep-shallow"
         e.levels, length, _ = waterline_levels(R, r, scallop, material_tolerance,
                                                steep_angle, stepdown_max or r, ss)
         tol = 0.2 * min(tolerance, material_tolerance)       # the planners' merge
         wl_points = int(length / contour_spacing(R, tol, steep_angle if ss else None))
+        spacing = c.radius / 8.0                              # the waterline raster's
+        x0, y0, x1, y1 = region
+        wl_drops = int(DROPS_PER_CONTOUR_SPACING * length / spacing
+                       + (x1 - x0) * (y1 - y0) / spacing ** 2)
     e.points = zz_points + wl_points
-    e.drops = zz_points * DROPS_PER_ZIGZAG_POINT + wl_points * DROPS_PER_WATERLINE_POINT
-    holder = 1.0 + len(sampler.holder)
-    e.seconds = (e.drops * holder * R.us_per_drop * 1e-6 + e.points * PYTHON_PER_POINT)
+    e.drops = zz_points * DROPS_PER_ZIGZAG_POINT + wl_drops
+    e.seconds = e.drops * R.us_per_drop * 1e-6 * OVERHEAD + e.points * PYTHON_PER_POINT
     return e, R
 
 

@@ -127,6 +127,10 @@ def on_boundary(segments: np.ndarray, pts: np.ndarray, eps: float) -> np.ndarray
     return out
 
 
+#: degrees: a rise between two neighbouring raster nodes this steep is a vertical wall
+JUMP_SLOPE = 85.0
+
+
 def make_raster(sampler: Sampler, region, spacing: float) -> Raster:
     """Drop-cutter Z over ``region`` (tool tip box) on a square grid of ``spacing``."""
     x0, y0, x1, y1 = region
@@ -158,6 +162,18 @@ def make_raster(sampler: Sampler, region, spacing: float) -> Raster:
         d2 = (gx * gx * gxx + gx * gy * (gxy + gyx) + gy * gy * gyy) / g2
         rho_cl = np.where(np.abs(d2) < 1e-12, np.inf, -(1.0 + g2) ** 1.5 / d2)
     rho_cl = np.where(g2 > 0, rho_cl, np.inf)
+    # a vertical CL wall (a vertical part wall) is a jump between two nodes, steeper
+    # than JUMP_SLOPE: its finite-difference curvature is an artefact (a spurious
+    # crease either side); the wall is taken as planar there
+    lim = h * math.tan(math.radians(JUMP_SLOPE))
+    jump = np.zeros(zf.shape, bool)
+    jx = np.abs(np.diff(zf, axis=1)) > lim
+    jy = np.abs(np.diff(zf, axis=0)) > lim
+    jump[:, 1:] |= jx
+    jump[:, :-1] |= jx
+    jump[1:, :] |= jy
+    jump[:-1, :] |= jy
+    rho_cl = np.where(jump & fin, np.inf, rho_cl)
     r_eff = sampler.cutter.corner if sampler.cutter.corner > 0 else sampler.cutter.radius
     slope = np.degrees(np.arctan(np.sqrt(g2)))
     return Raster(x, y, zf, valid, gx, gy, slope, rho_cl - r_eff, z_low)
