@@ -49,7 +49,10 @@ class ZigzagSettings:
     contact point just reaches the surface's edge (see :func:`edge_lines`). ``keep``:
     XY points ``(n, 2)`` -> where passes are wanted (steep-shallow's shallow side and
     the overlap), no points are planned elsewhere; ``hold``: where the scallop sets the
-    side step (default ``keep``; steep-shallow: the shallow side only). ``silhouette``:
+    side step (default ``keep``; steep-shallow: the overlap band below
+    :data:`.steep_shallow.HOLD_MAX_SLOPE`). With ``hold`` given, a line station off the
+    held ground advances to where it is held again (at most the flat step), one on it
+    stops at its border, and a slope is measured one-sided beside it. ``silhouette``:
     passes are cut where the cutter touches nothing (its tip farther than its radius
     from the part's silhouette, see :func:`beside_part`), so the tool never runs down
     the outside of the part to ``z_floor``."""
