@@ -90,8 +90,8 @@ def _lengths(a: dict[str, np.ndarray], controls: dict[int, tuple],
     """Path length of each move (arcs and helices exact, cubics and NURBS by sampling);
     ``controls`` are the curves' control points by index into the arrays; ``arcs``:
     ``_arc_planes(a)`` if already computed."""
-    start, end, center = a["start"], a["end"], a["center"]
-    kind, rot, plane = a["kind"], a["rotation"], a["plane"]
+    start, end = a["start"], a["end"]
+    kind, rot = a["kind"], a["rotation"]
     n = len(kind)
     d = end - start
     # hypot: no overflow for coordinates near the float limit
