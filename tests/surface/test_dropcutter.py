@@ -65,6 +65,27 @@ def test_drop_agrees_with_opencamlib_within_1e6(mesh_name, kind):
 
 
 @pytest.mark.parametrize("kind", sorted(CUTTERS))
+def test_passes_of_close_points_agree_with_opencamlib_within_1e6(kind):
+    """Points in pass order (each query starts from the previous contact, a triangle
+    listed in several cells is tested once per query), serial and parallel batches and
+    repeated calls on one index."""
+    mesh = MESHES["waves"]()
+    idx = build_index(mesh, cell=0.8)
+    xs = np.arange(3.5, 36.5, 0.07)
+    ys = np.arange(4.0, 36.0, 2.3)
+    X, Y = np.meshgrid(xs, ys)
+    X[1::2] = X[1::2, ::-1]                                   # zigzag order
+    xy = np.column_stack([X.ravel(), Y.ravel()])
+    assert len(xy) >= 4000 > len(xs)
+    z_ocl = _ocl_z(mesh, kind, xy)
+    whole = drop(idx, CUTTERS[kind], xy).z                    # parallel batch
+    rows = np.concatenate([drop(idx, CUTTERS[kind], xy[i:i + len(xs)]).z
+                           for i in range(0, len(xy), len(xs))])   # serial calls
+    np.testing.assert_allclose(whole, z_ocl, atol=1e-6, rtol=0)
+    np.testing.assert_allclose(rows, z_ocl, atol=1e-6, rtol=0)
+
+
+@pytest.mark.parametrize("kind", sorted(CUTTERS))
 def test_contact_point_is_on_the_cutter_surface_and_on_the_mesh(kind):
     mesh = random_mesh(1500, seed=2, size=40.0)
     idx = build_index(mesh)

@@ -59,6 +59,8 @@ class MeshIndex:
     ny: int
     starts: np.ndarray     # (nx * ny + 1,) int64
     items: np.ndarray      # (m,) int32
+    seen: np.ndarray | None = None   # (n,) int64: serial queries' marks of tested triangles
+    marks: int = 0                   # marks used so far in ``seen``
 
 
 @njit(cache=True)
@@ -223,13 +225,24 @@ def _bull_v(d, m, rc, a):
 
 @njit(cache=True)
 def _drop_one(x, y, R, rc, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts, items,
-              out_cc):
+              out_cc, seen, mark, wx, wy, wz):
     a = R - rc
     R2 = R * R
     best = -np.inf
     ccx = np.nan
     ccy = np.nan
     ccz = np.nan
+    # warm start: a mesh point (wx, wy, wz) under the cutter (the previous query's
+    # contact) bounds the drop from below; only triangles that beat it are tested
+    if wz == wz:
+        dx = wx - x
+        dy = wy - y
+        d2 = dx * dx + dy * dy
+        if d2 < R2:
+            best = wz - _h(math.sqrt(d2), rc, a)
+            ccx = wx
+            ccy = wy
+            ccz = wz
     ix0 = max(0, int(math.floor((x - R - x0) / cell)))
     ix1 = min(nx - 1, int(math.floor((x + R - x0) / cell)))
     iy0 = max(0, int(math.floor((y - R - y0) / cell)))
@@ -270,6 +283,9 @@ def _drop_one(x, y, R, rc, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts, 
                 t = items[k]
                 if ztop[t] <= best:
                     break
+                if seen[t] == mark:
+                    continue      # listed in an earlier cell of this query: tested
+                seen[t] = mark
                 ddx = box[t, 0] - x if x < box[t, 0] else (x - box[t, 1] if x > box[t, 1] else 0.0)
                 ddy = box[t, 2] - y if y < box[t, 2] else (y - box[t, 3] if y > box[t, 3] else 0.0)
                 db2 = ddx * ddx + ddy * ddy
@@ -381,20 +397,32 @@ def _drop_one(x, y, R, rc, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts, 
     return best
 
 
+@njit(cache=True)
+def _drop_range(xy, p0, p1, R, rc, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts,
+                items, z_out, cc_out, seen, mark0):
+    """Points ``p0:p1``; ``seen[t] == mark0 + p`` marks triangle ``t`` tested for point
+    ``p`` (a triangle is listed in every cell its footprint meets)."""
+    wx = np.nan
+    wy = np.nan
+    wz = np.nan
+    for p in range(p0, p1):
+        z_out[p] = _drop_one(xy[p, 0], xy[p, 1], R, rc, tri, box, ztop, plane, x0, y0,
+                             cell, nx, ny, starts, items, cc_out[p], seen, mark0 + p,
+                             wx, wy, wz)
+        wx = cc_out[p, 0]
+        wy = cc_out[p, 1]
+        wz = cc_out[p, 2]
+
+
 @njit(parallel=True, cache=True)
 def _drop_batch(xy, R, rc, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts, items,
                 z_out, cc_out):
-    for p in prange(xy.shape[0]):
-        z_out[p] = _drop_one(xy[p, 0], xy[p, 1], R, rc, tri, box, ztop, plane, x0, y0,
-                             cell, nx, ny, starts, items, cc_out[p])
-
-
-@njit(cache=True)
-def _drop_serial(xy, R, rc, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts, items,
-                 z_out, cc_out):
-    for p in range(xy.shape[0]):
-        z_out[p] = _drop_one(xy[p, 0], xy[p, 1], R, rc, tri, box, ztop, plane, x0, y0,
-                             cell, nx, ny, starts, items, cc_out[p])
+    n = xy.shape[0]
+    nchunk = 64
+    for k in prange(nchunk):
+        seen = np.zeros(tri.shape[0], np.int64)
+        _drop_range(xy, (n * k) // nchunk, (n * (k + 1)) // nchunk, R, rc, tri, box, ztop,
+                    plane, x0, y0, cell, nx, ny, starts, items, z_out, cc_out, seen, 1)
 
 
 #: below this many points a batch runs on one thread: starting the thread pool costs
@@ -417,11 +445,17 @@ def drop(index: MeshIndex, cutter: Cutter, xy, z_floor: float = -np.inf) -> Drop
     pts = np.ascontiguousarray(np.asarray(xy, dtype=np.float64).reshape(-1, 2))
     z = np.empty(len(pts))
     cc = np.empty((len(pts), 3))
-    if len(pts):
-        fn = _drop_batch if len(pts) >= PARALLEL_MIN else _drop_serial
-        fn(pts, float(cutter.radius), float(cutter.corner), index.tri, index.box,
-                    index.ztop, index.plane, index.x0, index.y0, index.cell, index.nx,
-                    index.ny, index.starts, index.items, z, cc)
+    args = (float(cutter.radius), float(cutter.corner), index.tri, index.box, index.ztop,
+            index.plane, index.x0, index.y0, index.cell, index.nx, index.ny, index.starts,
+            index.items, z, cc)
+    if len(pts) >= PARALLEL_MIN:
+        _drop_batch(pts, *args)
+    elif len(pts):
+        if index.seen is None or index.marks + len(pts) >= 2**62:
+            index.seen = np.zeros(len(index.tri), np.int64)
+            index.marks = 0
+        _drop_range(pts, 0, len(pts), *args, index.seen, index.marks + 1)
+        index.marks += len(pts)
     if z_floor > -np.inf:
         np.maximum(z, z_floor, out=z)
     return DropResult(z, cc)
