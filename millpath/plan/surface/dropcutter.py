@@ -22,7 +22,11 @@ Speed: a uniform XY grid of triangle lists (CSR; a triangle is listed in the cel
 footprint meets, not every cell of its bounding box), each list sorted by the triangle's
 top Z, so a query stops scanning a cell at the first triangle whose top is below the
 best contact found (no contact can be higher than a triangle's top vertex);
-bounding-box rejection before any exact test; ``numba`` ``prange`` over points.
+bounding-box rejection, then the drop onto the triangle's whole plane (an upper bound
+for the triangle), before any exact test; a triangle listed in several cells is tested
+once per query; each query starts from the previous point's contact (a mesh point under
+the cutter bounds the drop from below), so points in pass order test few triangles;
+``numba`` ``prange`` over chunks of points.
 
 Points where the cutter touches no triangle get ``-inf`` (or ``z_floor``).
 """
@@ -293,6 +297,20 @@ def _drop_one(x, y, R, rc, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts, 
                     continue
                 if ztop[t] - _h(math.sqrt(db2), rc, a) <= best:
                     continue
+                # the drop onto the triangle's whole plane bounds the drop onto it
+                nzz = plane[t, 2]
+                if nzz > 1e-12:
+                    nxx = plane[t, 0]
+                    nyy = plane[t, 1]
+                    s = math.sqrt(nxx * nxx + nyy * nyy)
+                    if s > 1e-14:
+                        px = x - a * nxx / s - rc * nxx
+                        py = y - a * nyy / s - rc * nyy
+                    else:
+                        px = x
+                        py = y
+                    if (plane[t, 3] - nxx * px - nyy * py) / nzz - rc + rc * nzz <= best:
+                        continue
                 # vertices
                 for i in range(3):
                     pz = tri[t, i, 2]
