@@ -146,14 +146,30 @@ def _runmin(a: np.ndarray, k: int = 1) -> np.ndarray:
     return out
 
 
-def _station_steps(sampler: Sampler, u, W, r, h, fd, keep=None, need=None) -> np.ndarray:
+def _station_steps(sampler: Sampler, u, W, r, h, fd, keep=None, need=None,
+                   memo: dict | None = None) -> np.ndarray:
     """XY side step at each station from the published formula with the local curvature
     and slope across the passes. The scallop is limited to ``h`` measured vertically:
     the normal height used in the formula is ``h cos(slope)``. NaN where unknown (no
     surface, or outside ``keep``) or not ``need``-ed. One drop-cutter batch for the
-    three rows."""
+    three rows. ``memo`` (one per ``sampler, r, h, fd, keep``): steps of stations
+    already computed at these exact ``(u, W)`` arrays are reused (a station's step
+    depends on its own point only; the look-ahead's last candidate line is the next
+    line)."""
     u = np.asarray(u, float)
     W = np.asarray(W, float)
+    if memo is not None:
+        key = (u.tobytes(), W.tobytes())
+        out, done = memo.pop(key, (np.full(len(u), np.nan), np.zeros(len(u), bool)))
+        want = np.ones(len(u), bool) if need is None else np.asarray(need, bool)
+        todo = want & ~done
+        if todo.any():
+            out[todo] = _station_steps(sampler, u[todo], W[todo], r, h, fd, keep)
+            done = done | todo
+        memo[key] = (out, done)
+        while len(memo) > 8:
+            memo.pop(next(iter(memo)))
+        return np.where(want, out, np.nan)
     if need is not None and not np.all(need):
         out = np.full(len(u), np.nan)
         if np.any(need):
@@ -251,6 +267,7 @@ def pass_lines(sampler: Sampler, design, s: ZigzagSettings) -> tuple[np.ndarray,
     else:
         W = np.full(n, wmin)
     lines = [W.copy()]
+    memo: dict = {}                       # station steps at recent (u, W) arrays
     steps: list[float] = []
     target = 0.9 * h - min(s.material_tolerance or s.tolerance, 0.25 * h)
     target = max(target, 0.25 * h)
@@ -260,7 +277,7 @@ def pass_lines(sampler: Sampler, design, s: ZigzagSettings) -> tuple[np.ndarray,
                                 f"for this surface and cutter")
         inside = in_region(sampler, s.region, u, W)
         hold = s.hold or s.keep
-        eps = _station_steps(sampler, u, W, r, target, fd, hold)
+        eps = _station_steps(sampler, u, W, r, target, fd, hold, memo=memo)
         known = inside & np.isfinite(eps)
         if not known.any():
             dW = np.full(n, flat_side_step(r, target))
@@ -275,9 +292,10 @@ def pass_lines(sampler: Sampler, design, s: ZigzagSettings) -> tuple[np.ndarray,
                 # steep-shallow) runs on to where it is held again, at most the flat step
                 e = np.where(np.isfinite(e), e, _to_held(sampler, u, W, hold,
                                                          flat_side_step(r, target)))
-            dW = _between(sampler, u, W, e, r, target, fd, hold)   # each station its own
+            dW = _between(sampler, u, W, e, r, target, fd, hold,  # each station its own
+                          memo=memo)
         dW = _look_ahead(sampler, u, W, dW, wmax, r, target, fd, s.side_step == "published",
-                         hold)
+                         hold, memo=memo)
         if hold is not None and s.side_step != "published":
             dW = _held_end(sampler, u, W, dW, hold)
         Wn = np.minimum(W + dW, wmax)
@@ -320,7 +338,7 @@ def _to_held(sampler: Sampler, u, W, hold, cap: float, k: int = 16) -> np.ndarra
 
 
 def _between(sampler: Sampler, u, W, step, r: float, target: float, fd: float,
-             keep=None, need=None) -> np.ndarray:
+             keep=None, need=None, memo: dict | None = None) -> np.ndarray:
     """Each station's step, also held to the steps found halfway to its neighbours (on
     the chord between their points): the passes are straight between stations, so the
     surface there counts too, but not what a neighbour meets farther along w."""
@@ -328,7 +346,7 @@ def _between(sampler: Sampler, u, W, step, r: float, target: float, fd: float,
         return np.asarray(step, float)
     um, wm = 0.5 * (u[1:] + u[:-1]), 0.5 * (W[1:] + W[:-1])
     em = _station_steps(sampler, um, wm, r, target, fd, keep,
-                        None if need is None else need[1:] | need[:-1])
+                        None if need is None else need[1:] | need[:-1], memo)
     em = np.where(np.isfinite(em), em, np.inf)
     out = np.asarray(step, float).copy()
     out[1:] = np.minimum(out[1:], em)
@@ -337,7 +355,8 @@ def _between(sampler: Sampler, u, W, step, r: float, target: float, fd: float,
 
 
 def _look_ahead(sampler: Sampler, u, W, dW, wmax, r: float, target: float,
-                fd: float, uniform: bool, keep=None, rounds: int = 4) -> np.ndarray:
+                fd: float, uniform: bool, keep=None, rounds: int = 4,
+                memo: dict | None = None) -> np.ndarray:
     """Shrink the step ``dW`` to the published step found at the candidate next line:
     the formula is local, and over a convex crease (or the edge the tool rolls over)
     it allows up to a cutter diameter that the surface beyond cannot take. Each round
@@ -346,7 +365,7 @@ def _look_ahead(sampler: Sampler, u, W, dW, wmax, r: float, target: float,
     for _ in range(rounds):
         Wn = np.minimum(W + dW, wmax)
         live = Wn < wmax - 1e-9               # stations at the last line need no step
-        ahead = _station_steps(sampler, u, Wn, r, target, fd, keep, live)
+        ahead = _station_steps(sampler, u, Wn, r, target, fd, keep, live, memo)
         ok = np.isfinite(ahead) & live
         if not ok.any():
             break
@@ -354,7 +373,7 @@ def _look_ahead(sampler: Sampler, u, W, dW, wmax, r: float, target: float,
         if uniform:
             new = np.full_like(dW, float(new.min()))
         else:
-            new = _between(sampler, u, Wn, new, r, target, fd, keep, live)
+            new = _between(sampler, u, Wn, new, r, target, fd, keep, live, memo)
         if np.allclose(new[live], dW[live], rtol=1e-3, atol=0.0):
             break
         dW = new
