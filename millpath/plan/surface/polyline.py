@@ -56,8 +56,14 @@ def merge_collinear(P: np.ndarray, tol: float) -> np.ndarray:
     far (greedy, forward; distances in all the columns, i.e. 3D for rows x, y, z)."""
     if len(P) < 3:
         return P
-    P = np.ascontiguousarray(P, dtype=np.float64)
-    return P[_merge_keep(P, float(tol))]
+    return P[collinear_keep(P, tol)]
+
+
+def collinear_keep(P: np.ndarray, tol: float) -> np.ndarray:
+    """Indices of the rows :func:`merge_collinear` keeps (increasing)."""
+    if len(P) < 3:
+        return np.arange(len(P))
+    return _merge_keep(np.ascontiguousarray(P, dtype=np.float64), float(tol))
 
 
 def densify(P: np.ndarray, step: float) -> np.ndarray:

@@ -34,7 +34,7 @@ from typing import Callable
 import numpy as np
 
 from millpath.errors import PlanningError
-from millpath.plan.surface.polyline import merge_collinear
+from millpath.plan.surface.polyline import collinear_keep
 from millpath.plan.surface.refine import refine_worst
 from millpath.plan.surface.sampler import Sampler
 from millpath.plan.surface.steps import curvature_radius, feed_step, flat_side_step, side_step
@@ -397,12 +397,23 @@ def refine_chords_many(sampler: Sampler, Ps: list[np.ndarray], tol_g: float, tol
     """:func:`refine_chords` of every polyline in ``Ps`` at once: one drop-cutter batch
     per round for all of them (numba's parallel loop), and a segment found within
     tolerance is not checked again (its ends do not change)."""
+    return _refine_many(sampler, Ps, tol_g, tol_m, min_len, checks)[0]
+
+
+def _refine_many(sampler: Sampler, Ps: list[np.ndarray], tol_g: float, tol_m: float,
+                 min_len: float, checks: int = 3, good: list[np.ndarray] | None = None
+                 ) -> tuple[list[np.ndarray], list[np.ndarray]]:
+    """:func:`refine_chords_many`, skipping the segments ``good`` marks (per polyline,
+    per segment: checked before at these same ends); also returns the segments found
+    within tolerance (or too short to split)."""
     if not Ps:
-        return []
+        return [], []
     t = np.arange(1, checks + 1) / (checks + 1.0)
     P = np.concatenate(Ps)
     pid = np.repeat(np.arange(len(Ps)), [len(Q) for Q in Ps])
     todo = pid[:-1] == pid[1:]                      # segments still to check
+    if good is not None:
+        todo &= ~np.concatenate([np.append(g, False) for g in good])[:-1]
     for _ in range(20):
         idx = np.nonzero(todo)[0]
         if len(idx) == 0:
@@ -427,7 +438,10 @@ def refine_chords_many(sampler: Sampler, Ps: list[np.ndarray], tol_g: float, tol
         pid = np.insert(pid, at + 1, pid[at])
         todo = np.insert(todo, at + 1, True)          # both halves are checked next
     counts = np.bincount(pid, minlength=len(Ps))
-    return np.split(P, np.cumsum(counts)[:-1])
+    ends = np.cumsum(counts)
+    ok = ~todo
+    return (np.split(P, ends[:-1]),
+            [ok[e - c:e - 1] for e, c in zip(ends, counts)])
 
 
 def sample_passes(sampler: Sampler, runs: list[tuple[np.ndarray, np.ndarray]],
@@ -460,9 +474,15 @@ def sample_passes(sampler: Sampler, runs: list[tuple[np.ndarray, np.ndarray]],
     z, _ = sampler.z_safe(allp[:, 0], allp[:, 1])
     Ps = np.split(np.column_stack([allp, z]), np.cumsum([len(q) for q in samples])[:-1])
     min_len = 1e-3 * max(r, 1e-3)
-    Ps = refine_chords_many(sampler, Ps, tol_g, tol_m, min_len)
-    Ps = [merge_collinear(P, 0.2 * min(tol_g, tol_m)) for P in Ps]
-    Ps = refine_chords_many(sampler, Ps, tol_g, tol_m, min_len)
+    Ps, good = _refine_many(sampler, Ps, tol_g, tol_m, min_len)
+    # after merging, a segment between two points that were neighbours is one already
+    # checked: only the merged chords are checked again
+    merged, good_m = [], []
+    for P, g in zip(Ps, good):
+        k = collinear_keep(P, 0.2 * min(tol_g, tol_m))
+        merged.append(P[k])
+        good_m.append((np.diff(k) == 1) & g[k[:-1]])
+    Ps, _ = _refine_many(sampler, merged, tol_g, tol_m, min_len, good=good_m)
     for i, P in zip(owners, Ps):
         out[i] = P
     return out
