@@ -1,0 +1,193 @@
+"""Exact gouge check: how deep each motion's cutter goes into a triangle-mesh design.
+
+For every chord of the interpreted motion (lines exactly; arcs, helices and cubics as
+chords within ``accuracy / 4`` of the curve) and every design triangle near it, the
+gouge is the deepest penetration of the triangle into the cutter solid swept along the
+chord: the largest ``e`` such that some point of the triangle is at least ``e`` inside
+the swept cutter, i.e. measured along the normal of the design surface, walls and
+slopes alike (see :mod:`millpath.geometry.convex`). The cutter (flat, ball, bull, drill
+point, up to its flute length) and the shank and holder cylinders
+(``Tool.holder_cylinders``) are all checked. A penetration is found exactly by GJK
+tests and bisection on ``e`` to ``accuracy / 20``; penetrations below ``accuracy / 2``
+count as none. Lengths in program units; coordinates are tool tips in the design's
+frame.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit, prange
+
+from millpath.geometry.convex import BALL, BULL, CYL, DRILL, FLAT, depth, meets, shape_rings
+from millpath.geometry.index import BoxIndex, bucket_range, first_bucket
+from millpath.model.tool import Tool
+
+KIND = {"flat": FLAT, "ball": BALL, "bull": BULL, "drill": DRILL}
+
+
+@dataclass
+class ToolShapes:
+    """Solids of each tool slot: kind, radius, corner radius, cone slope, bottom and top
+    above the tip, arrays (nslots, maxshapes); shape 0 is the cutter."""
+
+    kind: np.ndarray
+    R: np.ndarray
+    rc: np.ndarray
+    k: np.ndarray
+    zb: np.ndarray
+    L: np.ndarray
+    n: np.ndarray
+
+    @classmethod
+    def of(cls, tools: list[Tool]) -> "ToolShapes":
+        rows = []
+        for t in tools:
+            top = min(t.flute_length, t.stickout) if t.stickout > 0 else t.flute_length
+            k = 1.0 / math.tan(math.radians(t.point_angle) / 2.0) if t.type == "drill" else 0.0
+            top = max(top, t.point_depth() + 1e-6, t.corner_radius + 1e-6)
+            shp = [(KIND[t.type], t.radius, t.corner_radius, k, 0.0, top)]
+            for r, zb, zt in t.holder_cylinders():
+                shp.append((CYL, r, 0.0, 0.0, zb, zt))
+            rows.append(shp)
+        m = max([len(r) for r in rows] + [1])
+        n = len(rows)
+        a = np.zeros((6, max(n, 1), m))
+        cnt = np.zeros(max(n, 1), np.int64)
+        for s, shp in enumerate(rows):
+            cnt[s] = len(shp)
+            for j, v in enumerate(shp):
+                a[:, s, j] = v
+        return cls(a[0].astype(np.int64), a[1], a[2], a[3], a[4], a[5], cnt)
+
+    def arrays(self):
+        return self.kind, self.R, self.rc, self.k, self.zb, self.L, self.n
+
+
+@njit(cache=True, parallel=True)
+def _gouge_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri,
+                  tlo, thi, start, items, bi0, bj0, x0, y0, bs, nbx, nby,
+                  e0, tol, out_g, out_t, out_s):
+    n = S.shape[0]
+    for c in prange(n):
+        rr = np.empty(3)
+        rh = np.empty(3)
+        s = slot[c]
+        best = -1.0
+        bt = -1
+        bsh = -1
+        P0 = S[c]
+        P1 = E[c]
+        for j in range(nshape[s]):
+            Rj = R[s, j]
+            qx0 = min(P0[0], P1[0]) - Rj
+            qx1 = max(P0[0], P1[0]) + Rj
+            qy0 = min(P0[1], P1[1]) - Rj
+            qy1 = max(P0[1], P1[1]) + Rj
+            qz0 = min(P0[2], P1[2]) + zb[s, j] - 1e-9
+            qz1 = max(P0[2], P1[2]) + L[s, j] + 1e-9
+            ia, ib, ja, jb = bucket_range(x0, y0, bs, nbx, nby, qx0, qy0, qx1, qy1)
+            for bj in range(ja, jb + 1):
+                for bi in range(ia, ib + 1):
+                    b = bj * nbx + bi
+                    for p in range(start[b], start[b + 1]):
+                        t = items[p]
+                        if not first_bucket(bi, bj, bi0[t], bj0[t], ia, ja):
+                            continue
+                        if (thi[t, 0] < qx0 or tlo[t, 0] > qx1 or thi[t, 1] < qy0
+                                or tlo[t, 1] > qy1 or thi[t, 2] < qz0 or tlo[t, 2] > qz1):
+                            continue
+                        lo = e0 if e0 > best else best
+                        d = depth(tri[t], P0, P1, kind[s, j], Rj, rc[s, j], k[s, j],
+                                  zb[s, j], L[s, j], lo, tol, rr, rh)
+                        if d > best:
+                            best = d
+                            bt = t
+                            bsh = j
+        out_g[c] = best
+        out_t[c] = bt
+        out_s[c] = bsh
+
+
+@njit(cache=True)
+def _locate(T, P0, P1, kind, R, rc, k, zb, L, g, tol):
+    """Tool tip on the chord and the point of ``T`` where the penetration ``g`` is
+    deepest: bisection along the chord, then a refined search over the triangle."""
+    rr = np.empty(3)
+    rh = np.empty(3)
+    e = max(g - 2.0 * tol, 0.0)
+    nr, rho = shape_rings(kind, R, rc, k, zb, L, e, rr, rh)
+    a = 0.0
+    b = 1.0
+    A = P0.copy()
+    B = P1.copy()
+    for _ in range(50):
+        m = 0.5 * (a + b)
+        M = P0 + (P1 - P0) * m
+        A = P0 + (P1 - P0) * a
+        if nr > 0 and meets(T, A, M, nr, rr, rh, rho, 0.0):
+            b = m
+        else:
+            a = m
+    P = P0 + (P1 - P0) * (0.5 * (a + b))
+    # deepest point of T in the cutter at P: barycentric grid, refined around the best
+    Q = np.empty((3, 3))
+    bu, bv, bd = 1.0 / 3.0, 1.0 / 3.0, -2.0
+    span = 1.0
+    for level in range(6):
+        nstep = 12
+        cu, cv = bu, bv
+        for i in range(-nstep, nstep + 1):
+            for jj in range(-nstep, nstep + 1):
+                u = cu + span * i / nstep
+                v = cv + span * jj / nstep
+                if u < 0.0 or v < 0.0 or u + v > 1.0:
+                    continue
+                for q in range(3):
+                    Q[0, q] = T[0, q] + u * (T[1, q] - T[0, q]) + v * (T[2, q] - T[0, q])
+                    Q[1, q] = Q[0, q]
+                    Q[2, q] = Q[0, q]
+                d = depth(Q, P, P, kind, R, rc, k, zb, L, 0.0, tol, rr, rh)
+                if d > bd:
+                    bd = d
+                    bu = u
+                    bv = v
+        span = span * 2.0 / nstep
+    X = T[0] + bu * (T[1] - T[0]) + bv * (T[2] - T[0])
+    return P, X
+
+
+@dataclass
+class GougeResult:
+    """Per chord: penetration (-1 none), triangle, shape (0 cutter, >0 shank/holder)."""
+
+    gouge: np.ndarray
+    triangle: np.ndarray
+    shape: np.ndarray
+
+
+def gouge_chords(S: np.ndarray, E: np.ndarray, slot: np.ndarray, shapes: ToolShapes,
+                 triangles: np.ndarray, index: BoxIndex, accuracy: float) -> GougeResult:
+    """Penetration of the design into each chord's swept tool (see the module doc)."""
+    n = len(S)
+    g = np.full(n, -1.0)
+    t = np.full(n, -1, np.int64)
+    s = np.full(n, -1, np.int64)
+    if n and len(triangles):
+        _gouge_chords(np.ascontiguousarray(S, float), np.ascontiguousarray(E, float),
+                      np.ascontiguousarray(slot, np.int64), *shapes.arrays(),
+                      triangles, *index.arrays(), accuracy / 2.0, accuracy / 20.0, g, t, s)
+    return GougeResult(g, t, s)
+
+
+def locate(S, E, slot, shapes: ToolShapes, triangles, res: GougeResult, c: int,
+           accuracy: float) -> tuple[np.ndarray, np.ndarray]:
+    """(tool tip, design point) of chord ``c``'s deepest penetration."""
+    s, j = int(slot[c]), int(res.shape[c])
+    P, X = _locate(triangles[res.triangle[c]], np.asarray(S[c], float),
+                   np.asarray(E[c], float), int(shapes.kind[s, j]), float(shapes.R[s, j]),
+                   float(shapes.rc[s, j]), float(shapes.k[s, j]), float(shapes.zb[s, j]),
+                   float(shapes.L[s, j]), float(res.gouge[c]), accuracy / 20.0)
+    return P, X
