@@ -146,8 +146,15 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False)
     if job.simulation.get("enabled", True):
         from millpath.simulate import simulate_motions
         res = default_resolution(job, stock, tp)
+        refs = _references(job, results, stock, tp)
+        user = job.simulation.get("design")
+        if user:
+            from millpath.simulate import MeshDesign
+            design = MeshDesign(refs[0].triangles)
         sim = simulate_motions(motions, job.tools, stock, resolution=res, design=design,
-                               machine=job.machine, progress=progress)
+                               machine=job.machine, progress=progress, references=refs,
+                               motion_op=_motion_ops(tp, move_lines, motions),
+                               accuracy=_accuracy(job.units))
         report["verification"] = sim.to_json()
     else:
         report["verification"] = {"skipped": "simulation disabled in the job"}
@@ -189,6 +196,47 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False)
         (tmp / "report.json").write_text(json.dumps(report, indent=2, default=_json_default))
         files = [out / f.name for f in sorted(tmp.iterdir())]
     return RunResult(job, tp, program, report, files, time.perf_counter() - t0)
+
+
+def _references(job: Job, results: list[PlanResult], stock: Stock, tp: Toolpath):
+    """What gouge and material left are measured against: the job's ``[simulation]
+    design`` (STL, STEP, Bezier net; all operations) when given, else each operation's
+    own design, as triangles."""
+    from millpath.simulate.exact import Reference, design_triangles, orient_outward
+    spec = job.simulation.get("design")
+    if spec:
+        from millpath.part.surface.load import load_surface
+        mesh = load_surface(str(spec), 64, job.base_dir, job.path, units=job.units)
+        tri = mesh.triangles
+        lo, hi = tri.reshape(-1, 3).min(axis=0), tri.reshape(-1, 3).max(axis=0)
+        b = stock.box
+        if (hi[0] < b[0] or lo[0] > b[3] or hi[1] < b[1] or lo[1] > b[4]
+                or hi[2] < b[2] or lo[2] > b[5]):
+            raise MillpathError(f"simulation.design {spec}: the design lies wholly outside "
+                                f"the stock (different units?)", job.path)
+        return [Reference(orient_outward(tri), str(spec), None)]
+    used = [job.tools[o.tool].radius for o in tp.ops if o.tool in job.tools]
+    size = min(used + [max(stock.size[:2]) / 64]) / 2
+    return [Reference(design_triangles(r.design, stock, _accuracy(job.units), size),
+                      f"operations[{i}] design", [i])
+            for i, r in enumerate(results) if r.design is not None]
+
+
+def _accuracy(units: str) -> float:
+    """Bound on the verification's gouge / material-left figures (job units)."""
+    return 0.001 if units == "mm" else 0.00004
+
+
+def _motion_ops(tp: Toolpath, move_lines: list[int | None], motions) -> np.ndarray:
+    """Operation of each interpreted motion: that of the last planned move written at
+    or before its program line."""
+    starts = [(line, m.op) for m, line in zip(tp.moves, move_lines) if line is not None]
+    keys = [l for l, _ in starts]
+    out = np.zeros(len(motions), np.int64)
+    for i, mo in enumerate(motions):
+        k = bisect.bisect_right(keys, mo.line) - 1
+        out[i] = starts[max(k, 0)][1] if starts else 0
+    return out
 
 
 def _seconds_per_operation(tp: Toolpath, move_lines: list[int | None], motions,

@@ -49,6 +49,36 @@ def _read_tools(path: Path | None, units: str):
     return tools, path
 
 
+def _design(path: Path, stock):
+    """The design file as (height-field design for the Z-map, exact-check references).
+    Errors name the file: unreadable, non-finite vertices, no triangles, or a design
+    wholly outside the stock (mixed units)."""
+    from millpath.part.surface.load import load_surface
+    from millpath.simulate import MeshDesign
+    from millpath.simulate.exact import Reference, orient_outward
+    if not path.is_file():
+        raise MillpathError("design file not found", path)
+    try:
+        mesh = load_surface(str(path.resolve()), 64, path.parent, path)
+    except MillpathError as e:
+        if e.file is None:
+            e.file = str(path)
+        raise
+    tri = mesh.triangles
+    lo, hi = tri.reshape(-1, 3).min(axis=0), tri.reshape(-1, 3).max(axis=0)
+    b = stock.box
+    if (hi[0] < b[0] or lo[0] > b[3] or hi[1] < b[1] or lo[1] > b[4] or hi[2] < b[2]
+            or lo[2] > b[5]):
+        raise MillpathError(f"the design lies wholly outside the stock {list(b)} "
+                            f"(design box {lo.round(4).tolist()} to {hi.round(4).tolist()}; "
+                            "different units?)", path)
+    try:
+        design = MeshDesign(tri)
+    except ValueError as e:
+        raise MillpathError(str(e), path) from None
+    return design, [Reference(orient_outward(tri), path.name, None)]
+
+
 def _interpret(program: Path, tool_arg, units: str):
     from millpath.interpret import InterpreterError, run
     res = run(program, tool_arg, machine_units=units)
@@ -64,7 +94,8 @@ def _interpret(program: Path, tool_arg, units: str):
 @click.option("--stock", "stock_text", required=True,
               help="Stock box XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX in program units.")
 @click.option("--design", "design_path", type=click.Path(path_type=Path), default=None,
-              help="Designed part (STL) for gouge and material-left checks.")
+              help="Designed part (STL, STEP with millpath[step-brep], Bezier net .toml) "
+                   "for the exact gouge and material-left checks.")
 @click.option("--resolution", type=float, default=None,
               help="Z-map cell size (default: stock size / 1000, at most D/10 of the "
                    "smallest tool).")
@@ -83,7 +114,9 @@ def command(program: Path, tools_path: Path | None, stock_text: str,
     if not program.is_file():
         raise MillpathError("program not found", program)
     stock = _stock(stock_text)
-    design = MeshDesign.from_stl(design_path) if design_path is not None else None
+    design, refs = None, None
+    if design_path is not None:
+        design, refs = _design(design_path, stock)
     # tool files are in the program's units: interpret once in mm, again if it is inch
     tools, tool_arg = _read_tools(tools_path, "mm")
     res = _interpret(program, tool_arg, "mm")
@@ -110,7 +143,8 @@ def command(program: Path, tools_path: Path | None, stock_text: str,
         raise MillpathError(f"--resolution must be a positive length, not {resolution}")
     r = simulate_motions(motions, tools, stock, resolution=resolution, design=design,
                          machine=Machine.default_for(units),
-                         progress=not as_json and sys.stderr.isatty())
+                         progress=not as_json and sys.stderr.isatty(), references=refs,
+                         accuracy=0.001 if units == "mm" else 0.00004)
     if png is not None:
         render_stock(r.zmap, png, title=f"{program.name}: simulated stock", units=units)
         if design is not None:
@@ -124,9 +158,13 @@ def command(program: Path, tools_path: Path | None, stock_text: str,
     click.echo(f"{program.name}: {len(motions)} motions, {units}, resolution {resolution:g}")
     click.echo(f"removed volume   {j['removed_volume']:.6g} {u3}")
     if design is not None:
-        at = (lambda p: f" at X{p[0]:.4g} Y{p[1]:.4g}" if p else "")
-        click.echo(f"max gouge        {j['max_gouge']:.4g} {units}{at(r.gouge_at)}")
-        click.echo(f"max left         {j['max_left']:.4g} {units}{at(r.left_at)}")
+        def at(p):
+            return (f" at X{p['x']:.4g} Y{p['y']:.4g} Z{p['z']:.4g}"
+                    + (f" (line {p['line']})" if p.get("line") is not None else "")) if p else ""
+        click.echo(f"max gouge        {j['max_gouge']:.4g} {units}{at(j.get('max_gouge_at'))}"
+                   f", {j.get('gouging_moves', 0)} gouging motions")
+        click.echo(f"max left         {j['max_left']:.4g} {units}{at(j.get('max_left_at'))}")
+        click.echo(f"accuracy         {j.get('accuracy')} {units} (normal to the design)")
         click.echo(f"left volume      {j['left_volume']:.6g} {u3}")
     click.echo(f"rapids through material  {j['rapids_through_material']}"
                + (f" (lines {', '.join(map(str, r.rapid_lines[:10]))})" if r.rapid_lines else ""))

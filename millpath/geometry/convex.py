@@ -106,6 +106,12 @@ def _sup_cut(P0, P1, nr, rr, rh, rho, dx, dy, dz, out):
     out[2] = bz
 
 
+@njit(cache=True)
+def support_swept(P0, P1, nr, rr, rh, rho, dx, dy, dz, out):
+    """Support point of a swept solid (rings, rho along P0 -> P1) in (dx, dy, dz)."""
+    _sup_cut(P0, P1, nr, rr, rh, rho, dx, dy, dz, out)
+
+
 @njit(cache=True, inline="always")
 def _sup_tri(T, dx, dy, dz, out):
     b = 0

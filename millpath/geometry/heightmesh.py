@@ -2,10 +2,14 @@
 
 A quadtree over the box: a cell is kept whole when its centre and edge midpoints lie
 within ``flat_tol`` of the plane through its corners and its corners do not jump by more
-than ``slope * size``; otherwise it is split, down to cells of ``min_size``. Each leaf
-becomes two triangles through its corner heights, so a vertical wall becomes a ramp
-at most ``min_size`` wide lying across the true wall: the mesh is within ``min_size``
-(horizontally) and ``flat_tol`` (vertically) of the design. Heights of ``-inf`` (no
+than ``slope * size``; otherwise it is split, down to cells of ``min_size``. Each
+smooth leaf becomes two triangles through its corner heights. A smallest cell crossed
+by one wall (its corners fall into a high and a low group, each flat) is cut along the
+wall: the crossings on its edges are found by bisection of ``height`` to 1e-7 of the
+cell, the high and low parts become triangles at their own heights and the wall a
+vertical quad between the crossings (a chord of the true wall: off it by
+``min_size^2 / (4 radius)`` on a wall curved with ``radius``). Any other smallest cell
+becomes a ramp across the cell. Heights of ``-inf`` (no
 part) become ``floor``. Triangles wind counter-clockwise seen from above, so normals
 point out of the material (up, or away from the high side on a wall). Job units.
 """
@@ -51,8 +55,15 @@ def height_field_mesh(design, box: tuple[float, float, float, float], *, size: f
         dev = np.abs(Z[:, 4:] - pred).max(axis=1)
         spread = Z[:, :4].max(axis=1) - Z[:, :4].min(axis=1)
         size_ = np.maximum(cw, ch)
-        split = ((dev > flat_tol) | (spread > slope * size_)) & (size_ > min_size)
+        rough = (dev > flat_tol) | (spread > slope * size_)
+        split = rough & (size_ > min_size)
         keep = ~split
+        walls = np.flatnonzero(rough & keep)
+        if len(walls):
+            wt, done = _wall_cells(design, X[walls], Y[walls], Z[walls], cw[walls],
+                                   ch[walls], floor, flat_tol)
+            out.append(wt)
+            keep[walls[done]] = False
         if keep.any():
             a = np.stack([X[keep, 0], Y[keep, 0], z0[keep]], axis=1)
             b = np.stack([X[keep, 1], Y[keep, 1], z1[keep]], axis=1)
@@ -72,3 +83,65 @@ def height_field_mesh(design, box: tuple[float, float, float, float], *, size: f
     if not out:
         return np.zeros((0, 3, 3))
     return np.ascontiguousarray(np.concatenate(out))
+
+
+def _wall_cells(design, X, Y, Z, cw, ch, floor, flat_tol):
+    """Cut smallest cells crossed by a single wall along it (see the module doc).
+    Returns (triangles, which cells were handled)."""
+    zc = Z[:, :4]
+    mid = (zc.max(axis=1) + zc.min(axis=1)) / 2
+    high = zc > mid[:, None]
+    nh = high.sum(axis=1)
+    # each group flat (within flat_tol), not a saddle (diagonal corners high)
+    hi_spread = np.where(high, zc, -np.inf).max(axis=1) - np.where(high, zc, np.inf).min(axis=1)
+    lo_spread = np.where(~high, zc, -np.inf).max(axis=1) - np.where(~high, zc, np.inf).min(axis=1)
+    saddle = (nh == 2) & (high[:, 0] == high[:, 2])
+    ok = (hi_spread <= flat_tol) & (lo_spread <= flat_tol) & ~saddle & (nh > 0) & (nh < 4)
+    idx = np.flatnonzero(ok)
+    tris = []
+    if len(idx):
+        Xc, Yc, H = X[idx, :4], Y[idx, :4], high[idx]
+        zhi = np.where(H, Z[idx, :4], -np.inf).max(axis=1)
+        zlo = np.where(~H, Z[idx, :4], np.inf).min(axis=1)
+        # crossings on the 4 edges (corner k -> k+1); only where the classes differ
+        cross = np.zeros((len(idx), 4, 2))
+        for e in range(4):
+            a, b = e, (e + 1) % 4
+            ax, ay, bx, by = Xc[:, a], Yc[:, a], Xc[:, b], Yc[:, b]
+            lo_t = np.zeros(len(idx))
+            hi_t = np.ones(len(idx))
+            ha = H[:, a]
+            for _ in range(40):
+                t = (lo_t + hi_t) / 2
+                z = _h(design, ax + (bx - ax) * t, ay + (by - ay) * t, floor)
+                same_a = (z > (zhi + zlo) / 2) == ha
+                lo_t = np.where(same_a, t, lo_t)
+                hi_t = np.where(same_a, hi_t, t)
+            t = (lo_t + hi_t) / 2
+            cross[:, e, 0] = ax + (bx - ax) * t
+            cross[:, e, 1] = ay + (by - ay) * t
+        for c in range(len(idx)):
+            polys = {True: [], False: []}
+            ends = []
+            for k in range(4):
+                h = bool(H[c, k])
+                polys[h].append((Xc[c, k], Yc[c, k]))
+                if H[c, k] != H[c, (k + 1) % 4]:
+                    p = (cross[c, k, 0], cross[c, k, 1])
+                    polys[True].append(p)
+                    polys[False].append(p)
+                    ends.append((p, h))
+            for h, z in ((True, zhi[c]), (False, zlo[c])):
+                pts = polys[h]
+                for j in range(1, len(pts) - 1):
+                    tris.append([(*pts[0], z), (*pts[j], z), (*pts[j + 1], z)])
+            # wall: from crossing p (leaving the high side) to q; normal to the low side
+            (p, hp), (q, _) = ends
+            if not hp:      # p must be where the way round the cell leaves the high side
+                p, q = q, p
+            a, b = (p[0], p[1], zlo[c]), (q[0], q[1], zlo[c])
+            c2, d = (q[0], q[1], zhi[c]), (p[0], p[1], zhi[c])
+            tris.append([a, b, c2])
+            tris.append([a, c2, d])
+    t = np.asarray(tris, float).reshape(-1, 3, 3)
+    return t, ok

@@ -7,7 +7,7 @@ the material left along the normal at points of each reference
 (:mod:`millpath.simulate.leftover`). ``accuracy`` (program units) bounds the gouge
 figure; the material left is exact (to ``accuracy``) at sample points ``spacing``
 apart. Designs that are only height fields are meshed by
-:func:`millpath.geometry.heightmesh.height_field_mesh` (walls within ``accuracy / 2``).
+:func:`millpath.geometry.heightmesh.height_field_mesh` (walls placed exactly on a 50 * ``accuracy`` grid).
 """
 
 from __future__ import annotations
@@ -61,12 +61,13 @@ def orient_outward(tri: np.ndarray) -> np.ndarray:
 
 def design_triangles(design, stock: Stock, accuracy: float, size: float) -> np.ndarray:
     """Triangles of a design: its ``mesh()`` when it has one, else a height-field mesh
-    over the stock box with cells of ``size`` refined to ``accuracy / 2``."""
+    over the stock box with cells of ``size`` refined to ``50 accuracy`` where walls
+    or curvature need it (walls cut exactly at the cell edges, flat to ``accuracy / 2``)."""
     if hasattr(design, "mesh"):
         return orient_outward(design.mesh())
     x0, y0, z0, x1, y1, z1 = stock.box
-    tri = height_field_mesh(design, (x0, y0, x1, y1), size=size, min_size=accuracy / 2,
-                            flat_tol=accuracy / 4, floor=z0 - max(1.0, 0.1 * (z1 - z0)))
+    tri = height_field_mesh(design, (x0, y0, x1, y1), size=size, min_size=accuracy * 50,
+                            flat_tol=accuracy / 2, floor=z0 - max(1.0, 0.1 * (z1 - z0)))
     return orient_outward(tri)
 
 

@@ -21,7 +21,8 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit, prange
 
-from millpath.geometry.convex import BALL, BULL, CYL, DRILL, FLAT, depth, meets, shape_rings
+from millpath.geometry.convex import (BALL, BULL, CYL, DRILL, FLAT, depth, meets, shape_rings,
+                                      support_swept)
 from millpath.geometry.index import BoxIndex, bucket_range, first_bucket
 from millpath.model.tool import Tool
 
@@ -67,7 +68,7 @@ class ToolShapes:
 
 
 @njit(cache=True, parallel=True)
-def _gouge_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri,
+def _gouge_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn,
                   tlo, thi, start, items, bi0, bj0, x0, y0, bs, nbx, nby,
                   e0, tol, out_g, out_t, out_s):
     n = S.shape[0]
@@ -80,8 +81,13 @@ def _gouge_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri,
         bsh = -1
         P0 = S[c]
         P1 = E[c]
+        sp = np.empty(3)
         for j in range(nshape[s]):
             Rj = R[s, j]
+            nr0, rho0 = shape_rings(kind[s, j], Rj, rc[s, j], k[s, j], zb[s, j], L[s, j], e0,
+                                    rr, rh)
+            if nr0 == 0:
+                continue
             qx0 = min(P0[0], P1[0]) - Rj
             qx1 = max(P0[0], P1[0]) + Rj
             qy0 = min(P0[1], P1[1]) - Rj
@@ -98,6 +104,16 @@ def _gouge_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri,
                             continue
                         if (thi[t, 0] < qx0 or tlo[t, 0] > qx1 or thi[t, 1] < qy0
                                 or tlo[t, 1] > qy1 or thi[t, 2] < qz0 or tlo[t, 2] > qz1):
+                            continue
+                        # the plane of t must cut the solid's C_e0, else no point of t
+                        # can be e0 deep in it (one support point each way)
+                        nx, ny, nz = tn[t, 0], tn[t, 1], tn[t, 2]
+                        pd = nx * tri[t, 0, 0] + ny * tri[t, 0, 1] + nz * tri[t, 0, 2]
+                        support_swept(P0, P1, nr0, rr, rh, rho0, nx, ny, nz, sp)
+                        if sp[0] * nx + sp[1] * ny + sp[2] * nz < pd:
+                            continue
+                        support_swept(P0, P1, nr0, rr, rh, rho0, -nx, -ny, -nz, sp)
+                        if sp[0] * nx + sp[1] * ny + sp[2] * nz > pd:
                             continue
                         lo = e0 if e0 > best else best
                         d = depth(tri[t], P0, P1, kind[s, j], Rj, rc[s, j], k[s, j],
@@ -168,6 +184,12 @@ class GougeResult:
     shape: np.ndarray
 
 
+def _normals(tri: np.ndarray) -> np.ndarray:
+    n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    ln = np.linalg.norm(n, axis=1)
+    return np.ascontiguousarray(n / np.where(ln > 0, ln, 1.0)[:, None])
+
+
 def gouge_chords(S: np.ndarray, E: np.ndarray, slot: np.ndarray, shapes: ToolShapes,
                  triangles: np.ndarray, index: BoxIndex, accuracy: float) -> GougeResult:
     """Penetration of the design into each chord's swept tool (see the module doc)."""
@@ -178,7 +200,7 @@ def gouge_chords(S: np.ndarray, E: np.ndarray, slot: np.ndarray, shapes: ToolSha
     if n and len(triangles):
         _gouge_chords(np.ascontiguousarray(S, float), np.ascontiguousarray(E, float),
                       np.ascontiguousarray(slot, np.int64), *shapes.arrays(),
-                      triangles, *index.arrays(), accuracy / 2.0, accuracy / 20.0, g, t, s)
+                      triangles, _normals(triangles), *index.arrays(), accuracy / 2.0, accuracy / 20.0, g, t, s)
     return GougeResult(g, t, s)
 
 

@@ -148,37 +148,51 @@ def _caps(P, N, own, blo, bhi, tri, tlo, thi, start, items, bi0, bj0, x0, y0, bs
                         tt = f * np.dot(e2, qv)
                         if 1e-7 < tt < U:
                             U = tt
-            # medial cap: beyond the t where another triangle is nearer than p, the
-            # point s + t n is no longer "t from the design" (concave corners)
-            ex = p + n * U
-            qx0 = min(p[0], ex[0]) - U
-            qx1 = max(p[0], ex[0]) + U
-            qy0 = min(p[1], ex[1]) - U
-            qy1 = max(p[1], ex[1]) + U
-            ia, ib, ja, jb = bucket_range(x0, y0, bs, nbx, nby, qx0, qy0, qx1, qy1)
-            for bj in range(ja, jb + 1):
-                for bi in range(ia, ib + 1):
-                    b = bj * nbx + bi
-                    for k in range(start[b], start[b + 1]):
-                        t = items[k]
-                        if t == own[q] or not first_bucket(bi, bj, bi0[t], bj0[t], ia, ja):
-                            continue
-                        if (thi[t, 0] < qx0 or tlo[t, 0] > qx1 or thi[t, 1] < qy0
-                                or tlo[t, 1] > qy1):
-                            continue
-                        if _tri_dist2(p + n * U, tri[t, 0], tri[t, 1], tri[t, 2]) >= U * U:
-                            continue
-                        lo = 0.0
-                        hi = U
-                        for _ in range(40):
-                            mid = 0.5 * (lo + hi)
-                            if _tri_dist2(p + n * mid, tri[t, 0], tri[t, 1], tri[t, 2]) < mid * mid:
-                                hi = mid
-                            else:
-                                lo = mid
-                            if hi - lo < 1e-7:
-                                break
-                        U = lo
+        out[q] = U
+
+
+@njit(cache=True, parallel=True)
+def _medial(P, N, own, tri, tlo, thi, start, items, bi0, bj0, x0, y0, bs, nbx, nby, out):
+    """Shorten each ``out[q]`` to where another triangle becomes nearer to
+    ``P[q] + t N[q]`` than ``t`` (beyond it the point is no longer ``t`` from the design:
+    concave corners, the far side of a slot)."""
+    m = P.shape[0]
+    for q in prange(m):
+        p = P[q]
+        n = N[q]
+        U = out[q]
+        if U <= 0.0:
+            continue
+        ex = p + n * U
+        qx0 = min(p[0], ex[0]) - U
+        qx1 = max(p[0], ex[0]) + U
+        qy0 = min(p[1], ex[1]) - U
+        qy1 = max(p[1], ex[1]) + U
+        ia, ib, ja, jb = bucket_range(x0, y0, bs, nbx, nby, qx0, qy0, qx1, qy1)
+        for bj in range(ja, jb + 1):
+            for bi in range(ia, ib + 1):
+                b = bj * nbx + bi
+                for k in range(start[b], start[b + 1]):
+                    t = items[k]
+                    if t == own[q] or not first_bucket(bi, bj, bi0[t], bj0[t], ia, ja):
+                        continue
+                    if (thi[t, 0] < qx0 or tlo[t, 0] > qx1 or thi[t, 1] < qy0
+                            or tlo[t, 1] > qy1):
+                        continue
+                    if _tri_dist2(p + n * U, tri[t, 0], tri[t, 1], tri[t, 2]) >= U * U:
+                        continue
+                    lo = 0.0
+                    hi = U
+                    for _ in range(40):
+                        mid = 0.5 * (lo + hi)
+                        if _tri_dist2(p + n * mid, tri[t, 0], tri[t, 1], tri[t, 2]) < mid * mid:
+                            hi = mid
+                        else:
+                            lo = mid
+                        if hi - lo < 1e-7:
+                            break
+                    U = lo
+
         out[q] = U
 
 
@@ -268,6 +282,8 @@ def material_left(points, normals, owner, stock_box, triangles, tri_index: BoxIn
     _caps(P, N, np.ascontiguousarray(owner, np.int64), blo, bhi, triangles,
           *tri_index.arrays(), float(reach), U0)
     if len(S) == 0:
+        _medial(P, N, np.ascontiguousarray(owner, np.int64), triangles, *tri_index.arrays(),
+                U0)
         return U0, who
     S = np.ascontiguousarray(S, float)
     E = np.ascontiguousarray(E, float)
@@ -282,4 +298,5 @@ def material_left(points, normals, owner, stock_box, triangles, tri_index: BoxIn
     _left(P, N, U0, S, E, np.ascontiguousarray(slot, np.int64), *shapes.arrays()[:6],
           cidx.lo, cidx.hi, cidx.start, cidx.items, cidx.bi0, cidx.bj0, cidx.x0, cidx.y0,
           cidx.bs, cidx.nbx, cidx.nby, accuracy / 20.0, out, who)
+    _medial(P, N, np.ascontiguousarray(owner, np.int64), triangles, *tri_index.arrays(), out)
     return out, who
