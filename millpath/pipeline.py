@@ -191,7 +191,11 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False)
             from millpath.simulate import render_deviation, render_stock
             render_stock(sim.zmap, tmp / "stock.png")
             if design is not None:
-                render_deviation(sim.zmap, design, tmp / "deviation.png")
+                ex = sim.exact
+                render_deviation(sim.zmap, design, tmp / "deviation.png",
+                                 gouge_at=sim.gouge_at, left_at=sim.left_at,
+                                 gouge=ex.max_gouge if ex else None,
+                                 left=ex.max_left if ex else None)
         report["seconds"] = round(time.perf_counter() - t0, 3)
         (tmp / "report.json").write_text(json.dumps(report, indent=2, default=_json_default))
         files = [out / f.name for f in sorted(tmp.iterdir())]

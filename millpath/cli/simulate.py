@@ -73,9 +73,9 @@ def _design(path: Path, stock):
                             f"(design box {lo.round(4).tolist()} to {hi.round(4).tolist()}; "
                             "different units?)", path)
     try:
-        design = MeshDesign(tri)
-    except ValueError as e:
-        raise MillpathError(str(e), path) from None
+        design = MeshDesign(tri)          # its top surface, for the Z-map's figures
+    except ValueError:
+        design = None                     # walls only: the exact check alone
     return design, [Reference(orient_outward(tri), path.name, None)]
 
 
@@ -149,7 +149,9 @@ def command(program: Path, tools_path: Path | None, stock_text: str,
         render_stock(r.zmap, png, title=f"{program.name}: simulated stock", units=units)
         if design is not None:
             render_deviation(r.zmap, design, png.with_name(png.stem + "_deviation.png"),
-                             units=units)
+                             units=units, gouge_at=r.gouge_at, left_at=r.left_at,
+                             gouge=r.exact.max_gouge if r.exact else None,
+                             left=r.exact.max_left if r.exact else None)
     j = r.to_json()
     if as_json:
         click.echo(json.dumps(j, indent=2))
@@ -157,7 +159,7 @@ def command(program: Path, tools_path: Path | None, stock_text: str,
     u3 = f"{units}^3"
     click.echo(f"{program.name}: {len(motions)} motions, {units}, resolution {resolution:g}")
     click.echo(f"removed volume   {j['removed_volume']:.6g} {u3}")
-    if design is not None:
+    if refs is not None:
         def at(p):
             return (f" at X{p['x']:.4g} Y{p['y']:.4g} Z{p['z']:.4g}"
                     + (f" (line {p['line']})" if p.get("line") is not None else "")) if p else ""
@@ -165,7 +167,8 @@ def command(program: Path, tools_path: Path | None, stock_text: str,
                    f", {j.get('gouging_moves', 0)} gouging motions")
         click.echo(f"max left         {j['max_left']:.4g} {units}{at(j.get('max_left_at'))}")
         click.echo(f"accuracy         {j.get('accuracy')} {units} (normal to the design)")
-        click.echo(f"left volume      {j['left_volume']:.6g} {u3}")
+        if j["left_volume"] is not None:
+            click.echo(f"left volume      {j['left_volume']:.6g} {u3}")
     click.echo(f"rapids through material  {j['rapids_through_material']}"
                + (f" (lines {', '.join(map(str, r.rapid_lines[:10]))})" if r.rapid_lines else ""))
     click.echo(f"holder contacts          {j['holder_contacts']}"
