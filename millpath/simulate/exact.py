@@ -95,7 +95,8 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
                  references: list[Reference], *, motion_op: np.ndarray | None = None,
                  accuracy: float = 0.001, spacing: float | None = None) -> ExactResult:
     """Gouge and material left of ``motions`` against ``references`` (see the module
-    doc). ``motion_op`` gives each motion's operation (default all 0). ``spacing`` is
+    doc). ``motion_op`` gives each motion's operation (default all 0). Material left is
+    measured up to twice the largest tool diameter (more is reported as that). ``spacing`` is
     the distance between material-left sample points (default a quarter of the
     smallest tool radius)."""
     nm = len(motions)
@@ -140,10 +141,12 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
                         "line": int(mo.line), "operation": int(cop[cs[c]])}
         # material left on this reference, by all cutting chords
         pts, nrm, own = sample_triangles(tri, spacing)
-        pts, nrm, own = _thin(pts, nrm, own, spacing / 2.0)
-        reach = float(max(stock.size))
+        pts, nrm, own = _thin(pts, nrm, own, spacing)
+        # material left is measured up to twice the largest tool diameter: beyond
+        # that it is uncut stock, reported as that much
+        reach = float(min(max(stock.size), 2.0 * max(tools[t].diameter for t in numbers)))
         left, who = material_left(pts, nrm, own, stock.box, tri, idx, S, E, slot, shapes,
-                                  accuracy, reach)
+                                  accuracy, reach, float(spacing) * 4.0)
         if len(left):
             q = int(np.argmax(left))
             lq = float(left[q]) if left[q] >= accuracy / 2 else 0.0

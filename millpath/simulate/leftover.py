@@ -152,10 +152,12 @@ def _caps(P, N, own, blo, bhi, tri, tlo, thi, start, items, bi0, bj0, x0, y0, bs
 
 
 @njit(cache=True, parallel=True)
-def _medial(P, N, own, tri, tlo, thi, start, items, bi0, bj0, x0, y0, bs, nbx, nby, out):
+def _medial(P, N, own, tri, tlo, thi, start, items, bi0, bj0, x0, y0, bs, nbx, nby, margin,
+            out):
     """Shorten each ``out[q]`` to where another triangle becomes nearer to
     ``P[q] + t N[q]`` than ``t`` (beyond it the point is no longer ``t`` from the design:
-    concave corners, the far side of a slot)."""
+    concave corners, the far side of a slot). Triangles more than ``margin`` beside the
+    ray are not looked at (a wall that far off bounds only uncut stock)."""
     m = P.shape[0]
     for q in prange(m):
         p = P[q]
@@ -164,10 +166,13 @@ def _medial(P, N, own, tri, tlo, thi, start, items, bi0, bj0, x0, y0, bs, nbx, n
         if U <= 0.0:
             continue
         ex = p + n * U
-        qx0 = min(p[0], ex[0]) - U
-        qx1 = max(p[0], ex[0]) + U
-        qy0 = min(p[1], ex[1]) - U
-        qy1 = max(p[1], ex[1]) + U
+        w = min(U, margin)
+        qx0 = min(p[0], ex[0]) - w
+        qx1 = max(p[0], ex[0]) + w
+        qy0 = min(p[1], ex[1]) - w
+        qy1 = max(p[1], ex[1]) + w
+        qz0 = min(p[2], ex[2]) - w
+        qz1 = max(p[2], ex[2]) + w
         ia, ib, ja, jb = bucket_range(x0, y0, bs, nbx, nby, qx0, qy0, qx1, qy1)
         for bj in range(ja, jb + 1):
             for bi in range(ia, ib + 1):
@@ -177,7 +182,7 @@ def _medial(P, N, own, tri, tlo, thi, start, items, bi0, bj0, x0, y0, bs, nbx, n
                     if t == own[q] or not first_bucket(bi, bj, bi0[t], bj0[t], ia, ja):
                         continue
                     if (thi[t, 0] < qx0 or tlo[t, 0] > qx1 or thi[t, 1] < qy0
-                            or tlo[t, 1] > qy1):
+                            or tlo[t, 1] > qy1 or thi[t, 2] < qz0 or tlo[t, 2] > qz1):
                         continue
                     if _tri_dist2(p + n * U, tri[t, 0], tri[t, 1], tri[t, 2]) >= U * U:
                         continue
@@ -264,8 +269,8 @@ def _left(P, N, U0, S, E, slot, kind, R, rc, k, zb, L, clo, chi, start, items, b
 
 
 def material_left(points, normals, owner, stock_box, triangles, tri_index: BoxIndex,
-                  S, E, slot, shapes, accuracy: float,
-                  reach: float) -> tuple[np.ndarray, np.ndarray]:
+                  S, E, slot, shapes, accuracy: float, reach: float,
+                  margin: float) -> tuple[np.ndarray, np.ndarray]:
     """Material left along the normal at each point (see the module doc), and the
     chord that bounds it (-1: the stock box or the design does); ``reach`` caps the
     figure (a point nothing came near reports at most ``reach``)."""
@@ -283,7 +288,7 @@ def material_left(points, normals, owner, stock_box, triangles, tri_index: BoxIn
           *tri_index.arrays(), float(reach), U0)
     if len(S) == 0:
         _medial(P, N, np.ascontiguousarray(owner, np.int64), triangles, *tri_index.arrays(),
-                U0)
+                margin, U0)
         return U0, who
     S = np.ascontiguousarray(S, float)
     E = np.ascontiguousarray(E, float)
@@ -298,5 +303,6 @@ def material_left(points, normals, owner, stock_box, triangles, tri_index: BoxIn
     _left(P, N, U0, S, E, np.ascontiguousarray(slot, np.int64), *shapes.arrays()[:6],
           cidx.lo, cidx.hi, cidx.start, cidx.items, cidx.bi0, cidx.bj0, cidx.x0, cidx.y0,
           cidx.bs, cidx.nbx, cidx.nby, accuracy / 20.0, out, who)
-    _medial(P, N, np.ascontiguousarray(owner, np.int64), triangles, *tri_index.arrays(), out)
+    _medial(P, N, np.ascontiguousarray(owner, np.int64), triangles, *tri_index.arrays(),
+            margin, out)
     return out, who
