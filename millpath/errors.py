@@ -36,6 +36,19 @@ class MillpathError(Exception):
         return f"{w}: {self.message}" if w else self.message
 
 
+class MillpathWarning(UserWarning):
+    """A warning about an input, shown by the command line as one line
+    ``millpath: warning: FILE: message``. Issue it with :func:`warn`."""
+
+
+def warn(message: str, file: str | Path | None = None, line: int | None = None) -> None:
+    """Issue a :class:`MillpathWarning` naming ``file`` (and ``line``) like an error."""
+    import warnings
+
+    w = MillpathError(message, file, line).__str__()
+    warnings.warn(MillpathWarning(w), stacklevel=2)
+
+
 class JobError(MillpathError):
     """A job file is malformed: unknown key, wrong type, missing value."""
 

@@ -97,7 +97,7 @@ def default_resolution(job: Job, stock: Stock, tp: Toolpath) -> float:
 
 def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False) -> RunResult:
     """Run the job file at ``job_path``, writing program.ngc, tools.tbl, report.json,
-    preview.png, stock.png and deviation.png into ``outdir``."""
+    preview.png, stock.png, deviation.png and view.html into ``outdir``."""
     t0 = time.perf_counter()
     job = load_job(job_path)
     tp, results, stock = plan_job(job)
@@ -137,6 +137,8 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False)
         "stock": list(stock.box),
         "fit": {"mode": job.fit, "tolerance": job.fit_tolerance},
     }
+    if job.reference:
+        report["reference"] = job.reference
     from millpath.simulate import motion_times
     from millpath.verify.approach import approach_from_above
     motions = approach_from_above(motions, stock.zmax)
@@ -186,7 +188,7 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False)
         (tmp / "tools.tbl").write_text(
             f"; millpath tool table, values in {job.units}\n"
             + format_tool_table(entries_from_tools(job.tools)))
-        render_preview(tp, tmp / "preview.png", title=job.name)
+        render_preview(tp, tmp / "preview.png", title=job.name, stock=stock)
         if sim is not None:
             from millpath.simulate import render_deviation, render_stock
             render_stock(sim.zmap, tmp / "stock.png")
@@ -196,6 +198,10 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False)
                                  gouge_at=sim.gouge_at, left_at=sim.left_at,
                                  gouge=ex.max_gouge if ex else None,
                                  left=ex.max_left if ex else None)
+        from millpath.report.viewer import write_view
+        write_view(tmp / "view.html", program=program, motions=motions, tools=job.tools,
+                   stock=stock, units=job.units, sim=sim, design=design, title=job.name,
+                   toolpath=tp, move_lines=move_lines)
         report["seconds"] = round(time.perf_counter() - t0, 3)
         (tmp / "report.json").write_text(json.dumps(report, indent=2, default=_json_default))
         files = [out / f.name for f in sorted(tmp.iterdir())]

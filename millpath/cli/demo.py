@@ -44,6 +44,7 @@ def command(outdir: Path, only: str | None) -> None:
                 "max gouge", "max left", "run s"):
         table.add_column(col, justify="left" if col == "example" else "right")
     failures = 0
+    views: list[tuple[str, Path]] = []
     for job in jobs:
         name = job.parent.name
         console.print(f"[bold]{name}[/] ...")
@@ -55,11 +56,16 @@ def command(outdir: Path, only: str | None) -> None:
             table.add_row(name, "", "", "", "", "", "", "[red]failed[/]", "", "")
             continue
         r = res.report
+        views += [(name, f) for f in res.files if f.name == "view.html"]
         v = r.get("verification", {})
         table.add_row(name, r["units"], str(len(r["operations"])), str(r["lines"]),
                       str(sum(r["moves"].values())), f"{r['cycle_time_s']:.0f}",
                       _fmt(v.get("removed_volume")), _fmt(v.get("max_gouge")),
                       _fmt(v.get("max_left")), f"{res.seconds:.1f}")
     console.print(table)
+    if views:
+        console.print("3D views (open in a browser, no network needed):")
+        for name, f in views:
+            console.print(f"  {name}: {f.resolve()}", soft_wrap=True, highlight=False)
     if failures:
         raise MillpathError(f"{failures} of {len(jobs)} examples failed")

@@ -33,7 +33,10 @@ def command(program: Path, tolerance: float, mode: str, min_radius: float,
     except UnicodeDecodeError:
         raise MillpathError("not a text file", program) from None
     t0 = time.perf_counter()
-    out = fit_program(text, tolerance, mode, min_radius=min_radius, file=str(program))
+    try:
+        out = fit_program(text, tolerance, mode, min_radius=min_radius, file=str(program))
+    except ValueError as e:                    # --tolerance / --min-radius out of range
+        raise MillpathError(str(e), program) from None
     dt = time.perf_counter() - t0
     target = output if output is not None else program.with_name(program.stem + "-fit.ngc")
     if target.resolve() == program.resolve():

@@ -1,48 +1,76 @@
 """The ``millpath`` command: a click group whose subcommands live in sibling modules.
 
 Each module ``millpath.cli.<name>`` listed in ``COMMANDS`` defines a click command
-named ``command``. Errors derived from :class:`MillpathError` (and a few expected
-exception types) print one line ``millpath: error: FILE[:LINE]: message`` and exit 1;
-``--debug`` shows the traceback instead.
+named ``command``. One error boundary for every command:
+
+- a failure caused by the input (:class:`MillpathError`, or an ``OSError`` reading or
+  writing a file the user named) prints one line ``millpath: error: FILE[:LINE]: message``
+  and exits 1;
+- any other exception is a bug in millpath: one line ``millpath: internal error: ...``
+  saying so, exit 2;
+- ``--debug`` shows the traceback instead, and every library warning.
+
+Warnings: millpath's own (:class:`MillpathWarning`) print as one line
+``millpath: warning: FILE: message``; warnings from libraries (numpy, shapely,
+matplotlib, ...) carry no news for the user and are silenced unless ``--debug``.
 """
 
 from __future__ import annotations
 
 import importlib
 import sys
+import warnings
 
 import click
 
 from millpath import __version__
-from millpath.errors import MillpathError
+from millpath.errors import MillpathError, MillpathWarning
 
-COMMANDS = ("run", "demo", "check", "simulate", "features", "drop", "fit")
+COMMANDS = ("run", "demo", "check", "simulate", "features", "drop", "fit", "keys", "view")
+
+EXIT_INPUT = 1
+EXIT_BUG = 2
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    if issubclass(category, MillpathWarning):
+        click.echo(f"millpath: warning: {message}", err=True)
 
 
 class _Group(click.Group):
     def invoke(self, ctx: click.Context):
-        try:
-            return super().invoke(ctx)
-        except (click.exceptions.Exit, click.exceptions.Abort, click.ClickException):
-            raise
-        except MillpathError as e:
-            _fail(ctx, str(e))
-        except (OSError, ValueError) as e:
-            name = getattr(e, "filename", None)
-            msg = getattr(e, "strerror", None) or str(e)
-            _fail(ctx, f"{name}: {msg}" if name else msg)
+        debug = bool(ctx.params.get("debug"))
+        with warnings.catch_warnings():
+            if not debug:
+                warnings.simplefilter("ignore")
+                warnings.simplefilter("always", MillpathWarning)
+                warnings.showwarning = _show_warning
+            try:
+                return super().invoke(ctx)
+            except (click.exceptions.Exit, click.exceptions.Abort, click.ClickException):
+                raise
+            except MillpathError as e:
+                _fail(debug, f"error: {e}", EXIT_INPUT)
+            except OSError as e:
+                name = getattr(e, "filename", None)
+                msg = getattr(e, "strerror", None) or str(e)
+                _fail(debug, f"error: {name}: {msg}" if name else f"error: {msg}", EXIT_INPUT)
+            except Exception as e:                     # noqa: BLE001 - the boundary
+                text = " ".join(str(e).split()) or "no message"
+                _fail(debug, f"internal error: {type(e).__name__}: {text} (this is a bug in "
+                      f"millpath; run with --debug for the traceback)", EXIT_BUG)
 
 
-def _fail(ctx: click.Context, message: str) -> None:
-    if ctx.obj and ctx.obj.get("debug"):
+def _fail(debug: bool, message: str, status: int) -> None:
+    if debug:
         raise
-    click.echo(f"millpath: error: {message}", err=True)
-    sys.exit(1)
+    click.echo(f"millpath: {message}", err=True)
+    sys.exit(status)
 
 
 @click.group(cls=_Group)
 @click.version_option(__version__, prog_name="millpath")
-@click.option("--debug", is_flag=True, help="Show tracebacks instead of one-line errors.")
+@click.option("--debug", is_flag=True, help="Show tracebacks and library warnings.")
 @click.pass_context
 def cli(ctx: click.Context, debug: bool) -> None:
     """millpath: part definitions to verified RS274NGC (LinuxCNC) programs."""
@@ -50,13 +78,7 @@ def cli(ctx: click.Context, debug: bool) -> None:
 
 
 for _name in COMMANDS:
-    try:
-        _mod = importlib.import_module(f"millpath.cli.{_name}")
-    except ModuleNotFoundError as _e:          # command not built yet in this checkout
-        if _e.name != f"millpath.cli.{_name}":
-            raise
-        continue
-    cli.add_command(_mod.command, _name)
+    cli.add_command(importlib.import_module(f"millpath.cli.{_name}").command, _name)
 
 
 def main() -> None:

@@ -27,6 +27,10 @@ def read_text(path: str | Path, what: str, error: type[MillpathError] = Millpath
 
 _WORDS = {2: "two", 3: "three"}
 
+#: largest coordinate magnitude a points file may hold (mm or inch alike: a kilometre
+#: or more is a wrong column or unit, and squares of it must not overflow)
+MAX_COORDINATE = 1e9
+
 
 def read_number_rows(path: str | Path, names: str, error: type[MillpathError] = MillpathError
                      ) -> np.ndarray:
@@ -59,6 +63,8 @@ def read_number_rows(path: str | Path, names: str, error: type[MillpathError] = 
             raise error(f"{expect}, got {len(vals)} fields", p, lineno)
         if not all(math.isfinite(v) for v in vals):
             raise error("NaN or infinite coordinate", p, lineno)
+        if max(abs(v) for v in vals) > MAX_COORDINATE:
+            raise error(f"coordinate out of range (larger than {MAX_COORDINATE:g})", p, lineno)
         rows.append(vals)
     if not rows:
         raise error(f"points file has no {names} rows", p)

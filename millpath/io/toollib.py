@@ -16,23 +16,30 @@ from typing import Any
 import tomli_w
 
 from millpath.errors import JobError
-from millpath.job.schema import Param, validate
+from millpath.io.schema import Param, parse_toml, validate
 from millpath.model.tool import TOOL_TYPES, Tool
 
 TOOL = {
-    "number": Param("int", positive=True),
-    "type": Param("str", "flat", choices=TOOL_TYPES),
-    "diameter": Param("float", positive=True),
-    "corner_radius": Param("float", 0.0, nonneg=True),
-    "flutes": Param("int", 2, positive=True),
-    "flute_length": Param("float", None, positive=True),
-    "stickout": Param("float", None, positive=True),
-    "holder": Param("list", []),
-    "material": Param("str", "carbide"),
-    "point_angle": Param("float", 118.0, positive=True),
-    "shank_diameter": Param("float", None, positive=True),
-    "length": Param("float", None, positive=True),
-    "comment": Param("str", ""),
+    "number": Param("int", positive=True, doc="tool number (T and the tool table's P)"),
+    "type": Param("str", "flat", choices=TOOL_TYPES, doc="cutter shape"),
+    "diameter": Param("float", positive=True, unit="length", doc="cutting diameter"),
+    "corner_radius": Param("float", 0.0, nonneg=True, unit="length",
+                           doc="corner radius of a bull-nose cutter"),
+    "flutes": Param("int", 2, positive=True, unit="count", doc="number of cutting edges"),
+    "flute_length": Param("float", None, positive=True, unit="length",
+                          doc="cutting length, from the tip up"),
+    "stickout": Param("float", None, positive=True, unit="length",
+                      doc="from the holder face to the tip"),
+    "holder": Param("list", [], unit="length",
+                    doc="[[diameter, length], ...] cylinders stacked up from the holder face"),
+    "material": Param("str", "carbide", doc="tool material (for speeds and feeds)"),
+    "point_angle": Param("float", 118.0, positive=True, unit="deg",
+                         doc="included point angle of a drill"),
+    "shank_diameter": Param("float", None, positive=True, unit="length",
+                            doc="shank above the flutes (default: the diameter)"),
+    "length": Param("float", None, positive=True, unit="length",
+                    doc="gauge length for the tool table (default: stickout + holder)"),
+    "comment": Param("str", "", doc="written in the tool table and the program"),
 }
 
 
@@ -75,7 +82,6 @@ def tools_from_tables(tables: Any, file: str | Path | None = None,
 def read_tool_library(path: str | Path, units: str = "mm") -> dict[int, Tool]:
     """Read a TOML tool library file (``[[tools]]`` entries)."""
     p = Path(path)
-    from millpath.job.jobfile import parse_toml
     data = parse_toml(p.read_text(encoding="utf-8"), p)
     for k in data:
         if k not in ("tools", "units"):

@@ -9,6 +9,9 @@ Layout::
     [stock]        box = [xmin, ymin, zmin, xmax, ymax, zmax]
     [machine]      rapid, max_feed (units/min), acceleration (units/s^2)
     [simulation]   resolution (job units), enabled (bool)
+    [limits]       max_extent (job units), max_layers, max_passes   (millpath.model.limits)
+    [reference]    a document's published numbers the job reproduces (free-form
+                   table, copied into report.json as "reference")
     [[tools]]      number, type, diameter, ...   (see millpath.io.toollib)
     [[operations]] type = "...", tool = N, ...   (keys per strategy)
 
@@ -17,42 +20,67 @@ Relative paths inside the file are resolved from the job file's folder.
 
 from __future__ import annotations
 
-import re
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from millpath.errors import JobError
 from millpath.io.toollib import tools_from_tables
-from millpath.job.schema import Param, validate
+from millpath.io.schema import Param, parse_toml, validate
 from millpath.model import Machine, Stock, Tool
+from millpath.model.limits import Limits, count_needed
 from millpath.plan.registry import strategy
 from millpath.io.text import read_text
 
 TOP = {
-    "units": Param("str", choices=("mm", "inch")),
-    "name": Param("str", ""),
-    "description": Param("str", ""),
-    "fit": Param("str", "none", choices=("none", "arcs", "arcs+cubics")),
-    "fit_tolerance": Param("float", None, positive=True),
+    "units": Param("str", choices=("mm", "inch"), doc="units of every length in the job"),
+    "name": Param("str", "", doc="job name (default: the file's name)"),
+    "description": Param("str", "", doc="free text"),
+    "reference": Param("table", None, doc="a document's published numbers the job "
+                       "reproduces (copied into report.json)"),
+    "fit": Param("str", "none", choices=("none", "arcs", "arcs+cubics"),
+                 doc="replace runs of lines by arcs (and XY G5 cubics) before posting"),
+    "fit_tolerance": Param("float", None, positive=True, unit="length",
+                           doc="largest distance of the fitted path from the planned one "
+                               "(default 0.005 mm / 0.0002 in)"),
     "stock": Param("table", None),
     "machine": Param("table", None),
     "simulation": Param("table", None),
+    "limits": Param("table", None),
     "tools": Param("list", []),
     "operations": Param("list"),
 }
 
-STOCK = {"box": Param("floats", length=6)}
+STOCK = {"box": Param("floats", length=6, unit="length",
+                      doc="[xmin, ymin, zmin, xmax, ymax, zmax] of the raw block")}
 MACHINE = {
-    "rapid": Param("float", None, positive=True),
-    "max_feed": Param("float", None, positive=True),
-    "acceleration": Param("float", None, positive=True),
+    "rapid": Param("float", None, positive=True, unit="feed",
+                   doc="rapid rate (default 5000 mm/min, 200 in/min)"),
+    "max_feed": Param("float", None, positive=True, unit="feed",
+                      doc="highest feed rate (default 3000 mm/min, 120 in/min)"),
+    "acceleration": Param("float", None, positive=True,
+                          doc="axis acceleration in units/s^2 (default 500 mm/s^2, 20 in/s^2)"),
 }
+LIMITS = {
+    "max_extent": Param("float", None, positive=True, unit="length",
+                        doc="largest stock side (default 10000 mm / 400 in)"),
+    "max_layers": Param("int", None, positive=True, unit="count",
+                        doc="depth passes of one operation: stock height / stepdown "
+                            "(default 2000)"),
+    "max_passes": Param("int", None, positive=True, unit="count",
+                        doc="side-by-side passes of one operation: largest stock side / "
+                            "stepover (default 20000)"),
+}
+#: operation keys that set a depth per layer / a distance between side-by-side passes
+LAYER_KEYS = ("stepdown", "step_down", "stepdown_max", "step")
+PASS_KEYS = ("stepover", "step_over")
 SIMULATION = {
-    "resolution": Param("float", None, positive=True),
-    "enabled": Param("bool", True),
-    "design": Param("path", None),
+    "resolution": Param("float", None, positive=True, unit="length",
+                        doc="Z-map cell size (default: a tenth of the smallest tool "
+                            "diameter)"),
+    "enabled": Param("bool", True, doc="simulate and verify the program"),
+    "design": Param("path", None, doc="the designed part (STL) the program is verified "
+                                      "against (default: the operations' own designs)"),
 }
 
 
@@ -68,6 +96,8 @@ class Job:
     fit: str = "none"
     fit_tolerance: float = 0.005
     simulation: dict[str, Any] = field(default_factory=dict)
+    limits: Limits = field(default_factory=Limits)
+    reference: dict[str, Any] | None = None     # published numbers the job reproduces
 
     @property
     def base_dir(self) -> Path:
@@ -82,27 +112,15 @@ def load_job(path: str | Path) -> Job:
     return job_from_dict(data, p)
 
 
-def parse_toml(text: str, path: Path | None) -> dict:
-    """tomllib.loads with errors as JobError naming the file and line."""
-    try:
-        return tomllib.loads(text)
-    except tomllib.TOMLDecodeError as e:
-        msg = str(e)
-        line = None
-        m = re.search(r"\s*\(at line (\d+), column \d+\)", msg)
-        if m:
-            line = int(m.group(1))
-            msg = msg[:m.start()] + msg[m.end():]
-        elif "(at end of document)" in msg:
-            line = text.count("\n") + (0 if text.endswith("\n") else 1)
-            msg = msg.replace(" (at end of document)", " at end of file")
-        raise JobError(f"invalid TOML: {msg}", path, line) from None
-
-
 def job_from_dict(data: dict, path: Path | None = None) -> Job:
     base = path.parent if path else Path.cwd()
     top = validate(data, TOP, "", path, base)
     units = top["units"]
+    limits = Limits.default_for(units)
+    if top["limits"] is not None:
+        lim = validate(top["limits"], LIMITS, "limits", path)
+        limits = Limits(**{k: lim[k] if lim[k] is not None else getattr(limits, k)
+                           for k in Limits.keys()})
     stock = None
     if top["stock"] is not None:
         st = validate(top["stock"], STOCK, "stock", path)
@@ -110,6 +128,11 @@ def job_from_dict(data: dict, path: Path | None = None) -> Job:
             stock = Stock.from_box(st["box"])
         except ValueError as e:
             raise JobError(f"stock.box: {e}", path) from None
+        side = max(stock.size)
+        if side > limits.max_extent:
+            raise JobError(f"stock.box: a side of {side:g} {units} is larger than the "
+                           f"{limits.max_extent:g} {units} limit (wrong units? raise "
+                           f"[limits] max_extent if the machine is that big)", path)
     machine = Machine.default_for(units)
     if top["machine"] is not None:
         m = validate(top["machine"], MACHINE, "machine", path)
@@ -133,8 +156,32 @@ def job_from_dict(data: dict, path: Path | None = None) -> Job:
         if "tool" in params and isinstance(params["tool"], int) and params["tool"] not in tools:
             raise JobError(f"{where}.tool: tool {params['tool']} is not in the job's [[tools]]",
                            path)
+        _check_work(params, stock, limits, units, where, path)
         ops.append((op["type"], params))
     default_tol = 0.0002 if units == "inch" else 0.005
     return Job(path=path, units=units, name=top["name"] or (path.stem if path else "job"),
                stock=stock, machine=machine, tools=tools, operations=ops, fit=top["fit"],
-               fit_tolerance=top["fit_tolerance"] or default_tol, simulation=sim)
+               fit_tolerance=top["fit_tolerance"] or default_tol, simulation=sim,
+               limits=limits, reference=top["reference"])
+
+
+def _check_work(params: dict[str, Any], stock: Stock | None, limits: Limits, units: str,
+                where: str, path: Path | None) -> None:
+    """Refuse an operation whose steps would make more layers or passes than the limits
+    allow, measured over the stock (or the operation's own depth), before planning."""
+    if stock is not None:
+        depth, across = stock.size[2], max(stock.size[0], stock.size[1])
+    else:
+        depth, across = params.get("depth") or 0.0, 0.0
+    for keys, span, what, limit, name in (
+            (LAYER_KEYS, depth, "layers", limits.max_layers, "max_layers"),
+            (PASS_KEYS, across, "passes", limits.max_passes, "max_passes")):
+        for key in keys:
+            step = params.get(key)
+            if not isinstance(step, float) or span <= 0:
+                continue
+            n = count_needed(span, step)
+            if n > limit:
+                raise JobError(f"{where}.{key}: {span:g} {units} at {step:g} {units} a step "
+                               f"needs {n:g} {what}, more than the limit of {limit} "
+                               f"(raise [limits] {name} if you mean it)", path)

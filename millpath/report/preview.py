@@ -45,10 +45,26 @@ def _polylines(tp: Toolpath, step: float):
         yield key[0], key[1], np.vstack(run)
 
 
-def render_preview(tp: Toolpath, path: str | Path, title: str = "") -> None:
-    """Write a PNG of the tool path (tip positions) to ``path``."""
+def render_preview(tp: Toolpath, path: str | Path, title: str = "", stock=None) -> None:
+    """Write :func:`preview_figure` as a PNG to ``path``."""
+    fig = preview_figure(tp, title, stock)
+    fig.savefig(path)
+    plt.close(fig)
+
+
+def preview_figure(tp: Toolpath, title: str = "", stock=None):
+    """A matplotlib figure of the tool path (tip positions).
+
+    Axes are equal (a round bar stays round), spanning the tool path and the stock box
+    (``stock``: a :class:`millpath.model.Stock`, drawn as a wire frame) with at most five
+    ticks an axis, labelled with the units."""
+    from matplotlib.ticker import MaxNLocator
     ends = tp.ends()
-    span = float(np.ptp(ends, axis=0).max()) if len(ends) else 1.0
+    extent = ends if len(ends) else np.zeros((1, 3))
+    if stock is not None:
+        b = np.array(stock.box, float)
+        extent = np.vstack([extent, b[:3], b[3:]])
+    span = float(np.ptp(extent, axis=0).max()) or 1.0
     step = max(span / 400.0, 1e-6)
     fig = plt.figure(figsize=(8, 6.5), dpi=110)
     ax = fig.add_subplot(111, projection="3d")
@@ -68,11 +84,25 @@ def render_preview(tp: Toolpath, path: str | Path, title: str = "") -> None:
     ax.set_xlabel(f"X [{tp.units}]")
     ax.set_ylabel(f"Y [{tp.units}]")
     ax.set_zlabel(f"Z [{tp.units}]")
-    if len(ends):
-        lo, hi = ends.min(axis=0), ends.max(axis=0)
-        ax.set_box_aspect((max(hi[0] - lo[0], 1e-9), max(hi[1] - lo[1], 1e-9),
-                           max(hi[2] - lo[2], 0.05 * span)))
+    if stock is not None:
+        x0, y0, z0, x1, y1, z1 = stock.box
+        for (xa, ya), (xb, yb) in (((x0, y0), (x1, y0)), ((x1, y0), (x1, y1)),
+                                   ((x1, y1), (x0, y1)), ((x0, y1), (x0, y0))):
+            for z in (z0, z1):
+                ax.plot([xa, xb], [ya, yb], [z, z], color="0.35", lw=0.6)
+            ax.plot([xa, xa], [ya, ya], [z0, z1], color="0.35", lw=0.6)
+        handles.append(Line2D([], [], color="0.35", label="stock"))
+        ax.legend(handles=handles, loc="upper left", fontsize=7)
+    lo, hi = extent.min(axis=0), extent.max(axis=0)
+    mid, half = (lo + hi) / 2.0, np.maximum((hi - lo) / 2.0, 0.02 * span)
+    for setter, m, h in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), mid, half):
+        setter(m - h, m + h)
+    ax.set_box_aspect(tuple(2.0 * half))                 # equal scale on X, Y and Z
+    for axis, h in zip((ax.xaxis, ax.yaxis, ax.zaxis), half):
+        # fewer ticks on a short axis, so that their labels do not overprint
+        axis.set_major_locator(MaxNLocator(max(2, min(5, int(10 * h / span) + 1))))
+    ax.tick_params(labelsize=7)
+    ax.view_init(elev=30, azim=-60)
     ax.set_title(title or "tool path", fontsize=10)
     fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
+    return fig

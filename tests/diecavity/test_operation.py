@@ -49,7 +49,7 @@ def _finish_xy(motions, z):
 
 def test_params_keys_are_the_issue_keys():
     assert set(op.PARAMS) == {"tool", "points", "points_file", "close", "tolerance", "depth",
-                              "step_down", "allowance", "stepover", "compensation", "feed",
+                              "step_down", "allowance", "stepover", "compensation", "entry", "feed",
                               "plunge_feed", "spindle", "safe_z", "breakthrough"}
 
 
@@ -237,7 +237,7 @@ def test_unreachable_corners_say_how_much_is_left(blanking):
 
 def test_inch_job_control_and_cam_interpret_alike(rs274):
     from millpath.interpret import interpret
-    from millpath.job.schema import validate
+    from millpath.io.schema import validate
     from millpath.model import Machine, Stock, Tool
     from millpath.post.linuxcnc import post
     from millpath.verify.rs274 import run_rs274

@@ -26,8 +26,9 @@ def plan_example(name: str):
     return job, strategy(op_type).plan(ctx, params)
 
 
-def test_there_are_four_examples():
-    assert NAMES == ["features-block-slot", "features-inch", "features-plate", "features-pockets"]
+def test_there_are_five_examples():
+    assert NAMES == ["features-example-2", "features-holes-slot", "features-inch", "features-plate",
+                     "features-pockets"]
 
 
 @pytest.mark.parametrize("name", NAMES)

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from millpath.errors import MillpathError
-from millpath.job.schema import validate
+from millpath.io.schema import validate
 from millpath.model import Machine, Tool
 from millpath.plan.base import PlanContext
 from millpath.plan.features.operation import PARAMS, plan
@@ -116,7 +116,7 @@ def test_operations_are_grouped_by_tool(planned):
 def test_unmachinable_features_are_reported():
     rep = run_plan("hole_bottoms.stp").report["features"]
     assert [(u["type"], u["reason"]) for u in rep["unmachinable"]] == [
-        ("ROUND_HOLE", "a 'flat with taper' bottom is not planned")]
+        ("ROUND_HOLE", "hole bottom has no 'final diameter'")]      # the fixture's taper
     assert {p["strategy"] for p in rep["planned"]} == {"drill", "helical", "plunge"}
 
 

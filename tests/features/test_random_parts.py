@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from millpath.job.schema import validate
+from millpath.io.schema import validate
 from millpath.model import Machine, Tool
 from millpath.part.step.build import Ap224Builder
 from millpath.plan.base import PlanContext

@@ -7,7 +7,7 @@ import types
 import numpy as np
 import pytest
 
-from millpath.job.schema import Param
+from millpath.io.schema import Param
 from millpath.model import Operation, Toolpath
 from millpath.plan import registry
 from millpath.plan.base import PlanResult

@@ -16,7 +16,7 @@ def test_run_writes_program_tools_report_and_pictures(tmp_path, job_file):
     res = run_job(job_file, out)
     names = sorted(f.name for f in out.iterdir())
     assert names == ["deviation.png", "preview.png", "program.ngc", "report.json",
-                     "stock.png", "tools.tbl"]
+                     "stock.png", "tools.tbl", "view.html"]
     rep = json.loads((out / "report.json").read_text())
     assert rep["units"] == "mm" and rep["program"] == "program.ngc"
     assert rep["lines"] == (out / "program.ngc").read_text().count("\n")

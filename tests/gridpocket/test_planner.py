@@ -21,7 +21,8 @@ def test_params_are_exactly_the_keys_of_the_issue():
     assert set(operation.PARAMS) == {
         "tool", "polygon", "bottom", "grid", "depths", "step", "motion", "tolerance",
         "zigzag", "feed", "finish_feed", "plunge_feed", "spindle", "safe_z", "z_mode",
-        "force_grid"}
+        "force_grid",
+        "navigation", "grid_centre", "bezier_parameters"}        # issue 17
 
 
 def test_force_grid_accepts_cells_larger_than_d_over_sqrt2(tmp_path, gp):

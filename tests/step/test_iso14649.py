@@ -50,7 +50,7 @@ def test_other_arm_files(shared_dir):
 
 
 def test_planning_an_arm_file_cuts_its_features(shared_dir, rs274):
-    from millpath.job.schema import validate
+    from millpath.io.schema import validate
     from millpath.model import Machine, Tool
     from millpath.plan.base import PlanContext
     from millpath.plan.features.operation import PARAMS, plan

@@ -14,7 +14,7 @@ import pytest
 
 from millpath.errors import PlanningError
 from millpath.interpret import interpret
-from millpath.job.schema import validate
+from millpath.io.schema import validate
 from millpath.model.stock import Machine, Stock
 from millpath.model.tool import Tool
 from millpath.part.surface.load import load_surface

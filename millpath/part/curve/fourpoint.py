@@ -14,6 +14,12 @@ u = 0, 1/3, 2/3, 1:
     L3'(u) = -40.5 u^2 + 36 u - 4.5        L4'(u) =  13.5 u^2 -  9 u + 1
 
 At the ends: P'(0) = -5.5 P1 + 9 P2 - 4.5 P3 + P4 and P'(1) = -P1 + 4.5 P2 - 9 P3 + 5.5 P4.
+
+Misprint (Mohamed 2006, seeds/001, eq. (5)): the paper prints G2'(u) = 41.5 u^2 - 45 u
++ 9 and G3'(u) = -41.5 u^2 + 36 u - 4.5; the derivative of L2 and L3 has 40.5 (as
+above, derived from BASIS). The printed form does not reproduce a straight line's
+constant tangent; tests/diecavity/test_misprints.py shows it failing and 40.5 agreeing
+with finite differences and with that line.
 Derivatives are with respect to u (job units per unit of u).
 """
 

@@ -10,6 +10,16 @@ Chords are laid greedily from u = 0: each chord's far end is the largest b with
 deviation <= T, found by Brent's method on deviation(a, b) - T and then checked. The
 greedy walk gives the fewest chords when a sub-piece of a feasible piece is feasible,
 which holds for the pieces a tolerance-sized chord spans. Lengths in job units.
+
+Misprints (Mohamed 2006, seeds/001): eq. (18) prints the quadratic's coefficients as
+Q = -13.5 P1 + 41.5 P2 - 41.5 P3 + 13.5 P4 and R = 18 P1 - 45 P2 + 36 P3 - 36 P4; from
+the derivative of the basis they are Q = -13.5 P1 + 40.5 P2 - 40.5 P3 + 13.5 P4 and
+R = 18 P1 - 45 P2 + 36 P3 - 9 P4 (the printed R does not vanish on a point curve), and
+its roots read "(-R/2Q) -/+ 1/2 power of [(R^2 - 4QS)/2Q]" for (-R -/+ sqrt(R^2 - 4QS)) /
+2Q. Here the quadratic is formed from the derived basis. Table 2's deviations disagree
+with the paper's own curve in five of the six rows checked (segment 2's are about 8
+times the chords' true deviation); tests/diecavity/test_misprints.py computes them by
+dense sampling.
 """
 
 from __future__ import annotations

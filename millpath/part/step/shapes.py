@@ -44,8 +44,10 @@ class HoleShape:
     diameter: float
     depth: float
     bottom: str                   # through | flat | spherical | conical | flat with radius
+                                  # | flat with taper
     bottom_radius: float = 0.0    # spherical radius or flat-with-radius corner radius
-    tip_angle: float = 118.0      # conical bottom, included angle (degrees)
+    tip_angle: float = 118.0      # conical bottom or taper: included angle (degrees)
+    final_diameter: float = 0.0   # flat with taper: diameter of the flat at the bottom
     kind: str = "hole"
 
     @property
@@ -202,7 +204,15 @@ def _hole(f: Feature, o, depth_dir) -> HoleShape:
         elif bottom == "conical":
             h.tip_angle = float(b.params.get("tip angle", 118.0))
         elif bottom == "flat with taper":
-            raise _Missing("a 'flat with taper' bottom is not planned")
+            # AP224's parameters: 'final diameter' (the flat) and the taper's angle, which
+            # the schema names 'taper diameter' (a plane angle measure); read as the
+            # cone's included angle, like a conical bottom's tip angle
+            h.final_diameter = _need(b.params, "final diameter", what="hole bottom")
+            h.tip_angle = _need(b.params, "taper angle", "taper diameter",
+                                what="hole bottom")
+            if not (0.0 < h.final_diameter < d and 0.0 < h.tip_angle < 180.0):
+                raise _Missing("a 'flat with taper' bottom needs 0 < final diameter < "
+                               "diameter and 0 < taper angle < 180 degrees")
         elif bottom not in ("flat", "through"):
             raise _Missing(f"unknown hole bottom {bottom!r}")
     if not (d > 0 and depth > 0):

@@ -38,6 +38,7 @@ from pathlib import Path
 import numpy as np
 
 from millpath.errors import GeometryError, JobError
+from millpath.io.text import MAX_COORDINATE
 from millpath.part.surface.mesh import Mesh, read_stl
 
 GRID_SUFFIXES = (".csv", ".xyz", ".txt")
@@ -95,19 +96,38 @@ def _resolve(name: str, base_dir: Path) -> Path:
 
 
 def _bezier_mesh(table: dict, divisions: int, where: str, file) -> Mesh:
+    """Mesh of a Bezier net table; every problem is an error naming ``file``."""
     from millpath.part.surface.bezier import BezierPatch
-    if "heights" in table:
-        if "box" not in table:
-            raise JobError(f"{where}.box: a heights net needs box = [xmin, ymin, xmax, ymax]",
-                           file)
-        z = np.array(table["heights"], dtype=float)
-        patch = BezierPatch.from_heights(z, tuple(float(v) for v in table["box"]))
-    elif "control" in table:
-        patch = BezierPatch(np.array(table["control"], dtype=float))
-    else:
-        raise JobError(f"{where}: a Bezier net needs heights (with box) or control; "
-                       "a measured grid needs grid", file)
-    return Mesh(patch.to_mesh(divisions, divisions), "bezier")
+
+    def numbers(key: str) -> np.ndarray:
+        try:
+            a = np.array(table[key], dtype=float)
+        except (ValueError, TypeError, OverflowError):
+            raise JobError(f"{where}.{key}: expected a (nested) list of numbers", file) from None
+        if not np.all(np.isfinite(a)) or (a.size and np.abs(a).max() > MAX_COORDINATE):
+            raise JobError(f"{where}.{key}: numbers must be finite and at most "
+                           f"{MAX_COORDINATE:g} in size", file)
+        return a
+
+    try:
+        if "heights" in table:
+            if "box" not in table:
+                raise JobError(f"{where}.box: a heights net needs box = [xmin, ymin, xmax, "
+                               "ymax]", file)
+            box = numbers("box")
+            if box.shape != (4,):
+                raise JobError(f"{where}.box: expected [xmin, ymin, xmax, ymax]", file)
+            patch = BezierPatch.from_heights(numbers("heights"), tuple(box))
+        elif "control" in table:
+            patch = BezierPatch(numbers("control"))
+        else:
+            raise JobError(f"{where}: a Bezier net needs heights (with box) or control; "
+                           "a measured grid needs grid", file)
+        return Mesh(patch.to_mesh(divisions, divisions), "bezier")
+    except GeometryError as e:
+        raise GeometryError(f"{where}: {e.message}", file) from None
+    except (ValueError, TypeError) as e:
+        raise JobError(f"{where}: {e}", file) from None
 
 
 def _grid_table(table: dict, divisions: int, base_dir: Path, file) -> Mesh:
@@ -153,7 +173,10 @@ def grid_mesh(path: Path, method: str, divisions: int) -> Mesh:
         I, J = np.meshgrid(i, j, indexing="ij")
         P = ((1 - s) * (1 - r) * S[I, J] + s * (1 - r) * S[I + 1, J]
              + (1 - s) * r * S[I, J + 1] + s * r * S[I + 1, J + 1])
-    return Mesh(_grid_triangles(P), path.name)
+    try:
+        return Mesh(_grid_triangles(P), path.name)
+    except GeometryError as e:
+        raise GeometryError(e.message, path) from None
 
 
 def read_step(path: Path, chord_tolerance: float = 0.01, units: str = "mm") -> Mesh:

@@ -14,6 +14,7 @@ from typing import Callable
 import numpy as np
 
 from millpath.errors import GeometryError
+from millpath.io.text import MAX_COORDINATE
 
 
 @dataclass
@@ -66,7 +67,8 @@ def read_stl(path: str | Path) -> Mesh:
         raise GeometryError("no such STL file", p)
     try:
         from stl import mesh as stl_mesh
-        m = stl_mesh.Mesh.from_file(str(p))
+        with np.errstate(all="ignore"):          # normals of absurd facets overflow
+            m = stl_mesh.Mesh.from_file(str(p))
     except Exception as e:  # numpy-stl raises assorted errors on malformed files
         raise GeometryError(f"cannot read STL: {e}", p) from None
     tris = np.asarray(m.vectors, dtype=np.float64).reshape(-1, 3, 3)
@@ -75,6 +77,12 @@ def read_stl(path: str | Path) -> Mesh:
     if not np.all(np.isfinite(tris)):
         bad = int(np.argmax(~np.all(np.isfinite(tris), axis=(1, 2))))
         raise GeometryError(f"facet {bad} has a non-finite coordinate", p)
+    if np.abs(tris).max() > MAX_COORDINATE:
+        bad = int(np.argmax(np.abs(tris).max(axis=(1, 2)) > MAX_COORDINATE))
+        raise GeometryError(f"facet {bad} has a coordinate larger than {MAX_COORDINATE:g}", p)
+    area2 = np.linalg.norm(np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]), axis=1)
+    if not np.any(area2 > 1e-12 * max(1.0, float(np.abs(tris).max())) ** 2):
+        raise GeometryError(f"none of the {len(tris)} facets has an area (all degenerate)", p)
     return Mesh(tris, p.name)
 
 

@@ -15,7 +15,16 @@ turn 0.05 rad or less straight (no arc, no trim), so near such a corner turning 
 the tool can come up to about r (1 - cos a) closer to the wall than r; the largest
 such approach to the true curve is measured and reported as ``finish_max_undercut``
 (0.0017 mm for die-blanking at T = 0.001 mm, 0.0001 mm for die-published). The contour is cut counter-clockwise with the tool on its
-left (G41, climb milling with M3). Lengths in job units; ``depth`` below the stock
+left (G41, climb milling with M3).
+
+``entry`` (the EMC/LinuxCNC manual's entry moves, seeds/003 "Tool compensation":
+the simple method, and the general one: an alignment move, then a straight and an arc
+lead-in): ``"line"`` (default) turns on G41 on a straight move that ends on a short
+line joining the contour at 0.06 rad; ``"arc"`` (with ``compensation = "control"``)
+turns on G41 on a straight move perpendicular to the contour, 2 r long, followed by a
+quarter arc of radius 2 r tangent to the first chord (counter-clockwise, the tool
+inside it at radius r), and leaves with the mirrored quarter arc off the last chord
+and G40 on a straight move 2 r further into the cavity. Lengths in job units; ``depth`` below the stock
 top; a cavity at least as deep as the block is a through cavity cut ``breakthrough``
 below the block bottom.
 """
@@ -31,7 +40,7 @@ from shapely.geometry.polygon import orient
 from shapely.validation import make_valid
 
 from millpath.errors import GeometryError, JobError, PlanningError
-from millpath.job.schema import Param
+from millpath.io.schema import Param
 from millpath.model import Operation, Toolpath
 from millpath.part.curve.blend import build_curve
 from millpath.part.curve.fourpoint import Curve
@@ -55,6 +64,8 @@ PARAMS = {
     "allowance": Param("float", 0.0, nonneg=True, doc="wall stock left by roughing"),
     "stepover": Param("float", None, positive=True, doc="roughing stepover (default 0.5 D)"),
     "compensation": Param("str", "cam", choices=("cam", "control")),
+    "entry": Param("str", "line", choices=("line", "arc"),
+                   doc="lead-in/out under G41: line, or line + tangent arc (control only)"),
     "feed": Param("float", positive=True),
     "plunge_feed": Param("float", None, positive=True, doc="default: feed / 2"),
     "spindle": Param("float", 0.0),
@@ -112,6 +123,87 @@ def _curvature_report(curve: Curve, radius: float, samples: int = 400) -> list[d
             out.append({"segment": j["after"], "u": [1.0, 1.0], "min_radius": 0.0,
                         "at": j["point"], "corner_deg": j["tangent_turn_deg"]})
     return out
+
+
+def _start_order(q: np.ndarray, r: float) -> np.ndarray:
+    """Contour vertices in the order to try them as the start: the straightest
+    stretches (least turning within 3 r behind the vertex) first."""
+    m = len(q)
+    t = np.roll(q, -1, axis=0) - q
+    L = np.hypot(t[:, 0], t[:, 1])
+    ang = np.arctan2(t[:, 1], t[:, 0])
+    turn = np.angle(np.exp(1j * (ang - np.roll(ang, 1))))
+    score = np.empty(m)
+    cs = np.concatenate([[0.0], np.cumsum(np.concatenate([turn, turn, turn]))])
+    pos = np.concatenate([[0.0], np.cumsum(np.concatenate([L, L, L]))])
+    for k in range(m):
+        kk = k + m
+        lo = np.searchsorted(pos, pos[kk] - 3 * r)
+        score[k] = cs[kk + 1] - cs[lo]
+    return np.argsort(score, kind="stable")
+
+
+def _quarter(centre, start, end, rad: float, n: int = 24) -> np.ndarray:
+    """Points of the counter-clockwise arc about ``centre`` from ``start`` to ``end``
+    at radius ``rad`` (the tool centre inside a programmed arc)."""
+    a0 = math.atan2(start[1] - centre[1], start[0] - centre[0])
+    a1 = math.atan2(end[1] - centre[1], end[0] - centre[0])
+    if a1 <= a0:
+        a1 += 2 * math.pi
+    th = np.linspace(a0, a1, n)
+    return np.column_stack([centre[0] + rad * np.cos(th), centre[1] + rad * np.sin(th)])
+
+
+def arc_entry(q: np.ndarray, region_in: Polygon, r: float, grid: float):
+    """The arc lead-in and lead-out under G41 (contour counter-clockwise, tool left).
+
+    For a start vertex q[k] with first chord direction t and inward normal n: the arc
+    of radius 2 r about C = q[k] + 2 r n from P = C - 2 r t to q[k] (counter-clockwise,
+    tangent to the chord at q[k]) is entered by a straight move from S = P + 2 r n
+    (the G41 move, longer than r as LinuxCNC requires). After the contour and an
+    overlap of at least 2 r past q[k] ending at q[j] (last chord direction te, normal
+    ne), the mirrored arc about Ce = q[j] + 2 r ne runs to Pe = Ce + 2 r te, and G40 is
+    turned on by a straight move to X = Pe + 2 r ne. The tool centre (the straight
+    moves, and the arcs at radius r about C and Ce) must stay inside ``region_in``.
+
+    Returns ``(k, S, P, C, overlap, Ce, Pe, X)`` with the points on the program's
+    ``grid``; PlanningError when no vertex leaves room."""
+    m = len(q)
+    t = np.roll(q, -1, axis=0) - q
+    L = np.hypot(t[:, 0], t[:, 1])
+    t = t / L[:, None]
+    n = np.stack([-t[:, 1], t[:, 0]], axis=1)
+    rho = 2.0 * r
+
+    def g(p):
+        return np.round(np.asarray(p, float) / grid) * grid
+
+    def inside(pts) -> bool:
+        return bool(region_in.contains(LineString(pts)))
+
+    for k in _start_order(q, r):
+        C = q[k] + rho * n[k]
+        P = g(C - rho * t[k])
+        S = g(P + rho * n[k])
+        tool_in = [S, P + r * t[k]] + list(_quarter(C, P, q[k], rho - r)[1:])
+        if not inside(tool_in):
+            continue
+        acc, j = 0.0, k
+        while acc < 2 * r:
+            acc += L[j % m]
+            j += 1
+        ov = [q[i % m] for i in range(k + 1, j + 1)]
+        jm = (j - 1) % m
+        qe = q[j % m]
+        Ce = qe + rho * n[jm]
+        Pe = g(Ce + rho * t[jm])
+        X = g(Pe + rho * n[jm])
+        tool_out = list(_quarter(Ce, qe, Pe, rho - r)) + [X]
+        if not inside(tool_out):
+            continue
+        return int(k), S, P, C, ov, Ce, Pe, X
+    raise PlanningError("no place on the contour leaves room for an arc lead-in of the "
+                        f"tool (radius {2 * r:g} arcs); use entry = \"line\"")
 
 
 def _entry(q: np.ndarray, region_in: Polygon, r: float, grid: float):
@@ -259,7 +351,16 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     if long.any():
         mid = np.round(0.5 * (q + nxt) / grid) * grid
         q = np.insert(q, np.flatnonzero(long) + 1, mid[long], axis=0)
+    if params["entry"] == "arc" and params["compensation"] != "control":
+        raise JobError(f"{where}.entry: \"arc\" is the lead-in under G41 "
+                       "(compensation = \"control\"); the CAM path enters on a line",
+                       ctx.job_file)
+    arc_in = arc_entry(q, region_in, r, grid) if params["entry"] == "arc" else None
     k, S, A, exit_point, overlap = _entry(q, region_in, r, grid)
+    if arc_in is not None:
+        # the line entry's own start k serves the undercut measure; the program
+        # starts at the arc entry's vertex
+        ka, S_arc, P_arc, C_arc, ov_arc, Ce_arc, Pe_arc, X_arc = arc_in
     q = np.roll(q, -k, axis=0)
     prog = [A] + list(q) + [q[0]] + [np.asarray(p) for p in overlap]
     try:
@@ -307,6 +408,9 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     tp.begin(Operation("die-cavity", f"die cavity ({params['compensation']})", tool.number,
                        spindle=params["spindle"],
                        info={"layers": n_layers, "compensation": params["compensation"]}))
+    if arc_in is not None:
+        qa = np.roll(q, k - ka, axis=0)          # the contour from the arc entry's vertex
+        S, exit_point = S_arc, X_arc
     tp.rapid(S[0], S[1], safe)
     z_prev = top
     for z in zs:
@@ -338,7 +442,15 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
             tp.rapid(S[0], S[1], safe)
             tp.rapid(S[0], S[1], z_prev + clear)
             tp.line(S[0], S[1], z, plunge)
-        if params["compensation"] == "control":
+        if arc_in is not None:
+            tp.compensation("left", d=tool.number)
+            tp.line(P_arc[0], P_arc[1], z, feed)
+            tp.arc((qa[0][0], qa[0][1], z), (C_arc[0], C_arc[1], z), False, feed)
+            for p in list(qa[1:]) + [qa[0]] + [np.asarray(p) for p in ov_arc]:
+                tp.line(p[0], p[1], z, feed)
+            tp.arc((Pe_arc[0], Pe_arc[1], z), (Ce_arc[0], Ce_arc[1], z), False, feed)
+            tp.compensation("off")
+        elif params["compensation"] == "control":
             tp.compensation("left", d=tool.number)
             for p in prog:
                 tp.line(p[0], p[1], z, feed)
@@ -397,7 +509,9 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         "layers": [float(z) for z in zs],
         "through": through,
         "roughing_rings": len(rough),
-        "entry": {"start": [float(S[0]), float(S[1])], "contour_point": [float(q[0][0]), float(q[0][1])]},
+        "entry": {"method": params["entry"], "start": [float(S[0]), float(S[1])],
+                  "contour_point": ([float(v) for v in qa[0]] if arc_in is not None
+                                    else [float(q[0][0]), float(q[0][1])])},
     })
     floor = -math.inf if through else bottom
     design = CavityDesign(true, top, floor)

@@ -43,6 +43,10 @@ def hole_floor(h: HoleShape, r: np.ndarray) -> np.ndarray:
     if h.bottom == "spherical":
         rho = h.bottom_radius
         return np.minimum(zb + rho - np.sqrt(np.maximum(rho * rho - r * r, 0.0)), h.z_top)
+    if h.bottom == "flat with taper":
+        half = math.radians(h.tip_angle) / 2.0
+        d = np.maximum(r - h.final_diameter / 2.0, 0.0)
+        return np.minimum(zb + d / math.tan(half), h.z_top)
     if h.bottom == "flat with radius":
         rc = h.bottom_radius
         R = h.diameter / 2.0

@@ -22,7 +22,8 @@ Job keys (lengths in job units):
 Holes get canned cycles (G81; G73 chip breaking or G83 full retract pecks of one
 diameter beyond three diameters deep), helical interpolation or a ball plunge; a
 flat-bottom hole with a drill of its diameter is drilled and its point's cone milled
-flat. Slots, pockets and planar faces are cleared by contour-parallel rings per level,
+flat; a 'flat with taper' bottom is milled with a flat end mill in cone levels leaving
+at most ``taper_cusp`` normal to the cone (:func:`paths.taper_bore`). Slots, pockets and planar faces are cleared by contour-parallel rings per level,
 entered by ramps, plus a finishing wall pass (faces run out past the sides where they
 leave the stock). Operations are grouped by tool (one tool change
 per tool): region milling first, then drills, then other milling; within a tool,
@@ -42,7 +43,7 @@ from typing import Any
 import numpy as np
 
 from millpath.errors import JobError, PlanningError
-from millpath.job.schema import Param
+from millpath.io.schema import Param
 from millpath.model import Operation, Stock, Tool, Toolpath
 from millpath.part.step.ap224 import read_part
 from millpath.part.step.shapes import (FaceShape, HoleShape, PocketShape, SlotShape,
@@ -66,6 +67,9 @@ PARAMS: dict[str, Param] = {
     "tool": Param("int", None, positive=True, doc="only milling cutter to use"),
     "tools": Param("list", None, check=_tools_check, doc="tool numbers allowed"),
     "finish_allowance": Param("float", None, nonneg=True),
+    "taper_cusp": Param("float", None, positive=True, unit="length",
+                        doc="largest step left on a 'flat with taper' hole bottom's cone, "
+                            "normal to it (default 0.02 mm / 0.0008 in)"),
     "stepover": Param("float", None, positive=True),
     "step_down": Param("float", None, positive=True),
     "clearance": Param("float", None, positive=True),
@@ -100,6 +104,8 @@ def _scaled(shape, k: float):
             f[name] = getattr(shape, name) * k
     if isinstance(shape, HoleShape) and shape.bottom in ("spherical", "flat with radius"):
         f["bottom_radius"] = shape.bottom_radius * k
+    if isinstance(shape, HoleShape) and shape.bottom == "flat with taper":
+        f["final_diameter"] = shape.final_diameter * k
     if isinstance(shape, (SlotShape, FaceShape)):
         f["start"] = (shape.start[0] * k, shape.start[1] * k)
     if isinstance(shape, PocketShape):
@@ -165,6 +171,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     h = paths.Heights(z_safe=z_top + clearance, r_plane=z_top + (0.04 if inch else 1.0))
     breakthrough = 0.02 if inch else 0.5
     tol = 0.0004 if inch else 0.01
+    cusp = params["taper_cusp"] or (0.0008 if inch else 0.02)
 
     mat = params["material"] or material_class(part.material)
     data = MATERIALS[mat]
@@ -264,7 +271,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
                 d = drilled[t.shape.id]
                 start = min(start, t.shape.z_bottom + d.point_depth())
             rec = _cut(tp, t, tool, sp, h, start, stock, data.chip_breaking, allowance,
-                       stepover, step_down, breakthrough)
+                       stepover, step_down, breakthrough, cusp)
             if t.strategy == "drill" and isinstance(t.shape, HoleShape) \
                     and t.shape.bottom == "flat":
                 drilled[t.shape.id] = tool
@@ -388,7 +395,7 @@ def _material_top(shape, done: list, z_stock: float) -> float:
 
 def _cut(tp: Toolpath, t: _Task, tool: Tool, sp, h: paths.Heights, z_start: float,
          stock: Stock, chip_breaking: bool, allowance: float, stepover: float,
-         step_down: float, breakthrough: float) -> dict:
+         step_down: float, breakthrough: float, cusp: float) -> dict:
     s = t.shape
     if isinstance(s, HoleShape):
         floor = stock.zmin - breakthrough if s.bottom == "through" else s.z_bottom
@@ -405,6 +412,13 @@ def _cut(tp: Toolpath, t: _Task, tool: Tool, sp, h: paths.Heights, z_start: floa
         if t.strategy == "plunge":
             paths.plunge(tp, s.x, s.y, floor, h, sp.plunge)
             return {"z": floor}
+        if t.strategy == "taper":
+            n = paths.taper_bore(tp, s.x, s.y, s.diameter / 2.0, s.final_diameter / 2.0,
+                                 s.tip_angle / 2.0, tool.radius, z_start, floor, h,
+                                 step_down=step_down, stepover=stepover,
+                                 allowance=allowance, cusp=cusp, feed=sp.feed,
+                                 plunge_feed=sp.plunge)
+            return {"z": floor, "levels": n, "z_start": z_start, "cusp": cusp}
         paths.bore(tp, s.x, s.y, s.diameter / 2.0, tool.radius, z_start, floor, h,
                    step_down=step_down, stepover=stepover, allowance=allowance,
                    feed=sp.feed, plunge_feed=sp.plunge)

@@ -104,6 +104,33 @@ def bore(tp: Toolpath, cx: float, cy: float, radius: float, tool_radius: float,
     tp.rapid(cx, cy, h.z_safe)
 
 
+def taper_bore(tp: Toolpath, cx: float, cy: float, radius: float, final_radius: float,
+               half_angle_deg: float, tool_radius: float, z_top: float, z_floor: float,
+               h: Heights, *, step_down: float, stepover: float, allowance: float,
+               cusp: float, feed: float, plunge_feed: float) -> int:
+    """A round hole with a 'flat with taper' bottom: a flat of ``final_radius`` at
+    ``z_floor`` and a cone (half angle ``half_angle_deg`` from the axis) up to the
+    wall of ``radius``; returns the number of cone levels.
+
+    The cylinder above the cone is bored as :func:`bore`; the cone is milled in levels
+    ``dz = cusp / sin(half angle)`` apart (at most ``step_down``), each level bored out
+    to the cone's radius at that level, so the stairs leave at most ``cusp`` normal to
+    the cone and never cut into it (the cone widens upward)."""
+    half = math.radians(half_angle_deg)
+    z_cone = z_floor + (radius - final_radius) / math.tan(half)    # where the cone meets the wall
+    if z_cone < z_top - 1e-9:
+        bore(tp, cx, cy, radius, tool_radius, z_top, z_cone, h, step_down=step_down,
+             stepover=stepover, allowance=allowance, feed=feed, plunge_feed=plunge_feed)
+    z_prev = min(z_top, z_cone)
+    zs = levels(z_prev, z_floor, min(step_down, cusp / math.sin(half)))
+    for z in zs:
+        rc = final_radius + (z - z_floor) * math.tan(half)
+        bore(tp, cx, cy, rc, tool_radius, z_prev, z, h, step_down=z_prev - z + 1.0,
+             stepover=stepover, allowance=0.0, feed=feed, plunge_feed=plunge_feed)
+        z_prev = z
+    return len(zs)
+
+
 def _rings(region, stepover: float) -> list[np.ndarray]:
     """Contour-parallel rings of a convex region, innermost first, each (n, 2) CCW."""
     from shapely.geometry.polygon import orient

@@ -6,7 +6,9 @@
   without an end mill the cone is left and reported); otherwise
   helical interpolation with the largest flat end mill no wider than 0.9 x the hole
   (a bull nose of the bottom's corner radius for 'flat with radius'); a spherical bottom
-  takes a ball end mill of the hole's diameter.
+  takes a ball end mill of the hole's diameter; a 'flat with taper' bottom takes the
+  largest flat end mill no wider than 0.9 x its flat (final diameter), which mills the
+  cone in steps (strategy 'taper').
 - Slots: the largest flat end mill no wider than the slot.
 - Faces: the largest flat end mill.
 - Pockets: the largest flat end mill whose radius is no larger than the corner radius
@@ -64,6 +66,12 @@ def hole_tool(h: HoleShape, tools: list[Tool], tol: float) -> tuple[str, Tool | 
         if balls:
             return "plunge", _largest(balls, h.depth), ""
         return "", None, f"no ball end mill of diameter {h.diameter:g} for the spherical bottom"
+    if h.bottom == "flat with taper":
+        t = _largest([f for f in flats if f.diameter <= 0.9 * h.final_diameter], h.depth)
+        if t:
+            return "taper", t, ""
+        return "", None, (f"no flat end mill within 0.9 x the taper's flat "
+                          f"({h.final_diameter:g})")
     if h.bottom == "flat with radius":
         bulls = [t for t in tools if t.type == "bull" and t.diameter <= 0.9 * h.diameter
                  and abs(t.corner_radius - h.bottom_radius) <= tol]

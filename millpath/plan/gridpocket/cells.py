@@ -2,7 +2,9 @@
 
 The pocket is a simple polygon (convex or concave) in XY, job units. Its cells are
 ``dx`` by ``dy`` rectangles tiling the polygon's bounding box from its lower-left
-corner; cell ``(i, j)`` has its centre at ``(x0 + (i + 1/2) dx, y0 + (j + 1/2) dy)``.
+corner (or, given an ``anchor`` cell centre, from the last cell corner of the lattice
+through that centre at or below the box's lower-left corner); cell ``(i, j)`` has its
+centre at ``(x0 + (i + 1/2) dx, y0 + (j + 1/2) dy)``.
 The tool centre must stay one tool radius inside every wall, so only cells whose
 centres lie inside (or on) the polygon offset inward by the radius are machined.
 """
@@ -124,8 +126,11 @@ def check_grid(dx: float, dy: float, diameter: float, force: bool = False,
 
 
 def build_grid(poly: Polygon, tool_radius: float, dx: float, dy: float, file=None,
-               key: str = "polygon") -> PocketGrid:
-    """Offset the walls by the tool radius and mark the cells whose centres lie inside."""
+               key: str = "polygon", anchor: tuple[float, float] | None = None) -> PocketGrid:
+    """Offset the walls by the tool radius and mark the cells whose centres lie inside.
+
+    ``anchor``: an (x, y) the lattice of cell centres passes through (default: the
+    cells tile the bounding box from its lower-left corner)."""
     region = inward_offset(poly, tool_radius)
     if region.is_empty:
         xmin, ymin, xmax, ymax = poly.bounds
@@ -133,6 +138,11 @@ def build_grid(poly: Polygon, tool_radius: float, dx: float, dy: float, file=Non
                             f"pocket (bounding box {xmax - xmin:g} x {ymax - ymin:g}); nothing "
                             "can be cut", file)
     xmin, ymin, xmax, ymax = poly.bounds
+    if anchor is not None:
+        # cell corners of the anchored lattice at or below the lower-left corner
+        cx, cy = anchor[0] - dx / 2.0, anchor[1] - dy / 2.0
+        xmin = cx + math.floor((xmin - cx) / dx + 1e-9) * dx
+        ymin = cy + math.floor((ymin - cy) / dy + 1e-9) * dy
     nx = max(1, int(math.ceil((xmax - xmin) / dx - 1e-9)))
     ny = max(1, int(math.ceil((ymax - ymin) / dy - 1e-9)))
     if nx * ny > 4_000_000:

@@ -11,10 +11,14 @@ Modes (job units, tolerance an absolute length):
   become lines (this covers very large radii).
 - ``bezier``: spans of four or more points in a principal plane are fitted by a cubic
   Bezier curve with fixed end points whose inner control points are solved so that
-  the curve passes through the second and the second-to-last points (chord-length
-  parameters); every point must lie within the tolerance of the curve. XY cubics are
-  written as cubic moves (G5); cubics in XZ or YZ are approximated by arcs (half the
-  tolerance each).
+  the curve passes through the second and the second-to-last points at parameters
+  u1 and u2: ``"chord"`` (default) takes them from the chord lengths of the points,
+  ``"uniform"`` is the thesis's u1 = 1/(n-1), u2 = 1 - u1 for n points (Choi 1999,
+  seeds/000 §4.3, Fig. 18); every point must lie within the tolerance of the curve.
+  Cubics in the XY plane (constant Z: wall laps and main-path runs on a flat floor)
+  are written as cubic moves (G5); LinuxCNC's G5 is XY-only, so cubics in XZ or YZ
+  are approximated by arcs (half the tolerance each). :meth:`Fitter.bezier_report`
+  counts both kinds and compares the two parameterisations on the accepted spans.
 
 Arcs are ``clockwise`` as seen from the plane's positive normal, as RS274NGC.
 
@@ -95,15 +99,20 @@ def _cubic_points(p0, c1, c2, p3, n: int) -> np.ndarray:
             + t ** 3 * p3)
 
 
-def fit_cubic(Q: np.ndarray):
-    """Control points (c1, c2) of the cubic through Q[0], Q[1], Q[-2], Q[-1] with
-    chord-length parameters (Q is (k, d), k >= 4); None if the system is singular."""
+def fit_cubic(Q: np.ndarray, parameters: str = "chord"):
+    """Control points (c1, c2) of the cubic through Q[0], Q[1], Q[-2], Q[-1] (Q is
+    (k, d), k >= 4) passing Q[1] at u1 and Q[-2] at u2: chord-length parameters, or
+    ``"uniform"``: u1 = 1/(k-1), u2 = 1 - u1 (the thesis's); None if singular."""
     seg = np.linalg.norm(np.diff(Q, axis=0), axis=1)
     total = seg.sum()
     if total <= 0:
         return None
-    t = np.concatenate([[0.0], np.cumsum(seg)]) / total
-    t1, t2 = t[1], t[-2]
+    if parameters == "uniform":
+        t1 = 1.0 / (len(Q) - 1)
+        t2 = 1.0 - t1
+    else:
+        t = np.concatenate([[0.0], np.cumsum(seg)]) / total
+        t1, t2 = t[1], t[-2]
 
     def basis(s):
         return np.array([(1 - s) ** 3, 3 * (1 - s) ** 2 * s, 3 * (1 - s) * s ** 2, s ** 3])
@@ -122,9 +131,21 @@ class Fitter:
     """Fit chains in one ``mode`` with ``tol`` (job units); ``max_radius`` turns arcs of
     larger radius into lines."""
 
-    def __init__(self, mode: str, tol: float, max_radius: float, decimals: int = 12):
+    def __init__(self, mode: str, tol: float, max_radius: float, decimals: int = 12,
+                 parameters: str = "chord"):
         if mode not in ("line", "arc", "bezier"):
             raise ValueError(f"motion must be line, arc or bezier, not {mode!r}")
+        if parameters not in ("chord", "uniform"):
+            raise ValueError(f"bezier parameters must be chord or uniform, not {parameters!r}")
+        self.parameters = parameters
+        # Bezier statistics: cubics written as G5, cubics turned into arcs and lines,
+        # and the largest point-to-curve deviation of the accepted spans under each
+        # parameterisation (the other one refitted on the same span)
+        self.cubics_g5 = 0
+        self.cubics_as_arcs = 0
+        self.arcs_from_cubics = 0
+        self.lines_from_cubics = 0
+        self.deviation = {"chord": 0.0, "uniform": 0.0}
         self.mode = mode
         self.tol = tol
         self.max_radius = max_radius
@@ -292,13 +313,14 @@ class Fitter:
         P = chain.pts
         a1, a2, an = PLANE_AXES[plane]
         Q = P[i:e + 1][:, [a1, a2]]
-        cc = fit_cubic(Q)
+        cc = fit_cubic(Q, self.parameters)
         if cc is None:
             return None
         c1, c2 = cc
         tol = self.tol if plane == "XY" else self.tol / 2.0
         S2 = _cubic_points(Q[0], c1, c2, Q[-1], 64 + 8 * (e - i))
-        if _dist_to_polyline(Q, S2).max() > tol:
+        dev = float(_dist_to_polyline(Q, S2).max())
+        if dev > tol:
             return None
         S = np.empty((len(S2), 3))
         S[:, a1], S[:, a2] = S2[:, 0], S2[:, 1]
@@ -306,6 +328,8 @@ class Fitter:
         if plane == "XY":
             if not self._xy_ok(chain, S2, Q, tol):
                 return None
+            self._note_cubic(Q, dev)
+            self.cubics_g5 += 1
             return [Seg("cubic", P[e].copy(), c1=(float(c1[0]), float(c1[1])),
                         c2=(float(c2[0]), float(c2[1])))]
         if not self._z_ok(chain, i, e, S, tol):
@@ -335,4 +359,27 @@ class Fitter:
                     out.append(seg)
                     break
             k = f
+        self._note_cubic(Q, dev)
+        self.cubics_as_arcs += 1
+        self.arcs_from_cubics += sum(s.kind == "arc" for s in out)
+        self.lines_from_cubics += sum(s.kind == "line" for s in out)
         return out
+
+    def _note_cubic(self, Q: np.ndarray, dev: float) -> None:
+        """Record an accepted cubic's deviation and the other parameterisation's."""
+        self.deviation[self.parameters] = max(self.deviation[self.parameters], dev)
+        other = "uniform" if self.parameters == "chord" else "chord"
+        cc = fit_cubic(Q, other)
+        if cc is not None:
+            S2 = _cubic_points(Q[0], cc[0], cc[1], Q[-1], 64 + 8 * len(Q))
+            d = float(_dist_to_polyline(Q, S2).max())
+            self.deviation[other] = max(self.deviation[other], d)
+
+    def bezier_report(self) -> dict:
+        """Cubics written as G5 (XY) and as arcs (XZ/YZ), and the largest deviation of
+        the accepted spans' points from their cubic under both parameterisations."""
+        return {"parameters": self.parameters, "cubics_written_as_g5": self.cubics_g5,
+                "cubics_written_as_arcs": self.cubics_as_arcs,
+                "arcs_from_cubics": self.arcs_from_cubics,
+                "lines_from_cubics": self.lines_from_cubics,
+                "max_deviation": {k: round(v, 9) for k, v in self.deviation.items()}}

@@ -11,12 +11,18 @@ Keys (job units: mm or inch; feeds in units per minute; Z absolute, tool tip):
   ``{points = "file.csv"}``: measured ``x,y,z`` rows on a (near-)regular grid,
   interpolated ``linear`` (default) or ``cubic`` (key ``interpolation``).
 - ``grid = [dx, dy]``: cell size (default D/2 both); larger than D/sqrt(2) is an error.
+- ``grid_centre = [x, y]``: a cell centre the grid is anchored to (default: the cells
+  tile the polygon's bounding box from its lower-left corner).
+- ``navigation``: direction priority of the main path, ``wall-first`` (default, the
+  thesis's Figs 9-12: the clockwise turn towards the wall first, then
+  counter-clockwise) or ``straight-first`` (straight on first); see ``navigate``.
 - ``depths`` (absolute floor Z per roughing layer) or ``step`` (uniform depth of cut);
   neither: a single finish layer. A roughing layer cuts at ``max(bottom, floor)`` the
   cells whose bottom is below its floor; the last layer is always the finish: every
   cell, down to the bottom, at ``finish_feed``.
 - ``motion``: ``line`` | ``arc`` | ``bezier``; ``tolerance``: fitting tolerance
-  (default 0.0002 in / 0.005 mm).
+  (default 0.0002 in / 0.005 mm); ``bezier_parameters``: ``chord`` (default) or
+  ``uniform`` (the thesis's u1 = 1/(n-1)).
 - ``zigzag``: X and Y clean-up runs (default true).
 - ``feed``, ``finish_feed`` (default feed), ``plunge_feed`` (default feed / 2),
   ``spindle`` (rpm, required: a pocket is never cut with the spindle off), ``safe_z`` (default stock top + 0.2 in / 5 mm).
@@ -33,7 +39,7 @@ import numpy as np
 import shapely
 
 from millpath.errors import GeometryError, JobError
-from millpath.job.schema import Param
+from millpath.io.schema import Param
 from millpath.part.surface import BezierPatch, MeasuredGrid
 from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.gridpocket.cells import pocket_polygon, polygon_problem
@@ -100,7 +106,16 @@ PARAMS: dict[str, Param] = {
     "grid": Param("floats", None, length=2, check=_grid_problem, doc="[dx, dy] cell size"),
     "depths": Param("floats", None, check=_depths_problem, doc="floor Z of each layer"),
     "step": Param("float", None, positive=True, doc="uniform depth of cut"),
+    "grid_centre": Param("floats", None, length=2, unit="length",
+                         doc="[x, y] of one cell centre the grid is anchored to "
+                             "(default: cells tile the bounding box from its corner)"),
+    "navigation": Param("str", "wall-first", choices=("wall-first", "straight-first"),
+                        doc="direction priority of the main path: the thesis's "
+                            "(turn towards the wall first) or straight on first"),
     "motion": Param("str", "line", choices=("line", "arc", "bezier")),
+    "bezier_parameters": Param("str", "chord", choices=("chord", "uniform"),
+                               doc="cubic fit parameters: chord length, or the thesis's "
+                                   "uniform u1 = 1/(n-1)"),
     "tolerance": Param("float", None, positive=True, doc="fitting tolerance"),
     "zigzag": Param("bool", True, doc="X and Y zigzag clean-up"),
     "feed": Param("float", positive=True, doc="roughing feed"),
@@ -196,7 +211,9 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         tolerance=params["tolerance"] or (0.0002 if inch else 0.005),
         depths=params["depths"], step=params["step"], motion=params["motion"],
         zigzag=params["zigzag"], spindle=params["spindle"], z_mode=params["z_mode"],
-        force_grid=params["force_grid"], file=f)
+        force_grid=params["force_grid"], navigation=params["navigation"],
+        grid_anchor=tuple(params["grid_centre"]) if params["grid_centre"] else None,
+        bezier_parameters=params["bezier_parameters"], file=f)
     tp, report = plan_pocket(spec)
     return PlanResult(toolpath=tp, design=PocketDesign(poly, surface, top),
                       report={"pocket": report})

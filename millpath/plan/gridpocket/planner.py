@@ -57,6 +57,9 @@ class PocketSpec:
     z_mode: str = "tool"
     name: str = "grid-pocket"
     force_grid: bool = False
+    navigation: str = "wall-first"  # direction priority rule (navigate.PRIORITIES)
+    grid_anchor: tuple[float, float] | None = None  # a cell centre of the grid
+    bezier_parameters: str = "chord"    # "chord" | "uniform" (the thesis's u1 = 1/(n-1))
     file: object = None
 
 
@@ -94,6 +97,7 @@ class _Stats:
     phases: dict[str, float] = field(default_factory=dict)    # feed length per phase
     retracts: int = 0
     plunges: int = 0
+    feed_moves: dict[str, int] = field(default_factory=dict)   # fitted blocks per phase
 
 
 class _Builder:
@@ -192,7 +196,9 @@ class _Builder:
         if s.z_mode != "tool":
             checks = cpos = None
         chain = Chain(pts, pos, checks, cpos, region)
-        for seg in self.fitter.fit(chain):
+        segs = self.fitter.fit(chain)
+        self.stats.feed_moves[self.phase] = self.stats.feed_moves.get(self.phase, 0) + len(segs)
+        for seg in segs:
             if seg.kind == "line":
                 self.tp.line(*seg.end, feed)
             elif seg.kind == "arc":
@@ -253,10 +259,12 @@ def plan_pocket(spec: PocketSpec) -> tuple[Toolpath, dict]:
     """Plan the pocket; return the toolpath and the ``pocket`` report section."""
     tool = spec.tool
     check_grid(spec.dx, spec.dy, tool.diameter, spec.force_grid, spec.file)
-    grid = build_grid(spec.polygon, tool.radius, spec.dx, spec.dy, spec.file)
+    grid = build_grid(spec.polygon, tool.radius, spec.dx, spec.dy, spec.file,
+                      anchor=spec.grid_anchor)
     zf = ZField(spec.surface, tool, spec.z_mode, spec.polygon.bounds, spec.tolerance, spec.file)
     max_radius = 100.0 if spec.units == "inch" else 2540.0
-    fitter = Fitter(spec.motion, spec.tolerance, max_radius, _decimals(spec.units))
+    fitter = Fitter(spec.motion, spec.tolerance, max_radius, _decimals(spec.units),
+                    spec.bezier_parameters)
     b = _Builder(spec, grid, zf, fitter)
 
     ii, jj = np.nonzero(grid.inside)
@@ -278,7 +286,7 @@ def plan_pocket(spec: PocketSpec) -> tuple[Toolpath, dict]:
         # a roughing layer skips cells whose bottom is above its floor (the finish layer
         # takes them down to the bottom); the finish layer visits every cell
         mask = grid.inside & (zc < (spec.top if finish else floor) - eps)
-        path = main_path(mask, spec.dx, spec.dy)
+        path = main_path(mask, spec.dx, spec.dy, spec.navigation)
         phase = "finish" if finish else "rough"
         layers.append({"floor": None if math.isinf(floor) else floor, "finish": finish,
                        "cells": len(path), "length": 0.0})
@@ -312,6 +320,7 @@ def plan_pocket(spec: PocketSpec) -> tuple[Toolpath, dict]:
 
     b.cleared = grid.region.buffer(tool.radius, quad_segs=16)
     zig = {"x": 0, "y": 0}
+    zig_steps = {"x": 0, "y": 0}
     if spec.zigzag:
         joined = joined_edges(final_path)
         for axis, label in ((0, "x"), (1, "y")):
@@ -319,6 +328,7 @@ def plan_pocket(spec: PocketSpec) -> tuple[Toolpath, dict]:
             if not runs:
                 continue
             zig[label] = len(runs)
+            zig_steps[label] = sum(len(r) - 1 for r in runs)
             b.begin(f"zigzag_{label}", f"{label.upper()} zigzag")
             last = None
             for run in runs:
@@ -332,8 +342,12 @@ def plan_pocket(spec: PocketSpec) -> tuple[Toolpath, dict]:
         "grid": {"dx": spec.dx, "dy": spec.dy, "nx": grid.shape[0], "ny": grid.shape[1],
                  "cells_inside": int(grid.inside.sum())},
         "motion": spec.motion, "z_mode": spec.z_mode, "tolerance": spec.tolerance,
+        "navigation": spec.navigation,
         "layers": layers,
+        "main_path_jumps": sum(not adjacent(a, b) for a, b in zip(final_path, final_path[1:])),
         "zigzag_runs": zig,
+        "zigzag_cell_steps": zig_steps,
+        "feed_moves": dict(b.stats.feed_moves),
         "feed_length": {k: round(v, 6) for k, v in b.stats.phases.items()},
         "retracts": b.stats.retracts,
         "plunges": b.stats.plunges,
@@ -341,6 +355,8 @@ def plan_pocket(spec: PocketSpec) -> tuple[Toolpath, dict]:
         "mesh_error": zf.mesh_error,
         "moves": b.tp.counts(),
     }
+    if spec.motion == "bezier":
+        report["bezier"] = fitter.bezier_report()
     if spec.z_mode == "tool" and len(xy):
         h = np.asarray(spec.surface.height(xy[:, 0], xy[:, 1]), float)
         report["surface_mode_gouge_at_centres"] = float(np.max(zc[ii, jj] - h))

@@ -32,7 +32,7 @@ from __future__ import annotations
 import numpy as np
 
 from millpath.errors import JobError, PlanningError
-from millpath.job.schema import Param
+from millpath.io.schema import Param
 from millpath.model.toolpath import Operation, Toolpath
 from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.surface.cutter import Cutter

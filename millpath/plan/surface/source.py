@@ -3,7 +3,7 @@
 
 from __future__ import annotations
 
-from millpath.job.schema import Param
+from millpath.io.schema import Param
 from millpath.part.surface.load import load_surface
 from millpath.part.surface.mesh import Mesh
 from millpath.plan.base import PlanContext

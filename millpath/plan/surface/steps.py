@@ -22,7 +22,17 @@ each ball centre. The CL chord between the passes is then
     epsilon = sqrt((r^2 - (r - h)^2) ((2 rho + r + h)^2 - r^2)) / |rho + h|
             = sqrt(4 (r+rho)^2 (rho+h)^2 - ((r+rho)^2 + (rho+h)^2 - r^2)^2) / |rho + h|,
 
-which tends to ``2 sqrt(2 r h - h^2)`` on a plane. Projected on the XY plane the step
+which tends to ``2 sqrt(2 r h - h^2)`` on a plane.
+
+Misprint (Wright et al., seeds/004, eq. (2), citing Choi and Jerard): the paper prints
+
+    epsilon = sqrt(4 (r+rho)^2 (r+h)^2 - [r^2 + 2 r rho + (rho+h)^2]^2) / |r + h|,
+
+with ``r + h`` where ``rho + h`` belongs and ``r^2`` where ``rho^2`` belongs. Its
+radicand is negative (NaN) on a plane and for every radius of curvature outside about
+(-3 r, r): for every surface of the paper's own examples (0.125 in and 0.25 in balls);
+where it is finite it does not give the scallop h. tests/surface/test_side_step_misprint.py
+shows both against the scallop computed from the two ball circles directly. Projected on the XY plane the step
 shrinks by the cosine of the CL slope across the passes.
 """
 

@@ -1,4 +1,5 @@
-"""Validation of TOML tables against small schemas, with errors naming key and file.
+"""TOML input: parsing with errors naming file and line, and validation of tables
+against small schemas, with errors naming key and file.
 
 A schema maps each allowed key to a :class:`Param`. Unknown keys, missing required
 keys, wrong types, NaN and out-of-range values raise :class:`JobError`.
@@ -7,6 +8,8 @@ keys, wrong types, NaN and out-of-range values raise :class:`JobError`.
 from __future__ import annotations
 
 import math
+import re
+import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable
@@ -29,16 +32,38 @@ class Param:
     doc: str = ""
     length: int | None = None   # exact list length for "floats"
     check: Callable[[Any], str | None] | None = None
+    unit: str = ""              # see UNITS: what the number is measured in
+
+
+#: ``Param.unit`` values and how ``millpath keys`` / docs/jobs.md print them
+UNITS = {
+    "": "",
+    "length": "job units (mm or in)",
+    "feed": "job units/min",
+    "rpm": "rev/min",
+    "deg": "degrees",
+    "s": "seconds",
+    "count": "count",
+    "ratio": "fraction",
+}
 
 
 def _is_num(v: Any) -> bool:
     return isinstance(v, (int, float)) and not isinstance(v, bool)
 
 
+def _finite(v: Any, key: str, file: str | None) -> bool:
+    """Whether the number ``v`` is finite; an integer too large for a float is an error."""
+    try:
+        return math.isfinite(float(v))
+    except OverflowError:
+        raise JobError(f"{key}: the number {str(v)[:12]}... is too large", file) from None
+
+
 def _check_number(v: Any, key: str, p: Param, file: str | None) -> float:
     if not _is_num(v):
         raise JobError(f"{key}: expected a number, got {type(v).__name__} {v!r}", file)
-    if not math.isfinite(v):
+    if not _finite(v, key, file):
         raise JobError(f"{key}: must be finite, got {v!r}", file)
     if p.positive and v <= 0:
         raise JobError(f"{key}: must be positive, got {v!r}", file)
@@ -50,7 +75,7 @@ def _check_number(v: Any, key: str, p: Param, file: str | None) -> float:
 def _floats(v: Any, key: str, file: str | None) -> list[float]:
     if not isinstance(v, list) or not all(_is_num(x) for x in v):
         raise JobError(f"{key}: expected a list of numbers", file)
-    if not all(math.isfinite(x) for x in v):
+    if not all(_finite(x, key, file) for x in v):
         raise JobError(f"{key}: numbers must be finite", file)
     return [float(x) for x in v]
 
@@ -126,3 +151,20 @@ def validate(table: Any, schema: dict[str, Param], where: str, file: str | Path 
                 raise JobError(f"{name}: {msg}", f)
         out[key] = v
     return out
+
+
+def parse_toml(text: str, path: Path | None) -> dict:
+    """tomllib.loads with errors as JobError naming the file and line."""
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        msg = str(e)
+        line = None
+        m = re.search(r"\s*\(at line (\d+), column \d+\)", msg)
+        if m:
+            line = int(m.group(1))
+            msg = msg[:m.start()] + msg[m.end():]
+        elif "(at end of document)" in msg:
+            line = text.count("\n") + (0 if text.endswith("\n") else 1)
+            msg = msg.replace(" (at end of document)", " at end of file")
+        raise JobError(f"invalid TOML: {msg}", path, line) from None

@@ -1,0 +1,156 @@
+"""Read, interpret and simulate a program given on the command line (``millpath
+simulate`` and ``millpath view``).
+
+``--tools`` is a LinuxCNC tool table (``T1 P1 D6 Z50``: flat end mills of diameter D)
+or a TOML tool library (``[[tools]]`` with ``type``, ``diameter``, ``corner_radius``,
+...), in the program's units. ``--stock`` is ``XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX`` in
+program units. ``--design`` is the designed part in program units: an STL, or any
+surface ``millpath drop`` reads (Bezier net ``.toml``, measured grid ``.csv``, STEP with
+the ``step-brep`` extra). Errors are :class:`MillpathError` naming the file and line.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import click
+
+from millpath.errors import MillpathError
+
+
+def parse_stock(text: str):
+    """The stock box of ``--stock XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX``."""
+    from millpath.model.stock import Stock
+    try:
+        vals = [float(v) for v in text.replace(" ", "").split(",")]
+        if len(vals) != 6 or not all(math.isfinite(v) for v in vals):
+            raise ValueError
+        return Stock.from_box(vals)
+    except ValueError:
+        raise MillpathError(f"--stock: expected XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX with each "
+                            f"min below its max, got {text!r}") from None
+
+
+def read_tools(path: Path | None, units: str):
+    """Tool shapes by number, and what to hand the interpreter."""
+    from millpath.model.tool import Tool
+    if path is None:
+        return {}, None
+    if not path.is_file():
+        raise MillpathError("tool file not found", path)
+    if path.suffix.lower() == ".toml":
+        from millpath.io.toollib import read_tool_library
+        tools = read_tool_library(path, units=units)
+        return tools, tools
+    from millpath.io.tooltable import read_tool_table
+    entries = read_tool_table(path)
+    tools = {e.number: Tool(e.number, "flat", e.diameter, comment=e.comment)
+             for e in entries if e.diameter > 0}
+    return tools, path
+
+
+def interpret_program(program: Path, tool_arg, units: str):
+    """Interpret ``program`` with machine units ``units``; an error raises
+    :class:`millpath.interpret.InterpreterError` naming the line."""
+    from millpath.interpret import InterpreterError, run
+    res = run(program, tool_arg, machine_units=units)
+    if res.error is not None:
+        raise InterpreterError(res.error.line, res.error.message, res.motions, program)
+    return res
+
+
+def read_design(path: Path, units: str, stock=None):
+    """The designed part of ``--design`` (program units) as (a height function for the
+    Z-map, or None when it has no top surface; the exact check's references). Errors
+    name the file: unreadable, non-finite vertices, no triangles, or a design wholly
+    outside the stock (mixed units)."""
+    from millpath.part.surface.load import load_surface
+    from millpath.simulate import MeshDesign
+    from millpath.simulate.exact import Reference, orient_outward
+    if not path.is_file():
+        raise MillpathError("design file not found", path)
+    try:
+        mesh = load_surface(str(path.resolve()), 200, path.parent, path, units=units)
+    except MillpathError as e:
+        if e.file is None:
+            e.file = str(path)
+        raise
+    tri = mesh.triangles
+    if stock is not None:
+        lo, hi = tri.reshape(-1, 3).min(axis=0), tri.reshape(-1, 3).max(axis=0)
+        b = stock.box
+        if (hi[0] < b[0] or lo[0] > b[3] or hi[1] < b[1] or lo[1] > b[4] or hi[2] < b[2]
+                or lo[2] > b[5]):
+            raise MillpathError(f"the design lies wholly outside the stock {list(b)} "
+                                f"(design box {lo.round(4).tolist()} to "
+                                f"{hi.round(4).tolist()}; different units?)", path)
+    try:
+        design = MeshDesign(tri)          # its top surface, for the Z-map's figures
+    except ValueError:
+        design = None                     # walls only: the exact check alone
+    return design, [Reference(orient_outward(tri), path.name, None)]
+
+
+@dataclass
+class SimulatedProgram:
+    """A program interpreted and simulated on its stock (program units)."""
+
+    units: str
+    motions: list            # interpreted motion, as LinuxCNC runs it
+    tools: dict              # tool shapes by number
+    stock: object            # millpath.model.stock.Stock
+    design: object | None
+    resolution: float
+    result: object           # millpath.simulate.SimResult
+
+
+def simulate_program(program: Path, tools_path: Path | None, stock_text: str,
+                     design_path: Path | None, resolution: float | None, *,
+                     progress: bool = False) -> SimulatedProgram:
+    """Interpret ``program`` (in its own units: tool files are read in mm first, again
+    in inch if the program says G20) and simulate it on the stock.
+
+    Default ``resolution``: the stock's longer side / 1000, at most a tenth of the
+    smallest tool used."""
+    from millpath.model.stock import Machine
+    from millpath.simulate import simulate_motions
+
+    if not program.is_file():
+        raise MillpathError("program not found", program)
+    stock = parse_stock(stock_text)
+    if design_path is not None and not design_path.is_file():
+        raise MillpathError("design file not found", design_path)
+    tools, tool_arg = read_tools(tools_path, "mm")
+    res = interpret_program(program, tool_arg, "mm")
+    units = res.units
+    if units == "inch":
+        tools, tool_arg = read_tools(tools_path, "inch")
+        res = interpret_program(program, tool_arg, "inch")
+    design, refs = (read_design(design_path, units, stock) if design_path is not None
+                    else (None, None))
+    motions = list(res.motions)
+    used = sorted({m.tool for m in motions if m.kind != "dwell" and m.tool != 0})
+    for t in used:
+        if t not in tools:
+            line = next(m.line for m in motions if m.tool == t)
+            hint = (f" in {tools_path} (a tool table row needs a diameter D)"
+                    if tools_path else "; give --tools")
+            raise MillpathError(f"tool {t} is not defined{hint}", program, line)
+    if not used and any(m.kind != "dwell" for m in motions):
+        click.echo("millpath: warning: no tool is loaded (T.. M6): nothing is cut", err=True)
+    if resolution is None:
+        w, h, _ = stock.size
+        resolution = max(w, h) / 1000.0
+        if used:
+            resolution = min(resolution, min(tools[t].diameter for t in used) / 10.0)
+    if not (resolution > 0 and math.isfinite(resolution)):
+        raise MillpathError(f"--resolution must be a positive length, not {resolution}")
+    try:
+        r = simulate_motions(motions, tools, stock, resolution=resolution, design=design,
+                             machine=Machine.default_for(units), progress=progress,
+                             references=refs, accuracy=0.001 if units == "mm" else 0.00004)
+    except ValueError as e:                    # --resolution too fine, a tool's shape
+        raise MillpathError(str(e), program) from None
+    return SimulatedProgram(units, motions, tools, stock, design, resolution, r)
