@@ -8,7 +8,7 @@ the swept cutter, i.e. measured along the normal of the design surface, walls an
 slopes alike (see :mod:`millpath.geometry.convex`). The cutter (flat, ball, bull, drill
 point, up to its flute length) and the shank and holder cylinders
 (``Tool.holder_cylinders``) are all checked. A penetration is found exactly by GJK
-tests and bisection on ``e`` to ``accuracy / 20``; penetrations below ``accuracy / 2``
+tests and bisection on ``e`` to ``accuracy / 10000``; penetrations below ``accuracy / 2``
 count as none. Lengths in program units; coordinates are tool tips in the design's
 frame.
 """
@@ -200,7 +200,8 @@ def gouge_chords(S: np.ndarray, E: np.ndarray, slot: np.ndarray, shapes: ToolSha
     if n and len(triangles):
         _gouge_chords(np.ascontiguousarray(S, float), np.ascontiguousarray(E, float),
                       np.ascontiguousarray(slot, np.int64), *shapes.arrays(),
-                      triangles, _normals(triangles), *index.arrays(), accuracy / 2.0, accuracy / 20.0, g, t, s)
+                      triangles, _normals(triangles), *index.arrays(), accuracy / 2.0,
+                      accuracy * 1e-4, g, t, s)
     return GougeResult(g, t, s)
 
 
