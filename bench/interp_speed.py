@@ -1,16 +1,21 @@
-"""Speed of millpath's interpreter against LinuxCNC's rs274 on a 1,000,000-line program.
+"""Speed of ``millpath check`` against LinuxCNC's rs274, whole processes, same files.
 
-The program mixes G1 lines and G2/G3 arcs (I/J and R) and, one block in four, runs
-a rounded-rectangle contour with cutter radius compensation (G41/G42 D1) on. Both
-interpreters read the same file; rs274 writes its canonical calls to /dev/null.
-Prints both times (wall clock and CPU, which is the fair measure on a loaded
-machine), the ratios and millpath's peak memory (resident set of a fresh
-process that only interprets the program).
+Programs (``--lines`` each, 1,000,000 by default; generated, fixed seeds):
 
-A second, smaller case (``--comp-lines``, 100,000 by default) is one long compensated
-path of G1 lines, the slowest kind of input for millpath.
+* ``own-post``: millpath's own post shape: G1 lines, G2/G3 arcs (I/J and R) and, one
+  block in four, a rounded-rectangle contour under G41/G42;
+* ``free-order``: words in free order and case, modal moves, R and I/J arcs, line
+  numbers, comments, a few G81/G83 runs (bench/programs.py);
+* ``comp-heavy``: almost all under G41/G42, about 45 % arcs (bench/programs.py);
+* ``all-comp-lines`` (``--comp-lines``, 100,000): one long compensated path of G1 lines.
 
-    python bench/interp_speed.py [--lines N] [--comp-lines N] [--keep FILE]
+Each is run ``--repeat`` times (3) alternately by ``millpath check --tools T.tbl`` and
+``rs274 -t T.tbl -g`` (canonical calls to /dev/null); CPU seconds (user + system of the
+child, the fair measure on a loaded machine) and wall seconds are printed as median and
+best, with the ratios millpath/rs274, millpath's peak resident memory and the load
+average. ``--keep DIR`` keeps the programs.
+
+    python bench/interp_speed.py [--lines N] [--comp-lines N] [--repeat 3] [--only NAME]
 """
 
 from __future__ import annotations
@@ -22,11 +27,13 @@ import os
 import random
 import subprocess
 import sys
+import statistics
 import tempfile
 import time
 from pathlib import Path
 
-TOOL_TABLE = "T1 P1 D0.25 Z1.5 ;quarter inch mill\n"
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from programs import TOOL_TABLE, comp_heavy, free_order  # noqa: E402
 
 
 def generate(n_lines: int, seed: int = 1) -> str:
@@ -92,88 +99,104 @@ def generate_comp(n_lines: int, seed: int = 3) -> str:
     return "\n".join(out) + "\n"
 
 
-_CHILD = r"""
-import json, sys, time
-def hwm():
-    # peak resident set of this process image (VmHWM is reset by exec, unlike ru_maxrss)
-    for line in open("/proc/self/status"):
-        if line.startswith("VmHWM:"):
-            return int(line.split()[1])
-    return 0
-t0 = time.perf_counter()
-from millpath.interpret import interpret
-base = hwm()
-t1 = time.perf_counter()
-c1 = time.process_time()
-ms = interpret(open(sys.argv[1]).read(), sys.argv[2])
-c2 = time.process_time()
-t2 = time.perf_counter()
-peak = hwm()
-print(json.dumps({"seconds": t2 - t1, "cpu": c2 - c1, "import": t1 - t0, "moves": len(ms),
-                  "peak_kb": peak, "base_kb": base}))
-"""
+
+def _measure(cmd: list[str], env: dict) -> dict:
+    """CPU, wall and peak memory of ``cmd`` (stdout to /dev/null). The child runs under
+    GNU time, whose %M is the command's own peak (a child forked from this process
+    would inherit this process's high-water mark in ``ru_maxrss``)."""
+    with open(os.devnull, "w") as null:
+        t0 = time.perf_counter()
+        p = subprocess.Popen(["/usr/bin/time", "-f", "@@peak %M", *cmd], stdout=null,
+                             stderr=subprocess.PIPE, stdin=subprocess.DEVNULL, env=env)
+        err = p.stderr.read().decode(errors="replace")
+        _, status, ru = os.wait4(p.pid, 0)
+        wall = time.perf_counter() - t0
+    peak = [s for s in err.splitlines() if s.startswith("@@peak ")]
+    err = "\n".join(s for s in err.splitlines() if not s.startswith("@@peak ")
+                    and not s.startswith("Command exited"))
+    return {"cpu": ru.ru_utime + ru.ru_stime, "wall": wall,
+            "rss_mb": int(peak[-1].split()[1]) / 1024 if peak else float("nan"),
+            "status": os.waitstatus_to_exitcode(status), "stderr": err}
 
 
-def _child_cpu() -> float:
-    import resource
-    r = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return r.ru_utime + r.ru_stime
+def run_case(name: str, text: str, repeat: int, keep: Path | None) -> dict:
+    root = Path(__file__).resolve().parents[1]
+    with tempfile.TemporaryDirectory(prefix="interp-speed-") as d, \
+            tempfile.TemporaryDirectory(prefix="rs274home") as home:
+        ngc = Path(d) / f"{name}.ngc"
+        tbl = Path(d) / "tools.tbl"
+        ngc.write_text(text)
+        tbl.write_text(TOOL_TABLE)
+        if keep:
+            keep.mkdir(parents=True, exist_ok=True)
+            (keep / ngc.name).write_text(text)
+            (keep / tbl.name).write_text(TOOL_TABLE)
+        n = text.count("\n")
+        del text
+        env = dict(os.environ, PYTHONPATH=str(root), HOME=home)
+        ours_cmd = [sys.executable, "-m", "millpath.cli.main", "check", str(ngc), "--tools",
+                    str(tbl)]
+        rs_cmd = ["/usr/bin/rs274", "-t", str(tbl), "-g", str(ngc)]
+        ours, theirs = [], []
+        for _ in range(repeat):
+            ours.append(_measure(ours_cmd, env))
+            theirs.append(_measure(rs_cmd, env))
+        if ours[0]["status"] != 0:
+            sys.exit(f"millpath check failed on {name}:\n" + ours[0]["stderr"][-2000:])
+        errs = [s for s in theirs[0]["stderr"].splitlines()
+                if s.strip() and s.strip() != "executing"]
+        if errs:
+            sys.exit(f"rs274 reported on {name}: {errs[:2]}")
+    out = {"name": name, "lines": n}
+    for who, runs in (("millpath", ours), ("rs274", theirs)):
+        for key in ("cpu", "wall"):
+            vals = [r[key] for r in runs]
+            out[f"{who}_{key}_median"] = statistics.median(vals)
+            out[f"{who}_{key}_best"] = min(vals)
+        out[f"{who}_rss_mb"] = max(r["rss_mb"] for r in runs)
+    return out
+
+
+def report(r: dict) -> None:
+    print(f"{r['name']}: {r['lines']} lines")
+    for who in ("millpath", "rs274"):
+        print(f"  {who:8s} CPU median {r[f'{who}_cpu_median']:7.2f} s (best "
+              f"{r[f'{who}_cpu_best']:6.2f}), wall median {r[f'{who}_wall_median']:7.2f} s "
+              f"(best {r[f'{who}_wall_best']:6.2f}), peak RSS {r[f'{who}_rss_mb']:6.0f} MB")
+    for stat in ("median", "best"):
+        c = r[f"millpath_cpu_{stat}"] / r[f"rs274_cpu_{stat}"]
+        w = r[f"millpath_wall_{stat}"] / r[f"rs274_wall_{stat}"]
+        print(f"  ratio millpath/rs274 ({stat}): CPU {c:.2f}, wall {w:.2f}")
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--lines", type=int, default=1_000_000)
-    ap.add_argument("--keep", type=Path, help="also write the program here")
     ap.add_argument("--comp-lines", type=int, default=100_000,
-                    help="also time a program that is one compensated path (0: skip)")
+                    help="lines of the all-compensated G1 path (0: skip)")
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--only", action="append",
+                    choices=["own-post", "free-order", "comp-heavy", "all-comp-lines"])
+    ap.add_argument("--keep", type=Path, help="also write the programs into this folder")
+    ap.add_argument("--json", action="store_true", help="print the figures as JSON too")
     ns = ap.parse_args()
-    run_case("mixed program", generate(ns.lines), ns.keep)
-    if ns.comp_lines:
-        print()
-        run_case("all-compensated program", generate_comp(ns.comp_lines), None)
-
-
-def run_case(name: str, text: str, keep: Path | None) -> None:
-    root = Path(__file__).resolve().parents[1]
-    with tempfile.TemporaryDirectory(prefix="interp-speed-") as d:
-        ngc = Path(d) / "program.ngc"
-        tbl = Path(d) / "tools.tbl"
-        ngc.write_text(text)
-        tbl.write_text(TOOL_TABLE)
-        if keep:
-            keep.write_text(text)
-        n = text.count("\n")
-        print(f"{name}: {n} lines, {len(text) / 1e6:.1f} MB")
-        del text
-        env = dict(os.environ, PYTHONPATH=str(root))
-        p = subprocess.run([sys.executable, "-c", _CHILD, str(ngc), str(tbl)],
-                           capture_output=True, text=True, env=env)
-        if p.returncode != 0:
-            sys.exit("millpath failed:\n" + p.stderr[-2000:])
-        ours = json.loads(p.stdout.strip().splitlines()[-1])
-        exe = "/usr/bin/rs274"
-        with tempfile.TemporaryDirectory(prefix="rs274home") as home:
-            c0 = _child_cpu()
-            t0 = time.perf_counter()
-            with open(os.devnull, "w") as null:
-                q = subprocess.run([exe, "-t", str(tbl), "-g", str(ngc)], stdout=null,
-                                   stderr=subprocess.PIPE, text=True,
-                                   env=dict(os.environ, HOME=home), stdin=subprocess.DEVNULL)
-            t_rs = time.perf_counter() - t0
-            c_rs = _child_cpu() - c0
-        errs = [l for l in q.stderr.splitlines() if l.strip() and l.strip() != "executing"]
-        if errs:
-            print("rs274 reported:", errs[:2])
-    t_ours, c_ours = ours["seconds"], ours["cpu"]
-    print(f"millpath: {t_ours:.2f} s wall, {c_ours:.2f} s CPU for {ours['moves']} moves "
-          f"({c_ours / n * 1e6:.2f} us CPU/line; import {ours['import']:.2f} s not counted)")
-    print(f"rs274:    {t_rs:.2f} s wall, {c_rs:.2f} s CPU (output to /dev/null)")
-    print(f"ratio millpath/rs274: wall {t_ours / t_rs:.2f}, CPU {c_ours / c_rs:.2f} "
-          f"({'faster' if c_ours < c_rs else 'slower'} than rs274 in CPU time; wall time "
-          f"depends on the machine's load)")
-    print(f"millpath peak memory: {ours['peak_kb'] / 1024:.0f} MB resident "
-          f"({ours['base_kb'] / 1024:.0f} MB after imports; program text, its lines and "
-          f"the compact motion arrays make the rest)")
+    cases = {"own-post": lambda: generate(ns.lines), "free-order": lambda: free_order(ns.lines),
+             "comp-heavy": lambda: comp_heavy(ns.lines),
+             "all-comp-lines": lambda: generate_comp(ns.comp_lines)}
+    if not ns.comp_lines:
+        del cases["all-comp-lines"]
+    print(f"load average at start: {' '.join(f'{v:.2f}' for v in os.getloadavg())} "
+          f"({os.cpu_count()} CPUs)")
+    results = []
+    for name, make in cases.items():
+        if ns.only and name not in ns.only:
+            continue
+        r = run_case(name, make(), ns.repeat, ns.keep)
+        report(r)
+        results.append(r)
+    print(f"load average at end: {' '.join(f'{v:.2f}' for v in os.getloadavg())}")
+    if ns.json:
+        print(json.dumps(results))
 
 
 if __name__ == "__main__":

@@ -1,6 +1,7 @@
 """``millpath check PROGRAM.ngc``: interpret a G-code program as LinuxCNC would.
 
-Prints a summary (moves by kind, bounding box, feed length, estimated cycle time) or,
+Prints a summary (moves by kind, bounding box of the motion (without the point where the
+machine starts), feed length, estimated cycle time) or,
 with ``--json``, one JSON object ``{"units", "moves", "error"}``. Exits 1 on a G-code
 error, after printing the motion before the failing block (``--json``) or the error.
 """
@@ -23,9 +24,8 @@ from millpath.interpret.store import KINDS, MotionList
 RAPID = {"mm": 5000.0, "inch": 200.0}
 
 
-def _arc_points(motions: MotionList, length: np.ndarray) -> np.ndarray:
+def _arc_points(a: dict[str, np.ndarray]) -> np.ndarray:
     """Quadrant points that arcs pass through (for the bounding box)."""
-    a = motions.arrays()
     idx = np.nonzero(a["kind"] == KINDS.index("arc"))[0]
     if len(idx) == 0:
         return np.zeros((0, 3))
@@ -59,34 +59,34 @@ def _arc_points(motions: MotionList, length: np.ndarray) -> np.ndarray:
     return pts[inside]
 
 
-def _lengths(motions: MotionList) -> tuple[np.ndarray, np.ndarray]:
-    """Path length of each move (arcs and helices exact, cubics by sampling)."""
-    a = motions.arrays()
+def _lengths(a: dict[str, np.ndarray], controls: dict[int, tuple]) -> np.ndarray:
+    """Path length of each move (arcs and helices exact, cubics by sampling);
+    ``controls`` are the cubics' control points by index into the arrays."""
     start, end, center = a["start"], a["end"], a["center"]
     kind, rot, plane = a["kind"], a["rotation"], a["plane"]
     n = len(kind)
-    length = np.linalg.norm(end - start, axis=1) if n else np.zeros(0)
-    axes = np.array([(0, 1, 2), (2, 0, 1), (1, 2, 0)])
-    for i in np.nonzero(kind == KINDS.index("arc"))[0]:
-        a1, a2, an = axes[plane[i]]
-        s1, s2 = start[i, a1] - center[i, a1], start[i, a2] - center[i, a2]
-        e1, e2 = end[i, a1] - center[i, a1], end[i, a2] - center[i, a2]
-        r = math.hypot(s1, s2)
-        t0, t1 = math.atan2(s2, s1), math.atan2(e2, e1)
-        turn = int(rot[i])
-        if turn > 0:
-            sweep = t1 - t0
-            if sweep <= 0:
-                sweep += 2 * math.pi
-            sweep += 2 * math.pi * (turn - 1)
-        else:
-            sweep = t0 - t1
-            if sweep <= 0:
-                sweep += 2 * math.pi
-            sweep += 2 * math.pi * (-turn - 1)
-        length[i] = math.hypot(r * sweep, end[i, an] - start[i, an])
+    d = end - start
+    # hypot: no overflow for coordinates near the float limit
+    length = np.hypot(np.hypot(d[:, 0], d[:, 1]), d[:, 2]) if n else np.zeros(0)
+    idx = np.nonzero(kind == KINDS.index("arc"))[0]
+    if len(idx):
+        axes = np.array([(0, 1, 2), (2, 0, 1), (1, 2, 0)])[plane[idx]]
+        rows = np.arange(len(idx))
+        st, en, ce = start[idx], end[idx], center[idx]
+        s1 = st[rows, axes[:, 0]] - ce[rows, axes[:, 0]]
+        s2 = st[rows, axes[:, 1]] - ce[rows, axes[:, 1]]
+        e1 = en[rows, axes[:, 0]] - ce[rows, axes[:, 0]]
+        e2 = en[rows, axes[:, 1]] - ce[rows, axes[:, 1]]
+        r = np.hypot(s1, s2)
+        t0, t1 = np.arctan2(s2, s1), np.arctan2(e2, e1)
+        turn = rot[idx].astype(np.float64)
+        ccw = turn > 0
+        sweep = np.where(ccw, t1 - t0, t0 - t1)
+        sweep = np.where(sweep <= 0, sweep + 2 * np.pi, sweep)
+        sweep = sweep + 2 * np.pi * (np.abs(turn) - 1)
+        length[idx] = np.hypot(r * sweep, en[rows, axes[:, 2]] - st[rows, axes[:, 2]])
     for i in np.nonzero(kind == KINDS.index("cubic"))[0]:
-        c = motions.controls.get(int(i))
+        c = controls.get(int(i))
         if c is None:
             continue
         t = np.linspace(0.0, 1.0, 65)[:, None]
@@ -95,35 +95,67 @@ def _lengths(motions: MotionList) -> tuple[np.ndarray, np.ndarray]:
         pts = ((1 - t) ** 3 * p0 + 3 * (1 - t) ** 2 * t * p1 + 3 * (1 - t) * t ** 2 * p2
                + t ** 3 * p3)
         length[i] = float(np.sum(np.linalg.norm(np.diff(pts, axis=0), axis=1)))
-    return length, kind
+    return length
+
+
+class Summary:
+    """Moves by kind, bounding box, feed length (units) and cycle time (seconds),
+    gathered block by block from motion arrays (a ``MotionList`` sink)."""
+
+    def __init__(self) -> None:
+        self.counts = np.zeros(len(KINDS), dtype=np.int64)
+        self.lo = np.full(3, np.inf)
+        self.first = True
+        self.hi = np.full(3, -np.inf)
+        self.feed_length = 0.0
+        self.rapid_length = 0.0
+        self.feed_seconds = 0.0
+        self.dwell_seconds = 0.0
+
+    def add(self, a: dict[str, np.ndarray], states: list[tuple],
+            controls: dict[int, tuple]) -> None:
+        kind = a["kind"]
+        if not len(kind):
+            return
+        length = _lengths(a, controls)
+        self.counts += np.bincount(kind, minlength=len(KINDS))
+        moving = kind != KINDS.index("dwell")
+        if np.any(moving):
+            # the box of the motion: the point where the machine starts is not part of it
+            starts = moving.copy()
+            if self.first:
+                starts[np.flatnonzero(moving)[0]] = False
+                self.first = False
+            pts = np.vstack([a["start"][starts], a["end"][moving], _arc_points(a)])
+            self.lo = np.minimum(self.lo, pts.min(axis=0))
+            self.hi = np.maximum(self.hi, pts.max(axis=0))
+        traverse = kind == KINDS.index("traverse")
+        cutting = moving & ~traverse
+        self.feed_length += float(length[cutting].sum())
+        self.rapid_length += float(length[traverse].sum())
+        inverse = np.array([st[3] == "inverse_time" for st in states], dtype=bool)
+        f = a["feed"][cutting]
+        inv = inverse[a["state"][cutting]]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = np.where(inv, 60.0 / f, length[cutting] / f * 60.0)
+        self.feed_seconds += float(t[f > 0].sum())
+        self.dwell_seconds += float(a["center"][kind == KINDS.index("dwell"), 0].sum())
+
+    def result(self, units: str) -> dict:
+        moving = int(self.counts.sum() - self.counts[KINDS.index("dwell")])
+        bbox = [self.lo.tolist(), self.hi.tolist()] if moving else None
+        seconds = self.rapid_length / RAPID[units] * 60.0 + self.feed_seconds \
+            + self.dwell_seconds
+        return {"units": units, "moves": {k: int(self.counts[i]) for i, k in enumerate(KINDS)},
+                "bbox": bbox, "feed_length": self.feed_length,
+                "rapid_length": self.rapid_length, "cycle_time_s": seconds}
 
 
 def summary(motions: MotionList, units: str) -> dict:
     """Moves by kind, bounding box, feed length (units) and cycle time (seconds)."""
-    a = motions.arrays()
-    length, kind = _lengths(motions)
-    counts = {k: int(np.count_nonzero(kind == i)) for i, k in enumerate(KINDS)}
-    moving = kind != KINDS.index("dwell")
-    if np.any(moving):
-        pts = np.vstack([a["start"][moving], a["end"][moving], _arc_points(motions, length)])
-        bbox = [pts.min(axis=0).tolist(), pts.max(axis=0).tolist()]
-    else:
-        bbox = None
-    cutting = moving & (kind != KINDS.index("traverse"))
-    feed_length = float(length[cutting].sum())
-    rapid_length = float(length[kind == KINDS.index("traverse")].sum())
-    seconds = rapid_length / RAPID[units] * 60.0
-    states = motions.states
-    for i in np.nonzero(cutting)[0]:
-        f = a["feed"][i]
-        if states[a["state"][i]][3] == "inverse_time":
-            seconds += 60.0 / f if f > 0 else 0.0
-        elif f > 0:
-            seconds += length[i] / f * 60.0
-    for i in np.nonzero(kind == KINDS.index("dwell"))[0]:
-        seconds += float(a["center"][i, 0])
-    return {"units": units, "moves": counts, "bbox": bbox, "feed_length": feed_length,
-            "rapid_length": rapid_length, "cycle_time_s": seconds}
+    s = Summary()
+    s.add(motions.arrays(), motions.states, motions.controls)
+    return s.result(units)
 
 
 @click.command()
@@ -135,7 +167,10 @@ def summary(motions: MotionList, units: str) -> dict:
 @click.option("--json", "as_json", is_flag=True, help="Print the motion as one JSON object.")
 def command(program: Path, tools: Path | None, machine_units: str, as_json: bool) -> None:
     """Interpret PROGRAM.ngc as LinuxCNC 2.9 would and summarize or dump its motion."""
-    result = run(program, tools, machine_units=machine_units)
+    acc = None if as_json else Summary()
+    # the summary streams: memory stays bounded whatever the program's length
+    result = run(program, tools, machine_units=machine_units,
+                 sink=None if acc is None else acc.add)
     err = result.error
     if as_json:
         out = {"units": result.units,
@@ -148,7 +183,8 @@ def command(program: Path, tools: Path | None, machine_units: str, as_json: bool
         return
     if err is not None:
         raise MillpathError(err.message, program, err.line)
-    s = summary(result.motions, result.units)
+    result.motions.flush(force=True)
+    s = acc.result(result.units)
     u = s["units"]
     click.echo(f"{program}: {sum(s['moves'].values())} moves, units {u}")
     click.echo("  " + ", ".join(f"{k} {v}" for k, v in s["moves"].items() if v))
@@ -159,4 +195,5 @@ def command(program: Path, tools: Path | None, machine_units: str, as_json: bool
     click.echo(f"  feed length {s['feed_length']:.3f} {u}, rapid length "
                f"{s['rapid_length']:.3f} {u}")
     t = s["cycle_time_s"]
-    click.echo(f"  cycle time {int(t // 60)}:{t % 60:04.1f} (rapids at {RAPID[u]:g} {u}/min)")
+    clock = f"{int(t // 60)}:{t % 60:04.1f}" if math.isfinite(t) else "too long to express"
+    click.echo(f"  cycle time {clock} (rapids at {RAPID[u]:g} {u}/min)")

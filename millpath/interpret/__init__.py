@@ -32,10 +32,13 @@ def _text(program: str | Path) -> tuple[str, str | None]:
     return program, None
 
 
-def run(program: str | Path, tools=None, *, machine_units: str = "inch") -> InterpretResult:
-    """Interpret a program; G-code errors are reported in ``result.error``."""
+def run(program: str | Path, tools=None, *, machine_units: str = "inch",
+        sink=None) -> InterpretResult:
+    """Interpret a program; G-code errors are reported in ``result.error``. With
+    ``sink(arrays, states, controls)``, motion streams to it in blocks and only the last
+    block stays in ``result.motions`` (see :class:`MotionList`)."""
     text, _ = _text(program)
-    units, motions, err = run_program(text, tools, machine_units)
+    units, motions, err = run_program(text, tools, machine_units, sink)
     info = InterpreterErrorInfo(err[0], err[1]) if err else None
     return InterpretResult(units=units, motions=motions, error=info)
 

@@ -131,6 +131,25 @@ class CompMixin:
         pcode = PLANE_CODE[self.plane]
         buf = self.store.buf
         o = self.out
+        if a1 == 0:
+            # XY: plane coordinates are x, y, z; pack the queued moves as they are
+            o0, o1, o2 = o
+            for q in self.queue:
+                t = q[0]
+                if t == "S":
+                    buf += PACK(o0, o1, o2, q[6], q[7], q[8], q[9], 0.0, 0.0, 0.0,
+                                q[1], q[2], 0, pcode, q[10])
+                    o0, o1, o2 = q[6], q[7], q[8]
+                elif t == "A":
+                    buf += PACK(o0, o1, o2, q[3], q[4], q[8], q[9], q[5], q[6], o2,
+                                T_ARC, q[1], q[7], pcode, q[10])
+                    o0, o1, o2 = q[3], q[4], q[8]
+                else:
+                    buf += PACK(o0, o1, o2, o0, o1, o2, 0.0, q[2], 0.0, 0.0,
+                                T_DWELL, q[1], 0, pcode, q[3])
+            self.out = [o0, o1, o2]
+            self.queue = []
+            return
         for q in self.queue:
             if q[0] == "S":
                 e = [0.0, 0.0, 0.0]
@@ -334,10 +353,11 @@ class CompMixin:
             self.prog = p
 
     # --- arcs -------------------------------------------------------------------------
-    def _comp_arc_center(self, move: int, blk, sx: float, sy: float, ex: float, ey: float,
-                         off1: float, off2: float) -> tuple[float, float]:
-        if "r" in blk.words:
-            return arc_center_r(move == 20, self.units, sx, sy, ex, ey, blk.words["r"])
+    def _comp_arc_center(self, move: int, r_word: float | None, sx: float, sy: float,
+                         ex: float, ey: float, off1: float,
+                         off2: float) -> tuple[float, float]:
+        if r_word is not None:
+            return arc_center_r(move == 20, self.units, sx, sy, ex, ey, r_word)
         c1, c2, _, _ = arc_center_ijk(self.plane, self.units, sx, sy, ex, ey, self.ijk_abs,
                                       off1, off2)
         return c1, c2
@@ -384,12 +404,15 @@ class CompMixin:
                          ex, ey, center_x, center_y, turn, ez, feed)
         self._set_current(ex, ey, ez)
 
-    def arc_comp2(self, move: int, blk, end, off1: float, off2: float, turn: int,
-                  feed: float) -> None:
+    def arc_comp2(self, move: int, line: int, r_word: float | None, end, off1: float,
+                  off2: float, turn: int, feed: float) -> None:
+        """A compensated arc after the entry move (``r_word``: the R value, or None for
+        I/J/K centers ``off1``, ``off2``), LinuxCNC's convert_arc_comp2."""
         opx, opy, opz = self._pc(self.prog)
         cx, cy, cz = self._pc(self.cur)
         end_x, end_y, end_z = self._pc(end)
-        centerx, centery = self._comp_arc_center(move, blk, opx, opy, end_x, end_y, off1, off2)
+        centerx, centery = self._comp_arc_center(move, r_word, opx, opy, end_x, end_y, off1,
+                                                 off2)
         side = self.comp_side
         tool_radius = self.comp_radius
         arc_radius = math.hypot(centerx - end_x, centery - end_y)
@@ -457,22 +480,26 @@ class CompMixin:
                 midx = prev[5] + oldrad * math.cos(direction)
                 midy = prev[6] + oldrad * math.sin(direction)
                 self.move_endpoint_and_flush(midx, midy)
-            self.enqueue_arc(blk.line, find_turn(opx, opy, centerx, centery, turn, end_x, end_y),
+            self.enqueue_arc(line, find_turn(opx, opy, centerx, centery, turn, end_x, end_y),
                              new_end_x, new_end_y, centerx, centery, turn, end_z, feed)
         elif beta > SMALL:
             midx = opx + tool_radius * math.cos(delta)
             midy = opy + tool_radius * math.sin(delta)
             self.dequeue()
-            self.enqueue_arc(blk.line, 0.0, midx, midy, opx, opy, -1 if side == LEFT else 1,
+            self.enqueue_arc(line, 0.0, midx, midy, opx, opy, -1 if side == LEFT else 1,
                              cz, feed)
             self.dequeue()
             self.set_endpoint(midx, midy)
-            self.enqueue_arc(blk.line, find_turn(opx, opy, centerx, centery, turn, end_x, end_y),
+            self.enqueue_arc(line, find_turn(opx, opy, centerx, centery, turn, end_x, end_y),
                              new_end_x, new_end_y, centerx, centery, turn, end_z, feed)
         else:
             self.dequeue()
             self.set_endpoint(cx, cy)
-            self.enqueue_arc(blk.line, find_turn(opx, opy, centerx, centery, turn, end_x, end_y),
+            self.enqueue_arc(line, find_turn(opx, opy, centerx, centery, turn, end_x, end_y),
                              new_end_x, new_end_y, centerx, centery, turn, end_z, feed)
-        self._set_program(end_x, end_y, end_z)
-        self._set_current(new_end_x, new_end_y, end_z)
+        if self.axes[0] == 0:
+            self.prog = [end_x, end_y, end_z]
+            self.cur = [new_end_x, new_end_y, end_z]
+        else:
+            self._set_program(end_x, end_y, end_z)
+            self._set_current(new_end_x, new_end_y, end_z)

@@ -4,7 +4,8 @@ Axes are named as LinuxCNC's cycle code does: ``aa``, ``bb`` the plane's first a
 second axes, ``cc`` the normal (XY: X, Y, Z; XZ: Z, X, Y; YZ: Y, Z, X). The initial
 level (the normal coordinate when the run of cycles began) is kept until a non-cycle
 motion; G98 retracts to it, G99 to R. G83 pecks retract to R; peck cycles back off
-0.010 in (0.254 mm).
+0.010 in (0.254 mm). A block that would expand into more than ``MAX_CYCLE_STEPS``
+peck-repeat steps is refused (rs274 would run for hours).
 """
 
 from __future__ import annotations
@@ -15,6 +16,8 @@ from millpath.interpret.errors import GCodeError
 
 CYCLES = frozenset((730, 810, 820, 830, 840, 850, 860, 870, 880, 890))
 _SUPPORTED = frozenset((730, 810, 820, 830, 850, 890))
+#: most (repeats x pecks) one cycle block may expand into (a few moves each)
+MAX_CYCLE_STEPS = 1_000_000
 _NORMAL_LETTER = {"XY": "z", "XZ": "y", "YZ": "x"}
 _PLANE_LETTERS = {"XY": ("x", "y"), "XZ": ("z", "x"), "YZ": ("y", "z")}
 
@@ -117,6 +120,10 @@ class CycleMixin:
                 raise GCodeError(f"Q word missing with g{motion // 10}")
             if q == -1.0:
                 q = self.cycle_q
+        pecks = (r - q - cc) / q + 2.0 if motion in (730, 830) and q > 0.0 else 1.0
+        if repeats * pecks > MAX_CYCLE_STEPS:
+            raise GCodeError(f"canned cycle would make more than {MAX_CYCLE_STEPS} moves "
+                             f"({repeats} repeats, {pecks:.3g} pecks each)")
         units = self.units
         delta = 0.010 * (25.4 if units == "mm" else 1.0)
         for rep in range(repeats):
@@ -149,6 +156,8 @@ class CycleMixin:
                     raise GCodeError("Negative or zero q value used")
                 depth = r - q
                 while depth > cc:
+                    if depth - q == depth:
+                        raise GCodeError("Q word too small for the depth of the cycle")
                     self._cyc_move(1, line, aa, bb, depth)
                     if motion == 830:
                         self._cyc_move(0, line, aa, bb, r)

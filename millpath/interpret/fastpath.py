@@ -1,8 +1,9 @@
 """Fast path for the commonest block shapes:
 ``[N..] [G0-3] [X] [Y] [Z] [I] [J] [K] [R] [F] [(comment) | ;comment]``.
 
-One regular expression recognizes such a line (words in this order, plain numbers, no
-parameters or expressions) and hands its values straight to the machine's motion code,
+A regular expression recognizes such a line (plain numbers, no parameters or
+expressions; one tried first for the words in this order, a second for any order and
+case) and hands its values straight to the machine's motion code,
 skipping the general reader and the block checks, which cannot fail for these words
 when the motion is G0-G3. Any other line goes to the general reader, so behaviour and
 errors are the same either way; only the time differs.
@@ -14,7 +15,8 @@ import re
 from math import hypot
 
 from millpath.interpret.errors import GCodeError
-from millpath.interpret.arcs import RADIUS_TOLERANCE, SPIRAL_RELATIVE, SPIRAL_TOLERANCE
+from millpath.interpret.arcs import (RADIUS_TOLERANCE, SPIRAL_RELATIVE, SPIRAL_TOLERANCE,
+                                     arc_center_r)
 from millpath.interpret.lexer import Block
 from millpath.interpret.store import PACK, PLANE_CODE
 
@@ -24,7 +26,23 @@ _FAST = re.compile(r"[ \t]*+(?:[Nn][ \t]*+\d++(?:\.\d*+)?+[ \t]*+)?+"
                    r"(?:[Gg]0*([0-3])(?![\d.])[ \t]*+)?+"
                    + "".join(rf"(?:[{u}{u.lower()}][ \t]*+{_NUM}[ \t]*+)?+" for u in "XYZIJKRF")
                    + r"(?:\([^()]*+\)[ \t]*+|;.*+)?+\r?")
+# The same words in any order and case (``G`` with spaces before its digits too): each
+# alternative refuses a second word of its letter later on the line (before a comment),
+# so a duplicate goes to the general reader, which reports it. Groups come out in the
+# order of ``_FAST``'s.
+_W = r"[ \t]*+"
+_FREE = re.compile(
+    rf"{_W}(?:[Nn]{_W}\d++(?:\.\d*+)?+{_W})?+(?:(?:"
+    + "|".join([rf"[Gg]{_W}0*+([0-3])(?![\d.])(?![^(;]*[Gg])"]
+               + [rf"[{u}{u.lower()}]{_W}{_NUM}(?![^(;]*[{u}{u.lower()}])" for u in "XYZIJKRF"])
+    + rf"){_W})*+(?:\([^()]*+\){_W}|;.*+)?+\r?")
 _LETTERS = "xyzijkrf"
+
+
+def match_simple(line: str):
+    """Regex match of a simple motion line (words G0-G3 X Y Z I J K R F, plain numbers,
+    any order and case), or None; ``groups()`` are (g, x, y, z, i, j, k, r, f)."""
+    return _FAST.fullmatch(line) or _FREE.fullmatch(line)
 
 
 class FastPath:
@@ -32,18 +50,34 @@ class FastPath:
 
     def __init__(self, machine) -> None:
         self.m = machine
-        self.match = _FAST.fullmatch
+        self.match = match_simple
+        self.sampled = None
+        self.first, self.second = _FAST.fullmatch, _FREE.fullmatch
         self.blk = Block(0, "")
         self.k = 0
 
-    def run(self, lines: list[str], k: int, base: int = 0) -> int:
+    def order(self, lines: list[str]):
+        """The two regexes, the one most of ``lines`` match in full tried first (from a
+        sample of 200 lines; both accept every line of the ordered shape)."""
+        if self.sampled is not lines:
+            self.sampled = lines
+            step = max(len(lines) // 200, 1)
+            sample = lines[::step]
+            hits = sum(1 for s in sample if _FAST.fullmatch(s))
+            if hits >= 0.7 * len(sample):
+                self.first, self.second = _FAST.fullmatch, _FREE.fullmatch
+            else:
+                self.first, self.second = _FREE.fullmatch, _FAST.fullmatch
+        return self.first, self.second
+
+    def run(self, lines: list[str], k: int, base: int = 0, stop: int | None = None) -> int:
         """Execute ``lines[k:]`` (line ``k`` is source line ``base + k + 1``) while they
         have the simple shape; return the index of the first line the general reader must
         handle (or ``len(lines)``)."""
         match = self.match
         m = self.m
         one = self.groups
-        end_k = len(lines)
+        end_k = len(lines) if stop is None else stop
         try:
             return self._loop(lines, k, end_k, match, m, one, base)
         except GCodeError as e:
@@ -56,7 +90,7 @@ class FastPath:
         # Machine state lives in locals inside the loop; it is written back before any
         # call into the machine (``one``) and on leaving, and read again after. Arcs
         # outside G17 go through the machine's own code.
-        comp_line = False
+        comp_line = comp_arcs = False
 
         def load():
             simple = (not m.comp_side and m.dist_abs and m.feed_mode == 0)
@@ -64,22 +98,28 @@ class FastPath:
                        and m.plane == "XY")
             units = m.units
             c, o = m.cur, m.out
-            nonlocal comp_line
+            nonlocal comp_line, comp_arcs
             comp_line = (m.comp_side and m.comp_radius > 0.0 and not m.comp_first
                          and m.dist_abs and m.feed_mode == 0)
+            comp_arcs = (comp_line and m.plane == "XY" and not m.ijk_abs
+                         and not m.arc_not_allowed)
             return (c[0], c[1], c[2], o[0], o[1], o[2], m.feed_rate, m.motion_mode, simple,
                     arcs_ok, PLANE_CODE[m.plane], m._state_idx, RADIUS_TOLERANCE[units],
-                    SPIRAL_TOLERANCE[units])
+                    SPIRAL_TOLERANCE[units], units)
 
         (cx, cy, cz, ox, oy, oz, feed, mode, simple, arcs_ok, pcode, state, rtol,
-         stol) = load()
+         stol, units) = load()
         moved = False
         straight = False
         try:
+            first, second = self.order(lines)
             while k < end_k:
-                mt = match(lines[k])
+                line = lines[k]
+                mt = first(line)
                 if mt is None:
-                    return k
+                    mt = second(line)
+                    if mt is None:
+                        return k
                 g, x, y, z, i, j, kk, r, f = mt.groups()
                 if g is None:
                     code = mode if (x is not None or y is not None or z is not None) else -1
@@ -114,8 +154,38 @@ class FastPath:
                     feed, mode = m.feed_rate, code
                     k += 1
                     continue
+                if (comp_arcs and code >= 20 and kk is None and (f is None or f[0] != "-")
+                        and ((r is None) != (i is None and j is None))
+                        and (r is None or x is not None or y is not None)):
+                    # G2/G3 in G17 with compensation on (not the entry move): arc_comp2
+                    m.out, m.feed_rate = [ox, oy, oz], feed
+                    if f is not None:
+                        m.feed_rate = float(f)
+                    if m.feed_rate == 0.0:
+                        return k
+                    prog = m.prog
+                    end = [prog[0] if x is None else float(x),
+                           prog[1] if y is None else float(y),
+                           prog[2] if z is None else float(z)]
+                    m.motion_mode = code
+                    m.cycle_il_flag = False
+                    self.k = k
+                    mark = len(buf)
+                    try:
+                        m.arc_comp2(code, base + k + 1, None if r is None else float(r), end,
+                                    0.0 if i is None else float(i),
+                                    0.0 if j is None else float(j),
+                                    -1 if code == 20 else 1, m.feed_rate)
+                    except GCodeError:
+                        del buf[mark:]
+                        raise
+                    c, o = m.cur, m.out
+                    cx, cy, cz, ox, oy, oz = c[0], c[1], c[2], o[0], o[1], o[2]
+                    feed, mode = m.feed_rate, code
+                    k += 1
+                    continue
                 if (not simple or code < 0 or code > 30
-                        or (code >= 20 and (r is not None or not arcs_ok))):
+                        or (code >= 20 and not arcs_ok)):
                     m.cur, m.out = [cx, cy, cz], [ox, oy, oz]
                     m.feed_rate, m.motion_mode = feed, mode
                     if moved:
@@ -127,7 +197,7 @@ class FastPath:
                     self.k = k
                     ok = one(g, x, y, z, i, j, kk, r, f, base + k + 1)
                     (cx, cy, cz, ox, oy, oz, feed, mode, simple, arcs_ok, pcode, state, rtol,
-                     stol) = load()
+                     stol, units) = load()
                     if not ok:
                         return k
                     k += 1
@@ -153,18 +223,26 @@ class FastPath:
                                     0, base + k + 1, 0, pcode, state)
                     straight = True
                 else:
-                    # G2/G3 in G17 with incremental I/J: convert_arc2, inlined
-                    if kk is not None or (i is None and j is None) or feed == 0.0:
-                        return k
-                    c1 = cx if i is None else cx + float(i)
-                    c2 = cy if j is None else cy + float(j)
-                    r1 = hypot(c1 - cx, c2 - cy)
-                    r2 = hypot(c1 - ex, c2 - ey)
-                    if r1 < rtol or r2 < rtol:
-                        return k
-                    err = abs(r1 - r2)
-                    if err > stol and err > SPIRAL_RELATIVE * max(r1, r2):
-                        return k
+                    if r is not None:
+                        # G2/G3 in G17 with R: convert_arc2 with arc_center_r
+                        if (kk is not None or i is not None or j is not None or feed == 0.0
+                                or (x is None and y is None)):
+                            return k
+                        self.k = k                      # the line of an error
+                        c1, c2 = arc_center_r(code == 20, units, cx, cy, ex, ey, float(r))
+                    else:
+                        # G2/G3 in G17 with incremental I/J: convert_arc2, inlined
+                        if kk is not None or (i is None and j is None) or feed == 0.0:
+                            return k
+                        c1 = cx if i is None else cx + float(i)
+                        c2 = cy if j is None else cy + float(j)
+                        r1 = hypot(c1 - cx, c2 - cy)
+                        r2 = hypot(c1 - ex, c2 - ey)
+                        if r1 < rtol or r2 < rtol:
+                            return k
+                        err = abs(r1 - r2)
+                        if err > stol and err > SPIRAL_RELATIVE * max(r1, r2):
+                            return k
                     buf += pack(ox, oy, oz, ex, ey, ez, feed, c1, c2, cz,
                                 2, base + k + 1, -1 if code == 20 else 1, pcode, state)
                 ox = cx = ex

@@ -38,6 +38,27 @@ M_GROUP: dict[int, int] = {0: 4, 1: 4, 2: 4, 30: 4, 60: 4, 6: 6, 61: 6, 3: 7, 4:
 AXES = "xyzabcuvw@^"
 MAX_PARAM = 5602
 TOLERANCE_EQUAL = 1e-6
+#: rs274 reads lines into a 256-byte buffer: longer lines are "Command too long"
+MAX_LINE = 252
+#: brackets nested deeper than this are refused (a 252-character line cannot reach it)
+MAX_NESTING = 200
+INT_MIN = -2**31
+
+
+def c_int(v: float) -> int:
+    """``(int) floor(v)`` as rs274 computes it on x86-64: out of range gives INT_MIN."""
+    if -2147483648.0 <= v < 2147483648.0:
+        return math.floor(v)
+    return INT_MIN
+
+
+def finite(v: float) -> float:
+    """``v``, or rs274's error for a non-finite result."""
+    if v - v != 0.0:
+        if v != v:
+            raise GCodeError("Calculation resulted in 'not a number'")
+        raise GCodeError("Calculation resulted in 'infinity'")
+    return v
 
 
 class Block:
@@ -97,13 +118,14 @@ class Reader:
     """Reads values from one normalized line; ``params`` are the numbered and named
     parameters (read-only here)."""
 
-    __slots__ = ("s", "i", "params", "named")
+    __slots__ = ("s", "i", "params", "named", "depth")
 
     def __init__(self, s: str, params: list[float], named: dict[str, float]):
         self.s = s
         self.i = 0
         self.params = params
         self.named = named
+        self.depth = 0
 
     def peek(self) -> str:
         return self.s[self.i] if self.i < len(self.s) else ""
@@ -122,7 +144,7 @@ class Reader:
             raise GCodeError("No characters found in reading real value")
         body = tok.lstrip("+-")
         try:
-            return float(tok)
+            return finite(float(tok))
         except ValueError:
             pass
         m = re.match(r"[+-]?(\d+\.?\d*|\.\d+)", tok)
@@ -148,16 +170,17 @@ class Reader:
             v = self.unary()
         else:
             v = self.number()
-        if v != v:
-            raise GCodeError("Calculation resulted in 'not a number'")
-        return v
+        return finite(v)
 
     def integer(self) -> int:
+        """rs274's read_integer_value (values beyond a C int become INT_MIN)."""
         v = self.value()
-        r = math.floor(v + 0.5)
-        if abs(v - r) > 0.0001:
+        r = c_int(v)
+        if v - r > 0.9999:
+            r = c_int(math.ceil(v))
+        elif v - r > 0.0001:
             raise GCodeError("Non integer value for integer")
-        return int(r)
+        return r
 
     def param_index(self):
         """Index after '#': an int, or a str for a named parameter."""
@@ -211,6 +234,9 @@ class Reader:
 
     def expression(self) -> float:
         """Evaluate after '[' up to and including the matching ']'."""
+        self.depth += 1
+        if self.depth > MAX_NESTING:
+            raise GCodeError("Expression nested too deeply")
         values = [self.value()]
         ops: list[str] = []
         while True:
@@ -219,8 +245,9 @@ class Reader:
             while ops and self._BINARY[ops[-1]] >= prec:
                 b = values.pop()
                 a = values.pop()
-                values.append(_binary(ops.pop(), a, b))
+                values.append(finite(_binary(ops.pop(), a, b)))
             if op == "]":
+                self.depth -= 1
                 return values[0]
             ops.append(op)
             values.append(self.value())
@@ -286,7 +313,7 @@ def _unary(name: str, a: float) -> float:
         try:
             return math.exp(a)
         except OverflowError:
-            return math.inf
+            raise GCodeError("Calculation resulted in 'infinity'") from None
     if name == "fix":
         return float(math.floor(a)) if math.isfinite(a) else a
     if name == "fup":
@@ -319,7 +346,7 @@ def _binary(op: str, a: float, b: float) -> float:
         return a / b
     if op == "mod":
         if b == 0.0:
-            raise GCodeError("Attempt to divide by zero")
+            raise GCodeError("Calculation resulted in 'not a number'")    # fmod(a, 0)
         r = math.fmod(a, b)
         return r + abs(b) if r < 0.0 else r
     if op == "**":
@@ -328,7 +355,7 @@ def _binary(op: str, a: float, b: float) -> float:
         try:
             return float(a ** b)
         except (OverflowError, ZeroDivisionError):
-            return math.inf
+            raise GCodeError("Calculation resulted in 'infinity'") from None
     if op == "eq":
         return 1.0 if abs(a - b) < TOLERANCE_EQUAL else 0.0
     if op == "ne":
@@ -407,11 +434,11 @@ def read_block(raw: str, line: int, params: list[float], named: dict[str, float]
         rd.i += 1
         if c == "g":
             v = rd.value() * 10.0
-            code = math.floor(v + 0.5)
-            if abs(v - code) > 0.0001 or code > 999:
-                raise GCodeError("G-code out of range")
+            code = c_int(v + 0.5)
             if code < 0:
                 raise GCodeError("Negative g code used")
+            if abs(v - code) > 0.0001 or code > 999:
+                raise GCodeError("G-code out of range")
             grp = G_GROUP.get(code)
             if grp is None:
                 raise GCodeError("Unknown g code used")

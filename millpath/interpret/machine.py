@@ -5,7 +5,9 @@ Positions are program coordinates in program units (``units``), like LinuxCNC's
 + tool offset (``G10 L2 R`` sets the work system's XY rotation, in degrees).
 Tool table values are in machine units and converted when read. Motion goes to a
 :class:`MotionList`; with cutter radius compensation on, moves wait in a queue
-(``comp.py``) until the next move fixes their end points, as in LinuxCNC.
+(``comp.py``) until the next move fixes their end points, as in LinuxCNC. Work systems,
+G10, G28/G30 references and G92/G52 offsets are in ``offsets.py``, canned cycles in
+``cycles.py``.
 """
 
 from __future__ import annotations
@@ -16,7 +18,8 @@ from millpath.interpret.arcs import arc_center_ijk, arc_center_r
 from millpath.interpret.comp import CompMixin
 from millpath.interpret.cycles import CycleMixin, CYCLES
 from millpath.interpret.errors import GCodeError
-from millpath.interpret.lexer import AXES, Block
+from millpath.interpret.lexer import AXES, Block, c_int
+from millpath.interpret.offsets import OffsetsMixin, rotate
 from millpath.interpret.store import KIND_CODE, PACK, MotionList, PLANE_CODE
 
 PLANE_AXES = {"XY": (0, 1, 2), "XZ": (2, 0, 1), "YZ": (1, 2, 0)}
@@ -26,16 +29,7 @@ T_TRAVERSE, T_FEED, T_ARC, T_CUBIC, T_DWELL = (KIND_CODE[k] for k in
 MM_PER_INCH = 25.4
 
 
-def rotate(x: float, y: float, degrees: float) -> tuple[float, float]:
-    """Rotate (x, y) counter-clockwise by ``degrees`` (LinuxCNC's Interp::rotate)."""
-    if degrees == 0.0:
-        return x, y
-    t = math.radians(degrees)
-    c, s = math.cos(t), math.sin(t)
-    return x * c - y * s, x * s + y * c
-
-
-class Machine(CompMixin, CycleMixin):
+class Machine(OffsetsMixin, CompMixin, CycleMixin):
     """RS274NGC interpreter state; see the module docstring."""
 
     def __init__(self, tools: dict, machine_units: str = "inch"):
@@ -272,7 +266,7 @@ class Machine(CompMixin, CycleMixin):
                                  "G89 or M50 M51 M52 M53 M62 M63 M64 M65 M66 M98 or user M "
                                  "code to use it")
             p = w["p"]
-            pv = math.floor(p + 0.5)
+            pv = c_int(p + 0.5)                        # rs274's round_to_int
             if (motion in (20, 30) or m.get(7) == 19) and abs(pv - p) > 0.001:
                 raise GCodeError("P value not an integer with M19 G2 or G3")
             if motion in (20, 30) and pv < 1:
@@ -452,211 +446,6 @@ class Machine(CompMixin, CycleMixin):
         self.tlo_effect = [0.0, 0.0, 0.0]
         self.tlo_mark = len(self.store)
 
-    def work_offset_params(self, index: int) -> list[float]:
-        base = 5201 + 20 * index
-        return [self.user_to_prog(self.params[base + k]) for k in range(3)]
-
-    def current_in_system(self, system: int, with_tlo: bool = False) -> list[float]:
-        """The current point expressed in work system ``system`` (LinuxCNC's
-        find_current_in_system: through machine coordinates, rotations included);
-        ``with_tlo``: as if the tool length offset were not applied."""
-        p = self.params
-        x = self.cur[0] + self.axis_offset[0]
-        y = self.cur[1] + self.axis_offset[1]
-        z = self.cur[2] + self.axis_offset[2]
-        x, y = rotate(x, y, self.rotation)
-        o = self.work_offset_params(system)
-        x += self.origin[0] - o[0]
-        y += self.origin[1] - o[1]
-        z += self.origin[2] - o[2]
-        if with_tlo:
-            x += self.tlo[0]
-            y += self.tlo[1]
-            z += self.tlo[2]
-        x, y = rotate(x, y, -p[5210 + system * 20])
-        if p[5210]:
-            x -= self.user_to_prog(p[5211])
-            y -= self.user_to_prog(p[5212])
-            z -= self.user_to_prog(p[5213])
-        return [x, y, z]
-
-    def coordinate_system(self, code: int) -> None:
-        if self.comp_side:
-            raise GCodeError("Cannot change coordinate systems with cutter radius "
-                             "compensation on")
-        index = {540: 1, 550: 2, 560: 3, 570: 4, 580: 5, 590: 6, 591: 7, 592: 8, 593: 9}[code]
-        if index == self.origin_index:
-            return
-        self.cur = self.current_in_system(index)
-        self.origin = self.work_offset_params(index)
-        self.rotation = self.params[5210 + index * 20]
-        self.origin_index = index
-        self.params[5220] = float(index)
-        self.sync_out()
-
-    # --- modal group 0 ----------------------------------------------------------------
-    def modal_0(self, code: int, blk: Block) -> None:
-        w = blk.words
-        if code == 100:
-            lv = int(w.get("l", -1))
-            if lv in (2, 20):
-                self.g10_l2(w, lv)
-            elif lv in (1, 10, 11):
-                self.g10_l1(w, lv)
-            else:
-                raise GCodeError(f"G10 L{lv} is not supported by this interpreter")
-        elif code in (280, 300):
-            self.home(code, blk)
-        elif code in (281, 301):
-            if self.comp_side:
-                raise GCodeError("Cannot set reference point with cutter compensation in "
-                                 "effect")
-            base = 5161 if code == 281 else 5181
-            c, ao = self.cur, self.axis_offset
-            mx, my = rotate(c[0] + ao[0], c[1] + ao[1], self.rotation)
-            machine = [mx, my, c[2] + ao[2]]
-            for k in range(3):
-                self.params[base + k] = self.prog_to_user(
-                    machine[k] + self.tlo[k] + self.origin[k])
-        else:
-            self.axis_offsets(code, w)
-
-    def g10_l2(self, w: dict, lv: int) -> None:
-        if "i" in w or "j" in w:
-            raise GCodeError("I J words not allowed with G10 L2")
-        p = int(w.get("p", 0) + 0.0001)
-        if p == 0:
-            p = self.origin_index
-        if self.comp_side and p == self.origin_index:
-            raise GCodeError("Cannot change the active coordinate system with cutter radius "
-                             "compensation on")
-        params = self.params
-        base = 5201 + 20 * p
-        cx, cy, cz = self.current_in_system(p)
-        if "r" in w:
-            if lv == 20:
-                raise GCodeError("R not allowed in G10 L20")
-            r = w["r"]
-            params[base + 9] = r
-        else:
-            r = params[base + 9]
-        old = self.work_offset_params(p)
-        active = p == self.origin_index
-        if lv == 20:
-            ox, oy = rotate(cx, cy, r)
-            x, y = rotate(w.get("x", cx), w.get("y", cy), r)
-            x = ox + old[0] - x
-            y = oy + old[1] - y
-            params[base] = self.prog_to_user(x)
-            params[base + 1] = self.prog_to_user(y)
-            if active:
-                self.cur[0], self.cur[1] = rotate(self.cur[0], self.cur[1], self.rotation)
-                self.rotation = 0.0
-        else:
-            x = w.get("x", old[0])
-            y = w.get("y", old[1])
-            if "x" in w:
-                params[base] = self.prog_to_user(x)
-            if "y" in w:
-                params[base + 1] = self.prog_to_user(y)
-        if "z" in w:
-            z = w["z"]
-            if lv == 20:
-                z = cz + old[2] - z
-            params[base + 2] = self.prog_to_user(z)
-        else:
-            z = old[2]
-        if active:
-            c = self.cur
-            c[0], c[1] = rotate(c[0], c[1], self.rotation)
-            c[0] += self.origin[0] - x
-            c[1] += self.origin[1] - y
-            c[2] += self.origin[2] - z
-            self.origin = [x, y, z]
-            c[0], c[1] = rotate(c[0], c[1], -r)
-            self.rotation = r
-            self.sync_out()
-
-    def g10_l1(self, w: dict, lv: int = 1) -> None:
-        """Tool table rows: L1 sets offsets directly, L10 (L11) so that the current point
-        becomes the given value in the active system (in G59.3), LinuxCNC's
-        convert_setup_tool."""
-        p = w.get("p", 0.0)
-        t = int(p + 0.5)
-        if t != 0 and t not in self.tools:
-            raise GCodeError(f"Requested tool {t} not found in the tool table")
-        if not any(a in w for a in "xyzabcuvwrqij"):
-            raise GCodeError("G10 L1 without offsets has no effect")
-        d, x, y, z = self.tools.get(t, (0.0, 0.0, 0.0, 0.0))
-        if lv == 1:
-            if "x" in w:
-                x = self.prog_to_user(w["x"])
-            if "y" in w:
-                y = self.prog_to_user(w["y"])
-            if "z" in w:
-                z = self.prog_to_user(w["z"])
-        else:
-            dest = 9 if lv == 11 else self.origin_index
-            rot = self.params[5210 + dest * 20]
-            tx, ty, tz = self.current_in_system(dest, with_tlo=True)
-            if lv == 11 and self.params[5210]:
-                tx += self.user_to_prog(self.params[5211])
-                ty += self.user_to_prog(self.params[5212])
-                tz += self.user_to_prog(self.params[5213])
-            if "x" in w and "y" in w:
-                ox, oy = rotate(tx - w["x"], ty - w["y"], rot)
-                x, y = self.prog_to_user(ox), self.prog_to_user(oy)
-            elif "x" in w or "y" in w:
-                kx, ky = rotate(self.user_to_prog(x), self.user_to_prog(y), -rot)
-                if "x" in w:
-                    kx = 0.0
-                    ax, ay = tx - w["x"], 0.0
-                else:
-                    ky = 0.0
-                    ax, ay = 0.0, ty - w["y"]
-                kx, ky = rotate(kx, ky, rot)
-                ax, ay = rotate(ax, ay, rot)
-                x, y = self.prog_to_user(ax + kx), self.prog_to_user(ay + ky)
-            if "z" in w:
-                z = self.prog_to_user(tz - w["z"])
-        if "r" in w:
-            d = self.prog_to_user(w["r"]) * 2.0
-        self.tools = dict(self.tools)
-        self.tools[t] = (d, x, y, z)
-
-    def axis_offsets(self, code: int, w: dict) -> None:
-        if self.comp_side:
-            raise GCodeError("Cannot change axis offsets with cutter radius comp")
-        p = self.params
-        if code in (520, 920):
-            p[5210] = 1.0
-            for k, a in enumerate("xyz"):
-                if a not in w:
-                    continue
-                if code == 520:
-                    self.cur[k] += self.axis_offset[k] - w[a]
-                    self.axis_offset[k] = w[a]
-                else:
-                    self.axis_offset[k] = self.cur[k] + self.axis_offset[k] - w[a]
-                    self.cur[k] = w[a]
-            for k in range(3):
-                p[5211 + k] = self.prog_to_user(self.axis_offset[k])
-        elif code in (921, 922):
-            for k in range(3):
-                self.cur[k] += self.axis_offset[k]
-                self.axis_offset[k] = 0.0
-            if code == 921:
-                for k in range(3):
-                    p[5211 + k] = 0.0
-                p[5210] = 0.0
-        elif code == 923:
-            for k in range(3):
-                new = self.user_to_prog(p[5211 + k])
-                self.cur[k] = self.cur[k] + self.axis_offset[k] - new
-                self.axis_offset[k] = new
-            p[5210] = 1.0
-        self.sync_out()
-
     def find_ends(self, blk: Block) -> list[float]:
         """End point of a move from the block's axis words (LinuxCNC's find_ends)."""
         w = blk.words
@@ -817,7 +606,7 @@ class Machine(CompMixin, CycleMixin):
             if self.comp_first:
                 self.arc_comp1(code, blk, end, off1, off2, turn, feed)
             else:
-                self.arc_comp2(code, blk, end, off1, off2, turn, feed)
+                self.arc_comp2(code, blk.line, w.get("r"), end, off1, off2, turn, feed)
             return
         a1, a2, an = self.axes
         c = self.cur

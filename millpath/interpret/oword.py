@@ -6,6 +6,10 @@ Supported: ``o<name>``/``oN`` ``sub`` ... ``endsub [v]``, ``call [args]``, ``ret
 named parameters not starting with ``_`` local; ``#<_value>`` holds the value returned.
 Labels pair the statements (``o100 if`` ... ``o100 endif``). Subroutines in other files
 are not searched for.
+
+Work is bounded: a call nested ``MAX_CALL_DEPTH`` deep is rs274's "Too many subroutine
+levels"; a loop that jumps back ``MAX_IDLE_ITERATIONS`` times without making motion, or
+``MAX_LOOP_ITERATIONS`` times in all, is stopped as endless.
 """
 
 from __future__ import annotations
@@ -17,6 +21,10 @@ from millpath.interpret.lexer import Reader, normalize
 
 _OLINE = re.compile(r"^(?:n\d+(?:\.\d*)?)?o(<[^>]*>|\d+)([a-z]+)(.*)$")
 _PREFILTER = re.compile(r"[ \t]*/?[ \t]*(?:[nN][ \t]*[\d.]+[ \t]*)?[oO]")
+#: rs274 refuses the tenth nested call
+MAX_CALL_DEPTH = 9
+MAX_IDLE_ITERATIONS = 100_000
+MAX_LOOP_ITERATIONS = 5_000_000
 _KEYWORDS = ("sub", "endsub", "call", "return", "if", "elseif", "else", "endif", "while",
              "endwhile", "do", "repeat", "endrepeat", "break", "continue")
 
@@ -64,6 +72,26 @@ class Flow:
         self.frames: list[tuple[int, list[float], dict[str, float]]] = []
         self.if_done: dict[str, bool] = {}
         self.repeat: dict[str, int] = {}
+        self.iterations = 0
+        self.idle = 0
+        self.moves_seen = -1
+
+    def back(self, target: int) -> int:
+        """Count one jump back to the top of a loop; stop endless loops."""
+        self.iterations += 1
+        n = len(self.m.store)
+        if n == self.moves_seen:
+            self.idle += 1
+            if self.idle >= MAX_IDLE_ITERATIONS:
+                raise GCodeError(f"loop ran {MAX_IDLE_ITERATIONS} times without motion: "
+                                 "endless loop?")
+        else:
+            self.idle = 0
+            self.moves_seen = n
+        if self.iterations > MAX_LOOP_ITERATIONS:
+            raise GCodeError(f"loops ran more than {MAX_LOOP_ITERATIONS} times in all: "
+                             "endless loop?")
+        return target
 
     def find(self, start: int, label: str, kws: tuple[str, ...]) -> int:
         for i in range(start + 1, len(self.lines)):
@@ -128,6 +156,8 @@ class Flow:
         if kw == "call":
             if label not in self.subs:
                 raise GCodeError(f"Unknown oword name: |{label}|")
+            if len(self.frames) >= MAX_CALL_DEPTH:
+                raise GCodeError("Too many subroutine levels")
             vals = self.args(rest)
             saved = m.params[1:31]
             local = {k: v for k, v in m.named.items() if not k.startswith("_")}
@@ -178,20 +208,20 @@ class Flow:
         if kw == "while":
             c = self.value(rest)
             if self.is_do_end(i, label):
-                return self.find_back(i, label, ("do",)) + 1 if c else i + 1
+                return self.back(self.find_back(i, label, ("do",)) + 1) if c else i + 1
             return i + 1 if c else self.find(i, label, ("endwhile",)) + 1
         if kw == "endwhile":
-            return self.find_back(i, label, ("while",))
+            return self.back(self.find_back(i, label, ("while",)))
         if kw == "repeat":
             n = self.value(rest)
-            self.repeat[label] = int(n or 0)
+            self.repeat[label] = int(min(n or 0, 2.0 ** 62))
             if self.repeat[label] > 0:
                 return i + 1
             return self.find(i, label, ("endrepeat",)) + 1
         if kw == "endrepeat":
             self.repeat[label] = self.repeat.get(label, 0) - 1
             if self.repeat[label] > 0:
-                return self.find_back(i, label, ("repeat",)) + 1
+                return self.back(self.find_back(i, label, ("repeat",)) + 1)
             return i + 1
         if kw == "break":
             j = self.find(i, label, ("endwhile", "endrepeat", "while"))
@@ -201,6 +231,6 @@ class Flow:
             if self.ol[j][1] == "endrepeat":
                 return j
             if self.ol[j][1] == "endwhile":
-                return self.find_back(i, label, ("while",))
+                return self.back(self.find_back(i, label, ("while",)))
             return j
         raise GCodeError("Unknown control command in o word")

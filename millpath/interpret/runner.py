@@ -12,13 +12,12 @@ from typing import Iterator
 
 from millpath.interpret.errors import GCodeError
 from millpath.interpret.fastpath import FastPath
-from millpath.interpret.lexer import read_block
+from millpath.interpret.lexer import MAX_LINE, read_block
 from millpath.interpret.machine import Machine
 from millpath.interpret.store import MotionList
 from millpath.interpret.tools import load_tools
 
 CHUNK = 1 << 22
-MAX_BLOCKS = 20_000_000          # o-word loops: stop a program that never ends
 
 
 def _chunks(text: str) -> Iterator[list[str]]:
@@ -34,6 +33,8 @@ def _chunks(text: str) -> Iterator[list[str]]:
 
 def _block(machine: Machine, raw: str, n: int) -> None:
     """Read and execute one line with the general reader."""
+    if len(raw) > MAX_LINE:
+        raise GCodeError("Command too long")
     mark = len(machine.store)
     params = machine.params
     params[5420], params[5421], params[5422] = machine.cur     # read-only: position
@@ -61,13 +62,10 @@ def _run_flow(text: str, machine: Machine) -> tuple[str, MotionList, tuple[int, 
     percent = None
     k = 0
     n = 0
-    blocks = 0
+    executed = 0
     try:
         flow = Flow(lines, machine)
         while k < len(lines):
-            blocks += 1
-            if blocks > MAX_BLOCKS:
-                raise GCodeError(f"more than {MAX_BLOCKS} blocks executed: endless loop?")
             raw = lines[k]
             n = k + 1
             if percent is None:
@@ -80,11 +78,16 @@ def _run_flow(text: str, machine: Machine) -> tuple[str, MotionList, tuple[int, 
             elif percent and raw.strip().startswith("%"):
                 machine.flush_comp(n)
                 return machine.units, machine.store, None
+            executed += 1
+            if not executed & 0xFFFF:
+                machine.store.flush()
             if k in flow.ol:
+                if len(raw) > MAX_LINE:
+                    raise GCodeError("Command too long")
                 k = flow.step(k)
                 continue
             k += 1
-            if percent is not None and fast.try_line(raw, n):
+            if percent is not None and len(raw) <= MAX_LINE and fast.try_line(raw, n):
                 continue
             _block(machine, raw, n)
             if machine.ended:
@@ -96,10 +99,13 @@ def _run_flow(text: str, machine: Machine) -> tuple[str, MotionList, tuple[int, 
     return machine.units, machine.store, (max(len(lines), 1), msg)
 
 
-def run_program(text: str, tools, machine_units: str
+def run_program(text: str, tools, machine_units: str, sink=None
                 ) -> tuple[str, MotionList, tuple[int, str] | None]:
-    """Interpret ``text``; returns (units at the end, motions, (line, message) or None)."""
+    """Interpret ``text``; returns (units at the end, motions, (line, message) or None).
+    With ``sink``, motion streams to it (see :class:`MotionList`); the records not yet
+    handed over stay in the returned list."""
     machine = Machine(load_tools(tools), machine_units)
+    machine.store.sink = sink
     from millpath.interpret.oword import has_owords
     if has_owords(text):
         return _run_flow(text, machine)
@@ -111,9 +117,13 @@ def run_program(text: str, tools, machine_units: str
         for lines in _chunks(text):
             k = 0
             total = len(lines)
+            # the fast path stops before the first line too long for rs274
+            stop = total
+            if total and max(map(len, lines)) > MAX_LINE:
+                stop = next(i for i, s in enumerate(lines) if len(s) > MAX_LINE)
             while k < total:
-                if percent is not None:
-                    k = fast.run(lines, k, base)
+                if percent is not None and k < stop:
+                    k = fast.run(lines, k, base, stop)
                     if k >= total:
                         break
                 raw = lines[k]
@@ -132,6 +142,7 @@ def run_program(text: str, tools, machine_units: str
                 if machine.ended:
                     return machine.units, machine.store, None
             base += total
+            machine.store.flush()
     except GCodeError as e:
         return machine.units, machine.store, (getattr(e, "line", None) or n, e.message)
     last = max(base, 1)

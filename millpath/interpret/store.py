@@ -5,6 +5,11 @@ A program of a million moves would need a million Python objects as a plain list
 feed, center as doubles; kind, line, rotation, plane, state as int32) and builds
 :class:`Motion` objects only when indexed or iterated. It is a read-only sequence:
 ``len``, indexing, slicing, iteration, ``==`` with a list of Motions.
+
+With a ``sink``, the list streams: :meth:`flush` (called by the runner between blocks)
+hands the records gathered so far to ``sink(arrays, states, controls)`` and forgets
+them, so memory stays bounded whatever the program's length; ``len`` still counts
+every motion, but only the records since the last flush can be indexed.
 """
 
 from __future__ import annotations
@@ -31,19 +36,42 @@ DTYPE = np.dtype([("f", "<f8", (10,)), ("i", "<i4", (5,))])
 class MotionList(Sequence):
     """Motion records in flat arrays; see the module docstring."""
 
-    def __init__(self) -> None:
+    #: records gathered before a flush hands them to the sink (about 6.5 MB)
+    FLUSH_RECORDS = 1 << 16
+
+    def __init__(self, sink=None) -> None:
         self.buf = bytearray()
         self.states: list[tuple] = []      # (tool_offset, tool, spindle, feed_mode)
         self.controls: dict[int, tuple] = {}
+        self.sink = sink
+        self.base = 0                      # motions handed to the sink so far
 
     def __len__(self) -> int:
-        return len(self.buf) // RSIZE
+        return self.base + len(self.buf) // RSIZE
+
+    def flush(self, force: bool = False) -> None:
+        """With a sink: hand the buffered records over (when there are many, or
+        ``force``) and forget them. Controls are keyed by the motion's index within the
+        handed-over arrays."""
+        if self.sink is None or not self.buf or (
+                not force and len(self.buf) < self.FLUSH_RECORDS * RSIZE):
+            return
+        n = len(self.buf) // RSIZE
+        arrays = self.arrays()
+        base = self.base
+        controls = {k - base: v for k, v in self.controls.items()}
+        self.buf = bytearray()
+        self.controls = {}
+        self.base = base + n
+        self.sink(arrays, self.states, controls)
 
     def kind_at(self, n: int) -> int:
-        return struct.unpack_from("<i", self.buf, n * RSIZE + 80)[0]
+        return struct.unpack_from("<i", self.buf, (n - self.base) * RSIZE + 80)[0]
 
     def _make(self, n: int) -> Motion:
-        r = RECORD.unpack_from(self.buf, n * RSIZE)
+        if n < self.base:
+            raise IndexError("motion already handed to the sink")
+        r = RECORD.unpack_from(self.buf, (n - self.base) * RSIZE)
         f = r
         k, line, rot, plane, st = r[10:]
         tlo, tool, spindle, fmode = self.states[st]
@@ -69,7 +97,7 @@ class MotionList(Sequence):
         return self._make(idx)
 
     def __iter__(self):
-        for n in range(len(self)):
+        for n in range(self.base, len(self)):
             yield self._make(n)
 
     def __eq__(self, other) -> bool:
@@ -82,7 +110,7 @@ class MotionList(Sequence):
 
     def truncate(self, n: int) -> None:
         """Keep the first ``n`` motions."""
-        del self.buf[n * RSIZE:]
+        del self.buf[(n - self.base) * RSIZE:]
 
     def arrays(self) -> dict[str, np.ndarray]:
         """Numpy arrays (a copy): ``start``, ``end``, ``center`` (n, 3); ``feed`` (n,); ``kind``,

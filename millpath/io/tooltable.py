@@ -16,6 +16,8 @@ from pathlib import Path
 from millpath.errors import MillpathError
 
 _FIELDS = "XYZABCUVWDIJQ"
+#: largest magnitude accepted for any value (lengths in machine units, tool numbers)
+MAX_VALUE = 1e9
 
 
 @dataclass
@@ -84,6 +86,9 @@ def parse_tool_table(text: str, file: str | Path | None = None) -> list[ToolEntr
                 raise MillpathError(f"bad number in word {w!r}", file, lineno) from None
             if not math.isfinite(num):
                 raise MillpathError(f"non-finite number in word {w!r}", file, lineno)
+            if abs(num) > MAX_VALUE:
+                raise MillpathError(f"number out of range in word {w!r} (limit "
+                                    f"{MAX_VALUE:g})", file, lineno)
             words[letter] = num
         if "T" not in words:
             raise MillpathError("tool table line without a T word", file, lineno)

@@ -61,3 +61,13 @@ def test_tool_table_and_machine_units(tmp_path):
     r = CliRunner().invoke(cli, ["check", str(p), "--tools", str(t), "--json"])
     d = json.loads(r.output)
     assert d["moves"][0]["tool_offset"][2] == 50.0 * 25.4
+
+
+def test_bounding_box_is_the_motion_without_the_start_point(tmp_path):
+    """The machine starts at X0 Y0 Z0; the box covers only where the program moves the
+    tool: the ends of the moves (the quarter arc about X20 Y15 adds no extreme point)."""
+    p = tmp_path / "p.ngc"
+    p.write_text("G21 F100\nG0 X10 Y10 Z5\nG1 X20\nG3 X25 Y15 R5\nG1 Z2\nM2\n")
+    r = CliRunner().invoke(cli, ["check", str(p)])
+    assert r.exit_code == 0, r.output
+    assert "X 10.0000 .. 25.0000  Y 10.0000 .. 15.0000  Z 2.0000 .. 5.0000" in r.output

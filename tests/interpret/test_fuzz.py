@@ -1,13 +1,21 @@
 """Bad input never crashes: random and mutated programs give motion or a clean
-InterpreterError, never another exception."""
+InterpreterError, never another exception, and never infinite or NaN coordinates.
+
+Seeds are fixed (``derandomize``); the loop limits lowered for speed are restored after
+each example. Numbers include huge, tiny and non-finite spellings and expressions that
+overflow."""
 
 from __future__ import annotations
 
+import contextlib
 import math
 import os
 
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+
+import millpath.interpret.cycles as cycles
+import millpath.interpret.oword as oword
 
 from millpath.interpret import InterpreterError, interpret
 from millpath.io.tooltable import ToolEntry
@@ -31,29 +39,63 @@ FUZZ = int(os.environ.get("MILLPATH_FUZZ_EXAMPLES", "400"))
 ALPHABET = "GMXYZIJKRPQFSTDHLNOABCUVWE0123456789.-+[]#=<>() ;/%*@^$\n\t" + "abcdefgmnoqrstxyz"
 
 
-def check(program: str) -> None:
-    import millpath.interpret.runner as runner
-    runner.MAX_BLOCKS = 20_000              # o-word loops that never end stop early
+@contextlib.contextmanager
+def small_limits():
+    """Lower the endless-loop and cycle limits for one example, then restore them."""
+    saved = (oword.MAX_IDLE_ITERATIONS, oword.MAX_LOOP_ITERATIONS, cycles.MAX_CYCLE_STEPS)
+    oword.MAX_IDLE_ITERATIONS, oword.MAX_LOOP_ITERATIONS = 2_000, 20_000
+    cycles.MAX_CYCLE_STEPS = 20_000
     try:
-        ms = interpret(program, TOOLS)
-    except InterpreterError as e:
-        assert isinstance(e.line, int) and e.line >= 1
-        assert isinstance(e.message, str) and e.message
-        ms = e.motions
+        yield
+    finally:
+        oword.MAX_IDLE_ITERATIONS, oword.MAX_LOOP_ITERATIONS, cycles.MAX_CYCLE_STEPS = saved
+
+
+def check(program: str) -> None:
+    with small_limits():
+        try:
+            ms = interpret(program, TOOLS)
+        except InterpreterError as e:
+            assert isinstance(e.line, int) and e.line >= 1
+            assert isinstance(e.message, str) and e.message and "\n" not in e.message
+            ms = e.motions
+    a = ms.arrays()
+    for key in ("start", "end", "center", "feed"):
+        assert all(math.isfinite(v) for v in a[key].ravel()), key
     for m in ms:
         assert m.kind in ("traverse", "feed", "arc", "cubic", "dwell")
         assert len(m.end) == 3 and len(m.start) == 3
 
 
-@settings(max_examples=FUZZ, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+def test_limits_are_restored():
+    before = (oword.MAX_IDLE_ITERATIONS, oword.MAX_LOOP_ITERATIONS, cycles.MAX_CYCLE_STEPS)
+    check("G21\no1 while [1]\no1 endwhile\nM2\n")
+    assert (oword.MAX_IDLE_ITERATIONS, oword.MAX_LOOP_ITERATIONS,
+            cycles.MAX_CYCLE_STEPS) == before
+
+
+@settings(max_examples=FUZZ, deadline=None, derandomize=True,
+          suppress_health_check=[HealthCheck.too_slow])
 @given(st.text(alphabet=ALPHABET, max_size=200))
 def test_random_text(text):
     check(text)
 
 
+HUGE = st.one_of(
+    st.integers(10, 400).map(lambda n: "9" * n),                   # up to 1e400 as digits
+    st.integers(-400, 400).map(lambda e: f"[10**{e}]"),
+    st.integers(0, 2000).map(lambda e: f"[EXP[{e}]]"),
+    st.integers(1, 320).map(lambda n: f"[{'9' * n}*{'9' * n}]"),
+    st.sampled_from(["[1/0]", "[0/0]", "[1 MOD 0]", "[-2**2001]", "[0**-1]", "[LN[0]]",
+                     "[SQRT[-1]]", "[ACOS[2]]", "[TAN[90]]", "[SIN[" + "9" * 300 + "]]",
+                     "[COS[[10**300]]]", "[ATAN[1]/[0]]", "[FIX[[10**308]]]",
+                     "[ROUND[-[10**308]]]", "#[10**300]", "#-1", "#5401", "inf", "nan",
+                     "1e400", "-1e-400", "[" * 130 + "1" + "]" * 130]))
 NUM = st.one_of(st.integers(-1000, 1000).map(str),
                 st.floats(allow_nan=False, allow_infinity=False, width=32).map(
                     lambda v: f"{v:.6f}"),
+                st.floats(allow_nan=False, allow_infinity=False).map(lambda v: f"{v:.20f}"),
+                HUGE,
                 st.sampled_from(["0", "-0", ".5", "1.", "1e5", "[1/3]", "#1", "#<x>", "[2**40]",
                                  "[-1]", "[1e308]", "99999999999999999999999", "sqrt[-1]"]))
 WORD = st.tuples(st.sampled_from(list("GMXYZIJKRPQFSTDHL")), NUM).map(lambda t: t[0] + t[1])
@@ -63,16 +105,26 @@ GWORD = st.sampled_from(["G0", "G1", "G2", "G3", "G4", "G5", "G5.1", "G10 L2 P1"
                          "G80", "G81", "G82", "G83", "G85", "G89", "G90", "G91", "G90.1",
                          "G91.1", "G92", "G92.1", "G92.2", "G92.3", "G93", "G94", "G98", "G99",
                          "M2", "M3", "M5", "M6", "T1", "T2", "D1", "D2", "D3", "H1"])
-BLOCK = st.lists(st.one_of(WORD, GWORD), min_size=0, max_size=6).map(" ".join)
+# words whose value becomes a count (turns, repeats, pecks, loop iterations)
+COUNTED = st.tuples(st.sampled_from(["G2 X1 I1 P", "G81 Z-1 R1 L", "G83 Z-1 R1 Q",
+                                     "G73 Z-1 R[10**200] Q", "G64 P", "G4 P", "G10 L2 P1 R",
+                                     "o1 repeat [", "o1 while [", "o<s> call [", "o1 if ["]),
+                    NUM).map(lambda t: t[0] + t[1] + ("]" if t[0].endswith("[") else ""))
+FLOW = st.sampled_from(["o1 endrepeat", "o1 endwhile", "o1 endif", "o<s> sub", "o<s> endsub",
+                        "o1 do", "o1 continue", "o1 break"])
+BLOCK = st.one_of(st.lists(st.one_of(WORD, GWORD), min_size=0, max_size=6).map(" ".join),
+                  COUNTED, FLOW)
 
 
-@settings(max_examples=FUZZ, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=FUZZ, deadline=None, derandomize=True,
+          suppress_health_check=[HealthCheck.too_slow])
 @given(st.lists(BLOCK, max_size=25))
 def test_random_blocks(blocks):
     check("G21 F100\n" + "\n".join(blocks) + "\nM2\n")
 
 
-@settings(max_examples=FUZZ, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=FUZZ, deadline=None, derandomize=True,
+          suppress_health_check=[HealthCheck.too_slow])
 @given(st.sampled_from(SEEDS), st.lists(st.tuples(st.integers(0, 10**6), st.integers(0, 3),
                                                   st.text(alphabet=ALPHABET, max_size=4)),
                                         min_size=1, max_size=6))

@@ -28,7 +28,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq
 
 from millpath.part.curve.fourpoint import Curve, FourPointSegment
 
@@ -153,6 +152,7 @@ def _far_end(seg: FourPointSegment, a: float, tol: float) -> float:
         return _scalar_deviation(k, a, b) - target
     if g(1.0) <= 0.0:
         return 1.0
+    from scipy.optimize import brentq          # lazily: jobs without curves never load scipy
     b = brentq(g, a, 1.0, xtol=1e-15, rtol=4 * np.finfo(float).eps, maxiter=200)
     shrink = 0
     while g(b) > 0.0 and shrink < 60:
