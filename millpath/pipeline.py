@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import bisect
 import json
+import math
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -19,11 +20,12 @@ import numpy as np
 
 from millpath.errors import MillpathError, PlanningError
 from millpath.io.atomic import staged_dir
-from millpath.io.tooltable import entries_from_tools, format_tool_table
+from millpath.io.tooltable import parse_tool_table, tool_table_text
 from millpath.job.jobfile import Job, load_job
 from millpath.model import Stock, Toolpath
 from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.registry import strategy
+from millpath.progress import QUIET, Progress
 
 
 class MinDesign:
@@ -49,12 +51,19 @@ class RunResult:
     seconds: float = 0.0
 
 
-def plan_job(job: Job) -> tuple[Toolpath, list[PlanResult], Stock]:
-    """Plan every operation of ``job`` and join their toolpaths in order."""
+def plan_job(job: Job, progress: Progress = QUIET) -> tuple[Toolpath, list[PlanResult], Stock]:
+    """Plan every operation of ``job`` and join their toolpaths in order. Jobs with a
+    pocket or profile operation or a ``rest`` key carry the in-process stock from
+    operation to operation (``ctx.remaining``, see :func:`advance_stock`)."""
     ctx = PlanContext(units=job.units, stock=job.stock, machine=job.machine, tools=job.tools,
-                      base_dir=job.base_dir, job_file=job.path)
+                      base_dir=job.base_dir, job_file=job.path, progress=progress)
+    carry = any(t in ("pocket", "profile") or p.get("rest") for t, p in job.operations)
     total = Toolpath(job.units)
     results: list[PlanResult] = []
+    for i, (op_type, params) in enumerate(job.operations):
+        check = getattr(strategy(op_type, f"operations[{i}]", job.path), "preflight", None)
+        if check is not None:          # refuse an impossible request before any work
+            check(ctx, params)
     for i, (op_type, params) in enumerate(job.operations):
         mod = strategy(op_type, f"operations[{i}]", job.path)
         res = mod.plan(ctx, params)
@@ -67,23 +76,74 @@ def plan_job(job: Job) -> tuple[Toolpath, list[PlanResult], Stock]:
             res.toolpath.check_finite()
         except ValueError as e:
             raise PlanningError(f"operations[{i}]: {e}", job.path) from None
+        if carry and ctx.stock is not None:
+            ctx.remaining = advance_stock(job, ctx.stock, ctx.remaining, res.toolpath)
         total.extend(res.toolpath)
         results.append(res)
     stock = job.stock or ctx.stock
     if stock is None:
         raise MillpathError("stock: the job gives no [stock] box and no operation implies one",
                             job.path)
+    from millpath.plan.sense import check_operation
+    for i, r in enumerate(results):
+        check_operation(f"operations[{i}]", r.toolpath, stock, job.tools, job.path)
     if not total.moves:
         raise PlanningError("the job's operations produced no moves", job.path)
     return total, results, stock
 
 
-def _fit(job: Job, tp: Toolpath) -> Toolpath:
+def advance_stock(job: Job, stock: Stock, remaining, tp: Toolpath):
+    """Sweep one operation's toolpath into the in-process stock (created on first use,
+    cells a 40th of the smallest tool diameter, at most about 4 million) and store
+    what it measured (air cuts, engagement) in each of its operations' ``info``."""
+    from millpath.simulate.inprocess import InProcessStock
+    if remaining is None:
+        d = min((t.diameter for t in job.tools.values()), default=1.0)
+        w, h, _ = stock.size
+        res = max(d / 40.0, math.sqrt(w * h / 4e6))
+        if job.simulation.get("resolution"):
+            res = min(res, float(job.simulation["resolution"]))
+        remaining = InProcessStock(stock, res)
+    if any(m.kind == "comp" for m in tp.moves):
+        from millpath.interpret import interpret
+        from millpath.post.linuxcnc import post_with_lines
+        program, move_lines = post_with_lines(tp, job.tools, title="in-process stock")
+        motions = interpret(program, job.tools, machine_units=job.units)
+        keys = [(line, i) for i, line in enumerate(move_lines) if line is not None]
+        lines = [l for l, _ in keys]
+        src = [keys[max(bisect.bisect_right(lines, mo.line) - 1, 0)][1] for mo in motions]
+    else:
+        from millpath.simulate.path import toolpath_motions
+        motions, src = toolpath_motions(tp)
+    entry = np.zeros(len(tp.moves) + 1, bool)
+    for op_i, op in enumerate(tp.ops):
+        for a, b in op.info.get("entry_moves", []):
+            entry[a:b] = True
+    stats = remaining.cut(motions, [tp.moves[k].op for k in src], [bool(entry[k]) for k in src],
+                          job.tools, job.machine, len(tp.ops))
+    for op, st in zip(tp.ops, stats):
+        op.info["in_process"] = st.to_json()
+    return remaining
+
+
+def fit_job(job: Job, tp: Toolpath) -> Toolpath:
+    """The tool path with arcs/cubics fitted as the job asks (unchanged for fit = none)."""
     if job.fit == "none":
         return tp
     from millpath.fit import fit_toolpath
     radius = max((job.tools[o.tool].radius for o in tp.ops if o.tool in job.tools), default=0.0)
     return fit_toolpath(tp, job.fit_tolerance, job.fit, min_radius=radius)
+
+
+def post_job(job: Job, tp: Toolpath, stock: Stock) -> tuple[str, list[int | None]]:
+    """The program text (LinuxCNC, the job's [post] options) and each move's line."""
+    from millpath.post.linuxcnc import PostOptions, post_with_lines
+    title = f"{job.name}: {len(tp.ops)} operations, units {job.units}"
+    try:
+        return post_with_lines(tp, job.tools, title=title,
+                               options=PostOptions(**job.post, safe_z=stock.zmax))
+    except ValueError as e:
+        raise PlanningError(f"cannot post the tool path: {e}", job.path) from None
 
 
 def default_resolution(job: Job, stock: Stock, tp: Toolpath) -> float:
@@ -95,24 +155,26 @@ def default_resolution(job: Job, stock: Stock, tp: Toolpath) -> float:
     return max(d / 10.0, max(stock.size[0], stock.size[1]) / 1500.0)
 
 
-def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False) -> RunResult:
+def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False,
+            force: bool = False) -> RunResult:
     """Run the job file at ``job_path``, writing program.ngc, tools.tbl, report.json,
-    preview.png, stock.png, deviation.png and view.html into ``outdir``."""
+    preview.png, stock.png, deviation.png and view.html into ``outdir``.
+
+    When the simulation finds a problem (see :mod:`millpath.verify.gate`) the report,
+    pictures and viewer are written without the program and UnsafeProgramError is
+    raised; with ``force`` the program is written as ``program.unsafe.ngc`` headed by
+    the list of problems."""
     t0 = time.perf_counter()
     job = load_job(job_path)
-    tp, results, stock = plan_job(job)
-    tp = _fit(job, tp)
+    tp, results, stock = plan_job(job, Progress(progress))
+    tp = fit_job(job, tp)
 
-    from millpath.post.linuxcnc import post_with_lines
-    title = f"{job.name}: {len(tp.ops)} operations, units {job.units}"
-    try:
-        program, move_lines = post_with_lines(tp, job.tools, title=title)
-    except ValueError as e:
-        raise PlanningError(f"cannot post the tool path: {e}", job.path) from None
+    program, move_lines = post_job(job, tp, stock)
 
     from millpath.interpret import InterpreterError, interpret
-    try:
-        motions = interpret(program, job.tools, machine_units=job.units)
+    table = tool_table_text(job.tools, job.units, job.table_units)
+    try:        # the program as the machine will run it: with tools.tbl as written
+        motions = interpret(program, parse_tool_table(table), machine_units=job.table_units)
     except InterpreterError as e:
         raise MillpathError(f"the generated program does not interpret: line {e.line}: "
                             f"{e.message}", job.path) from None
@@ -130,6 +192,7 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False)
         "job": str(job.path) if job.path else None,
         "name": job.name,
         "units": job.units,
+        "tool_table_units": job.table_units,
         "program": "program.ngc",
         "lines": program.count("\n"),
         "bytes": len(program.encode()),
@@ -169,7 +232,8 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False)
             c[m.kind] += 1
     report["operations"] = [
         {"type": o.type, "name": o.name, "tool": o.tool, "spindle": o.spindle,
-         "moves": counts_by_op.get(i, {}), "cycle_time_s": round(op_secs[i], 3)}
+         "moves": counts_by_op.get(i, {}), "cycle_time_s": round(op_secs[i], 3),
+         **({"in_process": o.info["in_process"]} if "in_process" in o.info else {})}
         for i, o in enumerate(tp.ops)]
     for r in results:
         for k, v in r.report.items():
@@ -180,14 +244,22 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False)
             else:
                 report[k] = v
 
+    problems = _safety_gate(report, job, tp, move_lines, motions, sim)
+    program_name = "program.ngc"
+    posted = program                  # as interpreted: the viewer's lines refer to it
+    if problems:
+        program, program_name = _unsafe_program(program, problems, force)
+    report["program"] = program_name if (force or not problems) else None
+    report["safety"] = {"status": "ok" if not problems else ("forced" if force else "refused"),
+                        "problems": [p.to_json() for p in problems]}
+
     from millpath.report.preview import render_preview
     out = Path(outdir)
     files = []
     with staged_dir(out) as tmp:
-        (tmp / "program.ngc").write_text(program)
-        (tmp / "tools.tbl").write_text(
-            f"; millpath tool table, values in {job.units}\n"
-            + format_tool_table(entries_from_tools(job.tools)))
+        if force or not problems:
+            (tmp / program_name).write_text(program)
+            (tmp / "tools.tbl").write_text(table)
         render_preview(tp, tmp / "preview.png", title=job.name, stock=stock)
         if sim is not None:
             from millpath.simulate import render_deviation, render_stock
@@ -199,12 +271,17 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False)
                                  gouge=ex.max_gouge if ex else None,
                                  left=ex.max_left if ex else None)
         from millpath.report.viewer import write_view
-        write_view(tmp / "view.html", program=program, motions=motions, tools=job.tools,
+        write_view(tmp / "view.html", program=posted, motions=motions, tools=job.tools,
                    stock=stock, units=job.units, sim=sim, design=design, title=job.name,
                    toolpath=tp, move_lines=move_lines)
         report["seconds"] = round(time.perf_counter() - t0, 3)
         (tmp / "report.json").write_text(json.dumps(report, indent=2, default=_json_default))
-        files = [out / f.name for f in sorted(tmp.iterdir())]
+        files = [out / f.name for f in sorted(tmp.iterdir()) if not f.name.startswith(".")]
+    if problems and not force:
+        from millpath.verify.gate import UnsafeProgramError, summary
+        raise UnsafeProgramError(f"program refused: {summary(problems)}; no program.ngc "
+                                 f"written (report and pictures in {out}; --force writes "
+                                 f"program.unsafe.ngc)", job.path, report, problems)
     return RunResult(job, tp, program, report, files, time.perf_counter() - t0)
 
 
@@ -247,6 +324,33 @@ def _motion_ops(tp: Toolpath, move_lines: list[int | None], motions) -> np.ndarr
         k = bisect.bisect_right(keys, mo.line) - 1
         out[i] = starts[max(k, 0)][1] if starts else 0
     return out
+
+
+def _safety_gate(report: dict, job: Job, tp: Toolpath, move_lines, motions, sim) -> list:
+    """Problems that forbid writing the program (millpath.verify.gate), worst first."""
+    from millpath.verify.gate import GateInput, find_problems, line_map, position_map
+    g = GateInput(op_names=[o.name for o in tp.ops],
+                  op_tolerances=[o.tolerance for o in tp.ops],
+                  fit_tolerance=job.fit_tolerance if job.fit != "none" else 0.0,
+                  op_of_line=line_map([m.op for m in tp.moves], move_lines),
+                  position_of_line=position_map(motions),
+                  holder_lines=sim.holder_lines if sim is not None else [],
+                  rapid_lines=sim.rapid_lines if sim is not None else [],
+                  gouge_xy=sim.gouge_at if sim is not None else None)
+    return find_problems(report, g)
+
+
+def _unsafe_program(program: str, problems: list, force: bool) -> tuple[str, str]:
+    """With ``force``: the program headed by a comment block listing the problems, whose
+    program lines are shifted to count in the written file."""
+    from millpath.verify.gate import comment_block
+    if not force:
+        return program, "program.unsafe.ngc"
+    shift = comment_block(problems).count("\n")
+    for p in problems:
+        if p.line is not None:
+            p.line += shift
+    return comment_block(problems) + program, "program.unsafe.ngc"
 
 
 def _seconds_per_operation(tp: Toolpath, move_lines: list[int | None], motions,

@@ -162,11 +162,15 @@ def summary(motions: MotionList, units: str) -> dict:
 @click.argument("program", type=click.Path(exists=True, dir_okay=False, path_type=Path))
 @click.option("--tools", "tools", type=click.Path(exists=True, dir_okay=False, path_type=Path),
               help="LinuxCNC tool table (values in the machine units).")
-@click.option("--machine-units", type=click.Choice(["inch", "mm"]), default="inch",
-              show_default=True, help="Units of the tool table values (rs274: inch).")
+@click.option("--machine-units", type=click.Choice(["inch", "mm"]), default=None,
+              help="Units of the tool table values when its header does not state them "
+              "(default inch, as LinuxCNC's rs274).")
 @click.option("--json", "as_json", is_flag=True, help="Print the motion as one JSON object.")
-def command(program: Path, tools: Path | None, machine_units: str, as_json: bool) -> None:
+def command(program: Path, tools: Path | None, machine_units: str | None,
+            as_json: bool) -> None:
     """Interpret PROGRAM.ngc as LinuxCNC 2.9 would and summarize or dump its motion."""
+    from millpath.io.tooltable import file_table_units
+    machine_units = (file_table_units(tools) if tools else None) or machine_units or "inch"
     acc = None if as_json else Summary()
     # the summary streams: memory stays bounded whatever the program's length
     result = run(program, tools, machine_units=machine_units,

@@ -21,13 +21,21 @@ def _vec(v) -> str:
     return "(" + ", ".join(_fmt(x) for x in v) + ")"
 
 
-def part_summary(path: Path) -> dict:
-    """The JSON document of ``millpath features --json``."""
+def part_summary(path: Path, body=None, setup: str = "+Z") -> dict:
+    """The JSON document of ``millpath features --json``. A file without AP224 features
+    is read as a B-rep solid and its features are recognised (``solid`` section)."""
     from millpath.part.step.ap224 import read_part
     from millpath.part.step.shapes import feature_shapes
 
     part = read_part(path)
-    shapes = feature_shapes(part)
+    solid = None
+    if not part.features:
+        from millpath.plan.features.solid import load_solid
+        sp = load_solid(path, body=body, setup=setup)
+        part, shapes, solid = sp.part, sp.shapes, sp.info
+        solid["box"] = list(sp.box)
+    else:
+        shapes = feature_shapes(part)
     return {
         "file": str(path),
         "schema": part.schema,
@@ -39,15 +47,19 @@ def part_summary(path: Path) -> dict:
         "machinable": [{"id": s.id, "kind": s.kind} for s in shapes.shapes],
         "unmachinable": [{"id": u.id, "type": u.type, "reason": u.reason}
                          for u in shapes.skipped],
+        **({"solid": solid} if solid is not None else {}),
     }
 
 
 @click.command(name="features")
 @click.argument("part", type=click.Path(dir_okay=False, path_type=Path))
 @click.option("--json", "as_json", is_flag=True, help="Print JSON instead of a table.")
-def command(part: Path, as_json: bool) -> None:
-    """List the stock, units, material and machining features of an AP224 STEP file."""
-    doc = part_summary(part)
+@click.option("--body", default=None, help="Solid to read (number or name) in a multi-body file.")
+@click.option("--setup", default="+Z", help="Axis of the file that points up (+Z, -Z, +X ...).")
+def command(part: Path, as_json: bool, body: str | None, setup: str) -> None:
+    """List the stock, units, material and machining features of a STEP file: AP224
+    features as written, or features recognised from a solid (AP203/AP214/AP242)."""
+    doc = part_summary(part, int(body) if body and body.isdigit() else body, setup)
     if as_json:
         click.echo(json.dumps(doc, indent=2))
         return
@@ -72,7 +84,13 @@ def command(part: Path, as_json: bool) -> None:
                   f"axis {_vec(pl['axis'])}")
     else:
         con.print("stock: none in the file")
-    t = Table(title=f"{len(doc['features'])} machining features", show_lines=True)
+    if doc.get("solid"):
+        so = doc["solid"]
+        con.print(f"solid: {esc(so['entity'])} (body {so['body']} of {so['bodies']}"
+                  f"{', ' + esc(repr(so['name'])) if so['name'] else ''}), {so['faces']} faces,"
+                  f" setup {so['setup']}, box {_vec(so['box'])}: features recognised")
+    title = "recognised machining features" if doc.get("solid") else "machining features"
+    t = Table(title=f"{len(doc['features'])} {title}", show_lines=True)
     for col in ("#id", "type", "name", "placement (origin / axis / ref)", "parameters",
                 "components"):
         t.add_column(col, overflow="fold")
@@ -88,6 +106,8 @@ def command(part: Path, as_json: bool) -> None:
             comps.append(f"{c['type']}{desc}" + (f": {vals}" if vals else ""))
         if f["children"]:
             comps.append("sub-features " + ", ".join(f"#{i}" for i in f["children"]))
+        if f.get("faces"):
+            comps.append("faces " + " ".join(str(i) for i in f["faces"]))
         t.add_row(f"#{f['id']}", f["type"], esc(f["name"] or f["description"]), place,
                   esc(params) or "-", esc("\n".join(comps)) or "-")
     con.print(t)

@@ -33,8 +33,10 @@ def parse_stock(text: str):
                             f"min below its max, got {text!r}") from None
 
 
-def read_tools(path: Path | None, units: str):
-    """Tool shapes by number, and what to hand the interpreter."""
+def read_tools(path: Path | None, units: str, table_k: float = 1.0):
+    """Tool shapes by number, and what to hand the interpreter. A TOML library is read
+    in ``units`` (the program's); a tool table's diameters are scaled by ``table_k``
+    (machine units -> program units)."""
     from millpath.model.tool import Tool
     if path is None:
         return {}, None
@@ -46,7 +48,7 @@ def read_tools(path: Path | None, units: str):
         return tools, tools
     from millpath.io.tooltable import read_tool_table
     entries = read_tool_table(path)
-    tools = {e.number: Tool(e.number, "flat", e.diameter, comment=e.comment)
+    tools = {e.number: Tool(e.number, "flat", e.diameter * table_k, comment=e.comment)
              for e in entries if e.diameter > 0}
     return tools, path
 
@@ -108,9 +110,12 @@ class SimulatedProgram:
 
 def simulate_program(program: Path, tools_path: Path | None, stock_text: str,
                      design_path: Path | None, resolution: float | None, *,
-                     progress: bool = False) -> SimulatedProgram:
-    """Interpret ``program`` (in its own units: tool files are read in mm first, again
-    in inch if the program says G20) and simulate it on the stock.
+                     progress: bool = False,
+                     machine_units: str | None = None) -> SimulatedProgram:
+    """Interpret ``program`` and simulate it on the stock. A LinuxCNC tool table is in
+    the machine's units: those its header states, else ``machine_units``, else inch
+    (as LinuxCNC's rs274); a TOML tool library is in the program's units (read in mm
+    first, again in inch if the program says G20).
 
     Default ``resolution``: the stock's longer side / 1000, at most a tenth of the
     smallest tool used."""
@@ -122,12 +127,21 @@ def simulate_program(program: Path, tools_path: Path | None, stock_text: str,
     stock = parse_stock(stock_text)
     if design_path is not None and not design_path.is_file():
         raise MillpathError("design file not found", design_path)
-    tools, tool_arg = read_tools(tools_path, "mm")
-    res = interpret_program(program, tool_arg, "mm")
-    units = res.units
-    if units == "inch":
-        tools, tool_arg = read_tools(tools_path, "inch")
-        res = interpret_program(program, tool_arg, "inch")
+    if tools_path is not None and tools_path.is_file() and \
+            tools_path.suffix.lower() != ".toml":
+        from millpath.io.tooltable import file_table_units
+        mu = file_table_units(tools_path) or machine_units or "inch"
+        res = interpret_program(program, tools_path, mu)
+        units = res.units
+        k = 1.0 if mu == units else (25.4 if mu == "inch" else 1.0 / 25.4)
+        tools, tool_arg = read_tools(tools_path, units, k)
+    else:
+        tools, tool_arg = read_tools(tools_path, "mm")
+        res = interpret_program(program, tool_arg, "mm")
+        units = res.units
+        if units == "inch":
+            tools, tool_arg = read_tools(tools_path, "inch")
+            res = interpret_program(program, tool_arg, "inch")
     design, refs = (read_design(design_path, units, stock) if design_path is not None
                     else (None, None))
     motions = list(res.motions)

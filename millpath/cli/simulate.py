@@ -30,19 +30,23 @@ from millpath.cli.programs import simulate_program
 @click.option("--resolution", type=float, default=None,
               help="Z-map cell size (default: stock size / 1000, at most D/10 of the "
                    "smallest tool).")
+@click.option("--machine-units", type=click.Choice(["inch", "mm"]), default=None,
+              help="Units of a tool table whose header does not state them (default "
+              "inch, as LinuxCNC's rs274).")
 @click.option("--json", "as_json", is_flag=True, help="Print the results as JSON.")
 @click.option("--png", "png", type=click.Path(path_type=Path), default=None,
               help="Write a shaded picture of the stock (and FILE_deviation.png with "
                    "--design).")
 def command(program: Path, tools_path: Path | None, stock_text: str,
-            design_path: Path | None, resolution: float | None, as_json: bool,
-            png: Path | None) -> None:
+            design_path: Path | None, resolution: float | None, machine_units: str | None,
+            as_json: bool, png: Path | None) -> None:
     """Simulate PROGRAM on a block of stock: removed volume, gouges, material left,
     rapids through material, holder contacts and cycle time."""
     from millpath.simulate import render_deviation, render_stock
 
     sp = simulate_program(program, tools_path, stock_text, design_path, resolution,
-                          progress=not as_json and sys.stderr.isatty())
+                          progress=not as_json and sys.stderr.isatty(),
+                          machine_units=machine_units)
     r, design, units, motions = sp.result, sp.design, sp.units, sp.motions
     resolution = sp.resolution
     if png is not None:

@@ -2,15 +2,17 @@
 
 Each line: ``T`` tool number, ``P`` pocket, offsets ``X Y Z A B C U V W``, ``D``
 diameter, ``I J Q`` (lathe), then ``;`` and a comment. Values are in the machine's
-units: LinuxCNC's standalone ``rs274`` reads them as inches whatever the program's
-units; millpath writes them in the job's units and checks programs with matching
-machine units.
+units: LinuxCNC (and its standalone ``rs274``) reads them in the machine's units
+whatever the program's (rs274: inch). millpath writes them in the machine units of the
+job (``[machine] units``) with a first comment line ``; millpath tool table, values in
+UNITS (machine units)`` that :func:`table_units` reads back.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+import re
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from millpath.errors import MillpathError
@@ -120,3 +122,44 @@ def entries_from_tools(tools) -> list[ToolEntry]:
                       comment=t.comment or f"{t.type} D{t.diameter:g}"
                       + (f" R{t.corner_radius:g}" if t.type == "bull" else ""))
             for t in seq]
+
+
+_HEADER_RE = re.compile(r"^\s*;.*\bvalues in (mm|inch)\b")
+
+
+def header(units: str) -> str:
+    """The first line millpath writes in a tool table in ``units``."""
+    return f"; millpath tool table, values in {units} (machine units)\n"
+
+
+def table_units(text: str) -> str | None:
+    """Units stated by a tool table's header comment (``mm``/``inch``), else None."""
+    for raw in text.splitlines()[:5]:
+        m = _HEADER_RE.match(raw)
+        if m:
+            return m.group(1)
+    return None
+
+
+def file_table_units(path: str | Path) -> str | None:
+    try:
+        return table_units(Path(path).read_text(encoding="utf-8", errors="replace"))
+    except OSError:
+        return None
+
+
+def convert_entries(entries: list[ToolEntry], from_units: str, to_units: str) -> list[ToolEntry]:
+    """Rows with lengths (offsets X..W except the angles A B C, diameter) converted."""
+    if from_units == to_units:
+        return list(entries)
+    k = 25.4 if from_units == "inch" else 1.0 / 25.4
+    return [replace(e, diameter=e.diameter * k,
+                    offsets={a: (v if a in "ABC" else v * k) for a, v in e.offsets.items()})
+            for e in entries]
+
+
+def tool_table_text(tools, tool_units: str, machine_units: str) -> str:
+    """A whole tool table for millpath Tools (lengths in ``tool_units``) written in the
+    machine's units, header line first."""
+    rows = convert_entries(entries_from_tools(tools), tool_units, machine_units)
+    return header(machine_units) + format_tool_table(rows)

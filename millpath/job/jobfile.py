@@ -7,8 +7,12 @@ Layout::
     fit = "none"                      # "none" | "arcs" | "arcs+cubics"
     fit_tolerance = 0.005             # job units
     [stock]        box = [xmin, ymin, zmin, xmax, ymax, zmax]
-    [machine]      rapid, max_feed (units/min), acceleration (units/s^2)
+    [machine]      rapid, max_feed (units/min), acceleration (units/s^2),
+                   units ("mm" | "inch": the units of the machine's tool table;
+                   default: the job's)
     [simulation]   resolution (job units), enabled (bool)
+    [post]         coolant, work_offset, end, line_numbers, tool_change, program_number,
+                   preamble, postamble (see millpath.post.linuxcnc.PostOptions)
     [limits]       max_extent (job units), max_layers, max_passes   (millpath.model.limits)
     [reference]    a document's published numbers the job reproduces (free-form
                    table, copied into report.json as "reference")
@@ -46,6 +50,7 @@ TOP = {
     "stock": Param("table", None),
     "machine": Param("table", None),
     "simulation": Param("table", None),
+    "post": Param("table", None),
     "limits": Param("table", None),
     "tools": Param("list", []),
     "operations": Param("list"),
@@ -60,6 +65,24 @@ MACHINE = {
                       doc="highest feed rate (default 3000 mm/min, 120 in/min)"),
     "acceleration": Param("float", None, positive=True,
                           doc="axis acceleration in units/s^2 (default 500 mm/s^2, 20 in/s^2)"),
+    "units": Param("str", None, choices=("mm", "inch"),
+                   doc="the machine's units: tools.tbl is written in them (default: the "
+                       "job's)"),
+}
+POST = {
+    "coolant": Param("str", None, choices=("flood", "mist", "off"),
+                     doc="coolant of every operation (default: each operation's, flood)"),
+    "work_offset": Param("str", "G54", choices=("G54", "G55", "G56", "G57", "G58", "G59",
+                                                "G59.1", "G59.2", "G59.3"),
+                         doc="work coordinate system written in the setup line"),
+    "end": Param("str", "M2", choices=("M2", "M30"), doc="program end"),
+    "line_numbers": Param("bool", False, doc="N words in steps of 10"),
+    "tool_change": Param("str", "none", choices=("G30", "G53 G0 Z0", "none"),
+                         doc="move written before each M6"),
+    "program_number": Param("int", None, nonneg=True,
+                            doc="written first as the comment (O<n>)"),
+    "preamble": Param("str", "", doc="G-code lines after the setup"),
+    "postamble": Param("str", "", doc="G-code lines before the program end"),
 }
 LIMITS = {
     "max_extent": Param("float", None, positive=True, unit="length",
@@ -98,6 +121,13 @@ class Job:
     simulation: dict[str, Any] = field(default_factory=dict)
     limits: Limits = field(default_factory=Limits)
     reference: dict[str, Any] | None = None     # published numbers the job reproduces
+    machine_units: str = ""           # units of the machine (tool table); "" = the job's
+    post: dict[str, Any] = field(default_factory=dict)   # [post]: PostOptions fields
+
+    @property
+    def table_units(self) -> str:
+        """Units tools.tbl is written in: the machine's."""
+        return self.machine_units or self.units
 
     @property
     def base_dir(self) -> Path:
@@ -134,12 +164,15 @@ def job_from_dict(data: dict, path: Path | None = None) -> Job:
                            f"{limits.max_extent:g} {units} limit (wrong units? raise "
                            f"[limits] max_extent if the machine is that big)", path)
     machine = Machine.default_for(units)
+    machine_units = ""
     if top["machine"] is not None:
         m = validate(top["machine"], MACHINE, "machine", path)
         machine = Machine(rapid=m["rapid"] or machine.rapid,
                           max_feed=m["max_feed"] or machine.max_feed,
                           acceleration=m["acceleration"] or machine.acceleration)
+        machine_units = m["units"] or ""
     sim = validate(top["simulation"] or {}, SIMULATION, "simulation", path, base)
+    post = validate(top["post"] or {}, POST, "post", path, base)
     tools = tools_from_tables(top["tools"], path, units)
     ops = []
     if not top["operations"]:
@@ -162,7 +195,8 @@ def job_from_dict(data: dict, path: Path | None = None) -> Job:
     return Job(path=path, units=units, name=top["name"] or (path.stem if path else "job"),
                stock=stock, machine=machine, tools=tools, operations=ops, fit=top["fit"],
                fit_tolerance=top["fit_tolerance"] or default_tol, simulation=sim,
-               limits=limits, reference=top["reference"])
+               limits=limits, reference=top["reference"], machine_units=machine_units,
+               post=post)
 
 
 def _check_work(params: dict[str, Any], stock: Stock | None, limits: Limits, units: str,

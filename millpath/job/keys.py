@@ -70,10 +70,12 @@ def sections(op_type: str | None = None) -> list[Section]:
     out = []
     if op_type is None:
         out += [section("top level", "Keys at the top of the job file.", jobfile.TOP,
-                        skip=("stock", "machine", "simulation", "limits", "tools",
+                        skip=("stock", "machine", "post", "simulation", "limits", "tools",
                               "operations")),
                 section("[stock]", "The raw block, in the part frame.", jobfile.STOCK),
-                section("[machine]", "Machine limits, for the cycle time.", jobfile.MACHINE),
+                section("[machine]", "Machine limits, for the cycle time, and the machine's "
+                        "units.", jobfile.MACHINE),
+                section("[post]", "Program conventions of the LinuxCNC post.", jobfile.POST),
                 section("[simulation]", "The verification's settings.", jobfile.SIMULATION),
                 section("[limits]", "Bounds on the work a job may ask for.", jobfile.LIMITS),
                 section("[[tools]]", "The tool library, one table per tool.", TOOL)]

@@ -11,7 +11,7 @@ Cubics (G5, XY only): ``controls`` = the two Bezier control points (x, y).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 Vec3 = tuple[float, float, float]
 

@@ -69,7 +69,13 @@ class Move:
 
 @dataclass
 class Operation:
-    """What produced a run of moves: strategy type, a human name, tool and spindle."""
+    """What produced a run of moves: strategy type, a human name, tool and spindle.
+
+    ``tolerance`` (job units) is how far below the design the operation may cut: the
+    strategy's own tolerance key (chord / fit tolerance); the safety gate refuses a
+    program whose simulated gouge under this operation exceeds it. None: no promise
+    (any gouge beyond the job's fit tolerance is refused).
+    """
 
     type: str
     name: str
@@ -77,6 +83,7 @@ class Operation:
     spindle: float = 0.0          # rpm, clockwise (M3); negative for M4
     coolant: str = "flood"        # "flood" (M8), "mist" (M7) or "off"
     info: dict = field(default_factory=dict)
+    tolerance: float | None = None
 
 
 @dataclass

@@ -16,6 +16,7 @@ from typing import Any, Protocol
 import numpy as np
 
 from millpath.model import Machine, Stock, Tool, Toolpath
+from millpath.progress import QUIET, Progress
 
 
 class Design(Protocol):
@@ -30,6 +31,19 @@ class Design(Protocol):
     def height(self, x: np.ndarray, y: np.ndarray) -> np.ndarray: ...
 
 
+class Remaining(Protocol):
+    """The in-process stock left by the earlier operations of the job (read-only).
+
+    ``height(x, y)``: Z of the top of the material at each point (arrays of equal
+    shape, job units), the stock bottom where nothing is left; ``resolution``: the
+    width of the cells it is known on (a Z-map from the simulator).
+    """
+
+    resolution: float
+
+    def height(self, x: np.ndarray, y: np.ndarray) -> np.ndarray: ...
+
+
 @dataclass
 class PlanContext:
     units: str                     # "mm" | "inch"
@@ -38,6 +52,8 @@ class PlanContext:
     tools: dict[int, Tool]
     base_dir: Path                 # folder of the job file: relative paths start here
     job_file: Path | None = None
+    remaining: Remaining | None = None   # in-process stock; None: the full stock block
+    progress: Progress = QUIET     # bars on stderr for long steps (millpath.progress)
 
     def tool(self, number: int, where: str = "tool") -> Tool:
         from millpath.errors import JobError

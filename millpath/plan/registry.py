@@ -17,6 +17,8 @@ STRATEGIES: dict[str, str] = {
     "features": "millpath.plan.features.operation",
     "surface-finish": "millpath.plan.surface.operation",
     "surface-rough": "millpath.plan.surface.rough",
+    "pocket": "millpath.plan.pocket.operation",
+    "profile": "millpath.plan.profile.operation",
 }
 
 

@@ -9,6 +9,13 @@ extra turns), ``G5`` cubic Bezier splines in XY, canned drilling cycles
 (``G81 G82 G83 G73 G85 G89`` with ``G98``/``G99``) closed by ``G80``, cutter radius
 compensation ``G41``/``G42 Dn`` and ``G40``, and ``M2``.
 
+After each tool change the tool first rises straight to the operation's safe height
+(its highest move, or ``PostOptions.safe_z`` if higher), then moves in X and Y at that
+height, then descends: never X, Y and Z together from the unknown tool-change position.
+:class:`PostOptions` (the job's ``[post]`` table) sets coolant, work offset, program
+end, N line numbers, a move before ``M6``, a program number and preamble/postamble
+blocks.
+
 Numbers: 4 decimals in mm, 5 in inch, trailing zeros dropped, never ``-0``. Arc centres
 are recomputed from the *written* (rounded) start and end points so that LinuxCNC sees
 equal start and end radii.
@@ -17,6 +24,7 @@ equal start and end radii.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 from millpath.model import Tool, Toolpath
 from millpath.model.toolpath import PLANE_AXES, Move
@@ -43,6 +51,45 @@ class _Fmt:
         return t
 
 
+WORK_OFFSETS = ("G54", "G55", "G56", "G57", "G58", "G59", "G59.1", "G59.2", "G59.3")
+TOOL_CHANGES = {"none": "", "G30": "G30", "G53 G0 Z0": "G53 G0 Z0"}
+
+
+@dataclass
+class PostOptions:
+    """Program conventions (the job's ``[post]`` table).
+
+    ``coolant``: "flood" | "mist" | "off" for every operation (None: each operation's
+    own, flood by default); ``work_offset``: G54 .. G59.3 written in the setup line;
+    ``end``: "M2" | "M30"; ``line_numbers``: N words in steps of 10 on every line but
+    comments; ``tool_change``: "G30" | "G53 G0 Z0" | "none", the move written before each
+    ``M6``; ``program_number``: written first as the comment ``(O<n>)`` (LinuxCNC has no
+    program-number O word); ``preamble`` / ``postamble``: G-code lines written after the
+    setup and before the program end; ``safe_z``: lowest height (job units) of the move
+    after a tool change.
+    """
+
+    coolant: str | None = None
+    work_offset: str = "G54"
+    end: str = "M2"
+    line_numbers: bool = False
+    tool_change: str = "none"
+    program_number: int | None = None
+    preamble: str = ""
+    postamble: str = ""
+    safe_z: float | None = None
+
+    def __post_init__(self) -> None:
+        if self.coolant not in (None, "flood", "mist", "off"):
+            raise ValueError(f"coolant must be flood, mist or off, not {self.coolant!r}")
+        if self.work_offset not in WORK_OFFSETS:
+            raise ValueError(f"work_offset must be one of {', '.join(WORK_OFFSETS)}")
+        if self.end not in ("M2", "M30"):
+            raise ValueError("end must be M2 or M30")
+        if self.tool_change not in TOOL_CHANGES:
+            raise ValueError("tool_change must be G30, \"G53 G0 Z0\" or none")
+
+
 def _num(v: float, digits: int = 3) -> str:
     t = f"{v:.{digits}f}"
     if "." in t:
@@ -56,7 +103,9 @@ def _comment(text: str) -> str:
 
 
 class _Writer:
-    def __init__(self, tp: Toolpath, tools: dict[int, Tool], title: str):
+    def __init__(self, tp: Toolpath, tools: dict[int, Tool], title: str,
+                 options: PostOptions | None = None):
+        self.opt = options or PostOptions()
         self.tp = tp
         self.tools = tools
         self.f = _Fmt(tp.units)
@@ -71,6 +120,8 @@ class _Writer:
         self.comp = "off"
         self.cycle_key: tuple | None = None
         self.title = title
+        self.changed = False            # a tool change happened and no motion since
+        self.safe = 0.0
 
     # --- helpers ------------------------------------------------------------------
     def emit(self, s: str) -> None:
@@ -108,6 +159,8 @@ class _Writer:
 
     # --- program parts ------------------------------------------------------------
     def preamble(self) -> None:
+        if self.opt.program_number is not None:
+            self.emit(f"(O{self.opt.program_number})")
         if self.title:
             self.emit(_comment(self.title))
         self.emit(_comment(f"millpath post: LinuxCNC, units {self.tp.units}"))
@@ -122,6 +175,13 @@ class _Writer:
         self.emit("G17 G90 G94 G40 G49 G80")
         self.emit("G91.1")
         self.emit("G20" if self.tp.units == "inch" else "G21")
+        self.emit(self.opt.work_offset)
+        self._block(self.opt.preamble)
+
+    def _block(self, text: str) -> None:
+        for raw in text.splitlines():
+            if raw.strip():
+                self.emit(raw.strip())
 
     def begin_op(self, i: int) -> None:
         op = self.tp.ops[i]
@@ -136,11 +196,16 @@ class _Writer:
                     self.emit("M9")
                     self.coolant = "off"
                 self.spindle = None
+            if TOOL_CHANGES[self.opt.tool_change]:
+                self.emit(TOOL_CHANGES[self.opt.tool_change])
             self.emit(f"T{op.tool} M6")
             self.emit(f"G43 H{op.tool}")
             self.tool = op.tool
             self.pos = [None, None, None]
             self.motion = None
+            self.changed = True
+            zs = [m.end[2] for m in self.tp.moves if m.op == i and m.kind != "comp"]
+            self.safe = max(zs + ([self.opt.safe_z] if self.opt.safe_z is not None else []))
         if op.spindle != self.spindle:
             if op.spindle == 0:
                 self.emit("M5")
@@ -148,12 +213,30 @@ class _Writer:
                 code = "M3" if op.spindle > 0 else "M4"
                 self.emit(f"S{_num(abs(op.spindle), 0)} {code}")
             self.spindle = op.spindle
-        if op.coolant != self.coolant:
-            self.emit({"flood": "M8", "mist": "M7", "off": "M9"}[op.coolant])
-            self.coolant = op.coolant
+        coolant = self.opt.coolant or op.coolant
+        if coolant != self.coolant:
+            self.emit({"flood": "M8", "mist": "M7", "off": "M9"}[coolant])
+            self.coolant = coolant
+
+    def approach(self, m: Move) -> None:
+        """After a tool change: up to the safe height, X and Y there, then (for a first
+        move that is not a rapid ending at that height) down to the move's start."""
+        self.changed = False
+        if m.kind in ("arc", "cubic"):
+            raise ValueError(f"a{'n' if m.kind == 'arc' else ''} {m.kind} cannot be the first "
+                             "move after a tool change")
+        if m.kind == "comp":
+            raise ValueError("cutter compensation cannot start right after a tool change")
+        safe = max(self.safe, m.end[2])
+        self.emit(f"G0 Z{self.f.s(safe)}")
+        self.emit(f"X{self.f.s(m.end[0])} Y{self.f.s(m.end[1])}")
+        self.motion = "G0"
+        self.pos = [self.f.r(m.end[0]), self.f.r(m.end[1]), self.f.r(safe)]
 
     def move(self, m: Move) -> None:
         k = m.kind
+        if self.changed and k != "comp":
+            self.approach(m)
         if k != "drill":
             self._end_cycle()
         if k == "rapid":
@@ -286,28 +369,43 @@ class _Writer:
         self._end_cycle()
         if self.comp != "off":
             self.emit("G40")
+        self._block(self.opt.postamble)
         self.emit("M5")
         if self.coolant != "off":
             self.emit("M9")
-        self.emit("M2")
+        self.emit(self.opt.end)
+
+    def numbered(self) -> list[str]:
+        """The lines, with N words in steps of 10 when asked (comments left bare)."""
+        if not self.opt.line_numbers:
+            return self.lines
+        out, n = [], 0
+        for ln in self.lines:
+            if ln.startswith("("):
+                out.append(ln)
+            else:
+                n += 10
+                out.append(f"N{n} {ln}")
+        return out
 
 
-def post(toolpath: Toolpath, tools: dict[int, Tool], *, title: str = "") -> str:
+def post(toolpath: Toolpath, tools: dict[int, Tool], *, title: str = "",
+         options: PostOptions | None = None) -> str:
     """RS274NGC text (LinuxCNC dialect) for ``toolpath``; ``tools`` gives tool comments.
 
     Raises ValueError for moves LinuxCNC cannot run as written (non-positive feeds,
     splines or cycles under cutter compensation, degenerate arcs).
     """
-    return post_with_lines(toolpath, tools, title=title)[0]
+    return post_with_lines(toolpath, tools, title=title, options=options)[0]
 
 
-def post_with_lines(toolpath: Toolpath, tools: dict[int, Tool], *,
-                    title: str = "") -> tuple[str, list[int | None]]:
+def post_with_lines(toolpath: Toolpath, tools: dict[int, Tool], *, title: str = "",
+                    options: PostOptions | None = None) -> tuple[str, list[int | None]]:
     """Like :func:`post`, also returning for each move the 1-based program line that
     carries it (None where the move writes no motion, e.g. a rapid to where the tool
     already is)."""
     toolpath.check_finite()
-    w = _Writer(toolpath, tools, title)
+    w = _Writer(toolpath, tools, title, options)
     w.preamble()
     current = -1
     where: list[int | None] = []
@@ -322,4 +420,4 @@ def post_with_lines(toolpath: Toolpath, tools: dict[int, Tool], *,
         else:
             where.append(len(w.lines))
     w.end()
-    return "\n".join(w.lines) + "\n", where
+    return "\n".join(w.numbered()) + "\n", where

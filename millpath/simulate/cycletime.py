@@ -164,10 +164,10 @@ def operation_times(tp: Toolpath, machine: Machine | None = None, *,
     machine = machine or Machine.default_for(tp.units)
     motions, src = toolpath_motions(tp)
     t = motion_times(motions, machine, corner_angle=corner_angle)
-    return _per_op(tp, src, t)
+    return times_by_operation(tp, src, t)
 
 
-def _per_op(tp: Toolpath, src: list[int], t: np.ndarray) -> list[dict]:
+def times_by_operation(tp: Toolpath, src: list[int], t: np.ndarray) -> list[dict]:
     secs = [0.0] * len(tp.ops)
     for ti, mi in zip(t, src):
         secs[tp.moves[mi].op] += float(ti)

@@ -27,7 +27,7 @@ from millpath.model.motion import Motion
 from millpath.model.stock import Machine, Stock
 from millpath.model.tool import Tool
 from millpath.model.toolpath import Toolpath
-from millpath.simulate.cycletime import _per_op, motion_times
+from millpath.simulate.cycletime import motion_times, times_by_operation
 from millpath.simulate.exact import ExactResult, Reference, design_triangles, verify_exact
 from millpath.simulate.kernel import BALL, BULL, DRILL, FLAT, sweep_chunk
 from millpath.simulate.path import Segments, motion_segments, toolpath_motions
@@ -386,7 +386,7 @@ def simulate_toolpath(toolpath: Toolpath, tools: dict[int, Tool], stock: Stock, 
     times = motion_times(motions, machine, corner_angle=corner_angle)
     res = _finish(zmap, design, motions, (rm[:nm], hm[:nm]), times, resolution,
                   list(range(nm)), len(segs))
-    res.per_operation = _per_op(toolpath, src, times)
+    res.per_operation = times_by_operation(toolpath, src, times)
     res.rapid_hit, res.holder_hit = rapid_hit, holder_hit
     _exact(res, motions, tools, stock, design, None,
            np.array([toolpath.moves[i].op for i in src], np.int64), accuracy)

@@ -348,6 +348,7 @@ def test_pocket_floor_fillet_without_a_matching_bull_nose_is_reported(tmp_path):
     (tmp_path / "p.stp").write_text(b.text())
     ctx = PlanContext(units="mm", stock=None, machine=Machine(), tools=TOOLS_MM,
                       base_dir=tmp_path)
-    r = plan(ctx, validate({"step": "p.stp"}, PARAMS, "op", None, tmp_path))
-    (u,) = r.report["features"]["unmachinable"]
-    assert "bull nose end mill with corner radius 2" in u["reason"]
+    # the only feature cannot be machined: the run is refused with the reason
+    with pytest.raises(MillpathError, match="POCKET #.*bull nose end mill with corner "
+                                            "radius 2"):
+        plan(ctx, validate({"step": "p.stp"}, PARAMS, "op", None, tmp_path))

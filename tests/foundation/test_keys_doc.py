@@ -29,7 +29,9 @@ def test_every_accepted_key_is_documented():
     assert listed["[[tools]]"] == set(TOOL)
     assert listed["[stock]"] == set(jobfile.STOCK)
     assert listed["[limits]"] == set(jobfile.LIMITS)
-    top = set(jobfile.TOP) - {"stock", "machine", "simulation", "limits", "tools", "operations"}
+    assert listed["[post]"] == set(jobfile.POST)
+    top = set(jobfile.TOP) - {"stock", "machine", "simulation", "limits", "post", "tools",
+                              "operations"}
     assert listed["top level"] == top
     for s in sections():
         if s.title.startswith("[[operations]]"):

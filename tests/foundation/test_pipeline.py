@@ -14,7 +14,7 @@ from millpath.verify.rs274 import run_rs274
 def test_run_writes_program_tools_report_and_pictures(tmp_path, job_file):
     out = tmp_path / "out"
     res = run_job(job_file, out)
-    names = sorted(f.name for f in out.iterdir())
+    names = sorted(f.name for f in out.iterdir() if not f.name.startswith("."))
     assert names == ["deviation.png", "preview.png", "program.ngc", "report.json",
                      "stock.png", "tools.tbl", "view.html"]
     rep = json.loads((out / "report.json").read_text())
@@ -58,4 +58,4 @@ def test_failure_while_writing_leaves_the_output_folder_unchanged(tmp_path, job_
     with pytest.raises(MillpathError, match="disk full"):
         run_job(job_file, out)
     assert [f.name for f in out.iterdir()] == ["report.json"]
-    assert not list(tmp_path.glob(".out.*"))
+    assert not list(tmp_path.glob(".out.staging*"))

@@ -32,9 +32,9 @@ def test_preamble_tool_change_and_trailer():
     text = post(base(), TOOLS, title="golden")
     assert text.splitlines() == [
         "(golden)", "(millpath post: LinuxCNC, units mm)", "(T1 flat D6)",
-        "G17 G90 G94 G40 G49 G80", "G91.1", "G21",
+        "G17 G90 G94 G40 G49 G80", "G91.1", "G21", "G54",
         "(operation 1: test - golden)", "T1 M6", "G43 H1", "S10000 M3", "M8",
-        "G0 X0 Y0 Z5", "G1 Z-1 F100", "M5", "M9", "M2"]
+        "G0 Z5", "X0 Y0", "G1 Z-1 F100", "M5", "M9", "M2"]
 
 
 def test_inch_program_uses_g20_and_five_decimals():
@@ -43,7 +43,7 @@ def test_inch_program_uses_g20_and_five_decimals():
     tp.rapid(0.123456, -0.0000004, 0.1)
     text = post(tp, TOOLS)
     assert "G20" in text.splitlines()
-    assert "G0 X0.12346 Y0 Z0.1" in text.splitlines()
+    assert "X0.12346 Y0" in text.splitlines()
 
 
 def test_lines_are_modal_and_write_only_changed_axes():
@@ -52,7 +52,8 @@ def test_lines_are_modal_and_write_only_changed_axes():
     tp.line(10, 5.00004, -1, 250)
     tp.line(10.00001, 5.00004, -1, 250)     # rounds to the same point: nothing written
     tp.rapid(10, 5, 5)
-    assert body(post(tp, TOOLS)) == ["G0 X0 Y0 Z5", "G1 Z-1 F100", "X10", "Y5 F250", "G0 Z5"]
+    assert body(post(tp, TOOLS)) == ["G0 Z5", "X0 Y0", "G1 Z-1 F100", "X10", "Y5 F250",
+                                    "G0 Z5"]
 
 
 def test_xy_arcs_clockwise_counterclockwise_and_full_turns():
@@ -60,7 +61,7 @@ def test_xy_arcs_clockwise_counterclockwise_and_full_turns():
     tp.arc((10, 0, -1), (5, 0, -1), True, 200)
     tp.arc((10, 0, -1), (5, 0, -1), False, 200, turns=2)
     tp.arc((0, 0, -3), (5, 0, -1), False, 200)            # helical half turn
-    assert body(post(tp, TOOLS))[2:] == ["G2 X10 Y0 I5 J0 F200", "G3 I-5 J0 P2",
+    assert body(post(tp, TOOLS))[3:] == ["G2 X10 Y0 I5 J0 F200", "G3 I-5 J0 P2",
                                          "G3 X0 Y0 Z-3 I-5 J0"]
 
 
@@ -70,7 +71,7 @@ def test_xz_and_yz_arcs_select_their_plane_and_use_ik_jk():
     tp.arc((10, 10, -1), (10, 5, -1), True, 200, plane="YZ")
     tp.line(20, 10, -1, 200)
     tp.compensation("left", 1)
-    assert body(post(tp, TOOLS))[2:] == ["G18", "G3 Z-1 X10 K0 I5 F200", "G19",
+    assert body(post(tp, TOOLS))[3:] == ["G18", "G3 Z-1 X10 K0 I5 F200", "G19",
                                          "G2 Y10 Z-1 J5 K0", "G1 X20", "G17", "G41 D1",
                                          "G40"]
 
@@ -78,7 +79,7 @@ def test_xz_and_yz_arcs_select_their_plane_and_use_ik_jk():
 def test_cubic_is_written_as_g5_with_offsets_from_its_ends():
     tp = base()
     tp.cubic((2, 3), (8, 3), (10, 0, -1), 300)
-    assert body(post(tp, TOOLS))[2:] == ["G5 X10 Y0 I2 J3 P-2 Q3 F300"]
+    assert body(post(tp, TOOLS))[3:] == ["G5 X10 Y0 I2 J3 P-2 Q3 F300"]
 
 
 def test_drill_cycles_are_modal_and_closed_by_g80():
@@ -90,7 +91,7 @@ def test_drill_cycles_are_modal_and_closed_by_g80():
     tp.drill(30, 10, -5, 2, 60, "G82", dwell=0.5, retract_initial=True)
     tp.rapid(30, 10, 20)
     assert body(post(tp, TOOLS)) == [
-        "G0 X10 Y10 Z10", "G99 G83 X10 Y10 Z-12 R2 Q3 F80", "X20 Y10", "G80",
+        "G0 Z20", "X10 Y10", "Z10", "G99 G83 X10 Y10 Z-12 R2 Q3 F80", "X20 Y10", "G80",
         "G98 G82 X30 Y10 Z-5 R2 P0.5 F60", "G80", "G0 Z20"]
 
 
@@ -100,7 +101,7 @@ def test_compensation_moves_write_g41_d_and_g40():
     tp.line(10, 0, -1, 100)
     tp.compensation("off")
     tp.line(12, -2, -1, 100)
-    assert body(post(tp, TOOLS))[2:] == ["G41 D1", "X10", "G40", "X12 Y-2"]
+    assert body(post(tp, TOOLS))[3:] == ["G41 D1", "X10", "G40", "X12 Y-2"]
 
 
 def test_arc_centre_is_fitted_to_the_written_end_points():
@@ -137,7 +138,7 @@ def test_move_lines_point_at_the_lines_that_carry_each_move():
     tp.rapid(10, 0, -1)
     text, where = post_with_lines(tp, TOOLS)
     lines = text.splitlines()
-    assert lines[where[0] - 1] == "G0 X0 Y0 Z5"
+    assert lines[where[0] - 1] == "X0 Y0"
     assert lines[where[2] - 1] == "X10"
     assert where[3] is None
 

@@ -63,7 +63,9 @@ def reference_states(program: str):
                 pending = int(float(v))
             elif k == "M" and float(v) == 6.0:
                 tool = pending
-        simple = moved and motion_mode in (0.0, 1.0, 2.0, 3.0)
+        # a position this reader can vouch for: all three axes programmed since the start
+        # (after a tool change the post rises in Z alone, from wherever the machine is)
+        simple = moved and motion_mode in (0.0, 1.0, 2.0, 3.0) and None not in (x, y, z)
         out[n] = ((x, y, z), feed, tool, simple, motion_mode)
     return out
 

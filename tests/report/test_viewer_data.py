@@ -155,7 +155,7 @@ def _arr(s, dtype):
 def slot_files(tmp_path):
     from millpath.part.surface.mesh import Mesh, write_stl
     (tmp_path / "slot.ngc").write_text(SLOT)
-    (tmp_path / "tools.tbl").write_text("T1 P1 D4 Z50 ;4 mm end mill\n")
+    (tmp_path / "tools.tbl").write_text("; tool table, values in mm\nT1 P1 D4 Z50 ;4 mm end mill\n")
     tri = np.array([[[-1, -1, -0.5], [21, -1, -0.5], [21, 21, -0.5]],
                     [[-1, -1, -0.5], [21, 21, -0.5], [-1, 21, -0.5]]], float)
     write_stl(Mesh(tri), tmp_path / "design.stl")

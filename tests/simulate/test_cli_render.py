@@ -30,7 +30,7 @@ M2
 @pytest.fixture
 def files(tmp_path):
     (tmp_path / "p.ngc").write_text(PROGRAM)
-    (tmp_path / "tools.tbl").write_text("T1 P1 D6 Z50 ;flat 6\n")
+    (tmp_path / "tools.tbl").write_text("; values in mm\nT1 P1 D6 Z50 ;flat 6\n")
     (tmp_path / "tools.toml").write_text('[[tools]]\nnumber = 1\ntype = "ball"\n'
                                          'diameter = 6\n')
     return tmp_path

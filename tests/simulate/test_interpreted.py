@@ -23,7 +23,11 @@ STOCK = Stock(0, 0, -20, 60, 50, 0)
 
 def _toolpath() -> Toolpath:
     tp = Toolpath()
+    # each operation starts where the post's safe approach after a tool change puts the
+    # tool (straight up to the operation's highest Z, then X and Y), so that the direct
+    # simulation and the posted program make the same motion
     tp.begin(Operation("mill", "slots and arcs", 1))
+    tp.rapid(0, 0, 5)
     tp.rapid(10, 10, 5)
     tp.line(10, 10, -2, 200)
     tp.line(40, 12, -2, 600)
@@ -32,6 +36,7 @@ def _toolpath() -> Toolpath:
     tp.arc((22, 32, -7), (21, 32, -7), clockwise=False, feed=400, turns=2)  # helix
     tp.rapid(22, 32, 5)
     tp.begin(Operation("drill", "holes", 2))
+    tp.rapid(22, 32, 10)
     tp.rapid(50, 5, 10)
     tp.drill(50, 5, -10, 2, 150, cycle="G81")
     tp.drill(50, 15, -12, 2, 150, cycle="G83", peck=3.0)
@@ -40,6 +45,8 @@ def _toolpath() -> Toolpath:
     tp.drill(50, 44, -5, 1, 150, cycle="G85")
     tp.drill(5, 44, -5, 1, 150, cycle="G89", dwell=0.25, retract_initial=True)
     tp.begin(Operation("finish", "ball ramp", 3))
+    tp.rapid(5, 44, 10)
+    tp.rapid(5, 25, 10)
     tp.rapid(5, 25, 5)
     tp.line(5, 25, -1, 200)
     tp.line(15, 40, -3, 400)
@@ -102,6 +109,7 @@ def test_cubic_moves_simulate_like_their_interpreted_g5():
     from millpath.post.linuxcnc import post
     tp = Toolpath()
     tp.begin(Operation("mill", "spline", 1))
+    tp.rapid(0, 0, 5)               # where the post's safe approach starts (see above)
     tp.rapid(5, 5, 5)
     tp.line(5, 5, -1.5, 200)
     tp.cubic((15, 30), (35, -10), (50, 20, -1.5), 500)

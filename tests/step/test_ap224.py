@@ -56,11 +56,18 @@ def test_sample_all_features(sample):
 
 
 def test_sample_turned_features_are_listed_as_unmachinable(sample):
+    """RAMP convention: both holes of the composite hole start at the bar's bottom face
+    (origin z 0, axis +Z): the 0.77 hole runs 1.5 up, the whole bar (a through hole,
+    drillable from the top); the 1.116 counterbore runs 0.65 up from the bottom face
+    only (needs the part turned over)."""
     s = feature_shapes(sample)
-    assert s.shapes == []
+    (hole,) = s.shapes
+    assert hole.id == 1864 and hole.bottom == "through"
+    assert (hole.diameter, hole.z_top, hole.depth) == (0.77, 1.5, 1.5)
     reasons = {u.id: u.reason for u in s.skipped}
     assert "not planned" in reasons[2440]
-    assert "not -Z" in reasons[1918]       # axis +Z: not reachable from the top
+    assert "opens only at the stock bottom" in reasons[1918]
+    assert "not along Z" in reasons[2241]  # a radial hole (depth along -Y)
     assert 1848 not in reasons             # composite: covered by its holes
 
 
@@ -194,7 +201,7 @@ def test_features_not_reachable_from_the_top_are_reported():
         if inst.get("DIRECTION") == ["", [0.0, 0.0, -1.0]]:
             inst.get("DIRECTION")[1] = [1.0, 0.0, 0.0]
     (u,) = feature_shapes(read_part(parse(b.text()))).skipped
-    assert u.id == f and "not -Z" in u.reason
+    assert u.id == f and "not along Z" in u.reason
 
 
 def test_generated_file_with_20000_instances_parses_and_extracts():

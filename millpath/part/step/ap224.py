@@ -161,6 +161,7 @@ class Feature:
     texts: dict[str, str] = field(default_factory=dict)
     components: list[Component] = field(default_factory=list)
     children: list[int] = field(default_factory=list)
+    faces: list[int] = field(default_factory=list)   # B-rep faces (recognised features)
 
     def component(self, *types: str) -> Component | None:
         for c in self.components:
@@ -174,7 +175,7 @@ class Feature:
                 "placement": self.placement.as_dict() if self.placement else None,
                 "params": self.params, "texts": self.texts,
                 "components": [c.as_dict() for c in self.components],
-                "children": self.children}
+                "children": self.children, **({"faces": self.faces} if self.faces else {})}
 
 
 @dataclass
@@ -192,7 +193,7 @@ class Part:
 
 
 # --- reading -----------------------------------------------------------------------------
-class _Reader:
+class GeometryReader:
     def __init__(self, sf: StepFile):
         self.sf = sf
         self._unit_cache: dict[int, tuple[str, float]] = {}
@@ -528,7 +529,7 @@ def read_part(source: str | Path | StepFile) -> Part:
     from millpath.part.step.iso14649 import is_iso14649, read_iso14649
     if is_iso14649(sf):
         return read_iso14649(sf)
-    r = _Reader(sf)
+    r = GeometryReader(sf)
     r.global_units()
     cand = {i.id for name in ("MACHINING_FEATURE", "INSTANCED_FEATURE", *FEATURE_TYPES)
             for i in sf.by_type(name)}

@@ -164,6 +164,16 @@ class Ap224Builder:
         self._stock_rep = rep
         self._material(rep)
 
+    def cylinder(self, diameter: float, length: float, origin=(0.0, 0.0, 0.0)) -> None:
+        """Cylindrical bar stock: axis +Z from ``origin`` (the centre of its bottom face)
+        for ``length``, as RAMP files write it."""
+        pl = self.placement(origin, (0.0, 0.0, 1.0), (1.0, 0.0, 0.0))
+        rep = self.add("CYLINDRICAL_SHAPE_REPRESENTATION", [
+            "base shape", [pl, self.length("length", length),
+                           self.length("diameter", diameter)], self.ctx])
+        self._stock_rep = rep
+        self._material(rep)
+
     def _material(self, stock_rep: Ref | None) -> None:
         if not self.material_name:
             return
@@ -175,17 +185,20 @@ class Ap224Builder:
 
     # --- features ------------------------------------------------------------------------
     def hole(self, entry, diameter: float, depth: float, bottom: str = "flat",
-             name: str = "", **bottom_params: float) -> Ref:
-        """A ROUND_HOLE entering at ``entry`` going down -Z; ``bottom`` one of through,
-        flat, spherical (``radius``), conical (``tip_angle``), flat with radius
-        (``corner_radius``), flat with taper (``taper_angle``)."""
-        pl = self.placement(entry)
+             name: str = "", axis=(0.0, 0.0, -1.0), **bottom_params: float) -> Ref:
+        """A ROUND_HOLE whose placement is at ``entry`` and whose depth runs ``depth``
+        from it along ``axis`` (default -Z: ``entry`` on the face the hole opens into;
+        RAMP files also write a bore with its origin at its bottom and axis +Z);
+        ``bottom`` one of through, flat, spherical (``radius``), conical (``tip_angle``),
+        flat with radius (``corner_radius``), flat with taper (``taper_angle``)."""
+        axis = tuple(float(a) for a in axis)
+        pl = self.placement(entry, axis)
         f = self._feature("ROUND_HOLE", name, pl)
         self._component(f, "CIRCULAR_CLOSED_PROFILE", "", "diameter occurrence",
                         ("diameter", "profile usage"), [pl, self.length("diameter", diameter)])
         self._component(f, "PATH_FEATURE_COMPONENT", "linear", "hole depth occurrence",
                         ("hole depth", "path feature component usage"),
-                        [pl, self.length("distance", depth)], direction=(0.0, 0.0, -1.0))
+                        [pl, self.length("distance", depth)], direction=axis)
         items: list[Ref] = []
         for k, v in bottom_params.items():
             label = k.replace("_", " ")

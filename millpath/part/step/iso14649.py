@@ -28,7 +28,7 @@ import math
 import numpy as np
 
 from millpath.part.step.ap224 import (Component, Feature, Part, Placement, Stock, Units,
-                                      _Reader)
+                                      GeometryReader)
 from millpath.part.step.p21 import Instance, Ref, StepFile
 
 ARM_SCHEMAS = ("COMBINED_SCHEMA", "MACHINING_SCHEMA", "INTEGRATED_CNC_SCHEMA_ARM")
@@ -53,7 +53,7 @@ def is_iso14649(sf: StepFile) -> bool:
 class _Arm:
     def __init__(self, sf: StepFile):
         self.sf = sf
-        self.geo = _Reader(sf)
+        self.geo = GeometryReader(sf)
 
     def length(self, v) -> float | None:
         """A length given as a number or a TOLERANCED_LENGTH_MEASURE."""

@@ -7,9 +7,16 @@ angles in degrees):
 
 - Frame: coordinates are in the stock's placement frame (a block's corner of least
   coordinates is the origin, its top face at ``z = height``).
-- A feature's placement origin is on the face the feature opens into; the placement
-  axis (or the depth path's direction) points into the material, along the depth, as in
-  the published AP224 sample. Only features whose depth direction is -Z are machinable.
+- A hole's or pocket's depth runs from its placement origin along its depth direction
+  (the depth path's direction, else the placement axis), whichever side the origin is
+  on: the published AP224 sample puts the origin on the face the feature opens into
+  with the axis -Z; RAMP files put a bore's origin at its bottom with the axis +Z (out
+  of the material) and a hole at the bottom of that bore at the bore's floor with the
+  axis -Z. The span found is then checked against the stock and the other features:
+  it must lie in the stock and open upward, at the stock top or into the floor of a
+  wider feature above it (machined from there); one that opens only at the stock bottom
+  or nowhere is listed as unmachinable. A hole reaching the stock bottom is a through
+  hole. Slots and faces need a -Z depth direction (origin on the top face).
 - Hole depth is measured from the entry to the lowest point of the hole (the floor of a
   flat bottom, the tip of a conical one, the lowest point of a spherical one).
 - A slot's course of travel starts at the placement origin and runs ``length`` along
@@ -27,6 +34,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -89,12 +97,20 @@ class PocketShape:
     corner_radius: float = 0.0
     floor_radius: float = 0.0            # fillet between walls and floor
     kind: str = "pocket"
+    # profile 'general' (recognised from a solid): the floor's plan-view ``region``
+    # (shapely, islands as holes, absolute coordinates) and ``keep``, the part's
+    # material above the floor that the tool must not enter (open sides are where
+    # ``keep`` does not border the region)
+    region: Any = None
+    keep: Any = None
 
     def outline(self, segments_per_quarter: int = 16):
         """The profile as a shapely Polygon (corner radii included)."""
         from shapely import affinity
         from shapely.geometry import Point, Polygon, box
 
+        if self.profile == "general":
+            return self.region
         if self.profile == "circular":
             poly = Point(0.0, 0.0).buffer(self.diameter / 2.0, quad_segs=segments_per_quarter)
         elif self.profile == "rectangular":
@@ -349,19 +365,76 @@ def feature_shapes(part: Part) -> ShapeSet:
         if f.type in ("ROUND_HOLE", "POCKET") and path is not None \
                 and path.direction is not None:
             depth_dir = frame.matrix().T @ np.asarray(path.direction)
-        if depth_dir[2] > -1 + 1e-6:
+        upward = f.type in ("ROUND_HOLE", "POCKET") and depth_dir[2] > 1 - 1e-6
+        if depth_dir[2] > -1 + 1e-6 and not upward:
             out.skipped.append(Unmachinable(
-                f.id, f.type, "depth direction is not -Z (not reachable from the top)"))
+                f.id, f.type, "depth direction is not along Z (not reachable from the top)"))
             continue
         try:
             if f.type == "ROUND_HOLE":
-                out.shapes.append(_hole(f, o, depth_dir))
+                out.shapes.append(_raised(_hole(f, o, depth_dir), upward))
             elif f.type == "SLOT":
                 out.shapes.append(_slot(f, o, axis, ref))
             elif f.type in ("PLANAR_FACE", "FLAT_FACE"):
                 out.shapes.append(_face(f, o, ref))
             else:
-                out.shapes.append(_pocket(f, o, ref, frame))
+                out.shapes.append(_raised(_pocket(f, o, ref, frame), upward))
         except _Missing as e:
             out.skipped.append(Unmachinable(f.id, f.type, str(e)))
+    if part.stock is not None:
+        _check_openings(out, part.stock.box())
     return out
+
+
+def _raised(shape, upward: bool):
+    """A feature whose depth runs up from its origin: its top is origin + depth."""
+    if upward:
+        shape.z_top = shape.z_top + shape.depth
+    return shape
+
+
+def _footprint(shape):
+    from shapely.geometry import Point
+    if isinstance(shape, HoleShape):
+        return Point(shape.x, shape.y).buffer(shape.diameter / 2.0, quad_segs=32)
+    return shape.outline()
+
+
+def _check_openings(out: "ShapeSet", box) -> None:
+    """Keep the holes and pockets whose span lies in the stock and opens upward (stock
+    top or the floor of a wider feature above); mark holes reaching the stock bottom as
+    through; move the others to ``skipped`` with the reason."""
+    zmin, zmax = box[2], box[5]
+    eps = 1e-6 * max(1.0, zmax - zmin)
+    keep = []
+    for s in out.shapes:
+        if not isinstance(s, (HoleShape, PocketShape)):
+            keep.append(s)
+            continue
+        lo, hi = s.z_top - s.depth, s.z_top
+        name = "ROUND_HOLE" if isinstance(s, HoleShape) else "POCKET"
+        if hi > zmax + eps or lo < zmin - eps:
+            out.skipped.append(Unmachinable(s.id, name, f"spans z {lo:g} .. {hi:g}, outside "
+                                                        f"the stock's z {zmin:g} .. {zmax:g}"))
+            continue
+        opens = hi >= zmax - eps
+        if not opens:
+            fp = _footprint(s)
+            for t in out.shapes:
+                if t is s or not isinstance(t, (HoleShape, PocketShape)):
+                    continue
+                if abs((t.z_top - t.depth) - hi) <= eps and \
+                        _footprint(t).buffer(eps).covers(fp):
+                    opens = True
+                    break
+        if not opens:
+            where = ("opens only at the stock bottom (z {:g}): machine it from the other "
+                     "side".format(lo) if lo <= zmin + eps
+                     else f"its top z {hi:g} opens neither at the stock top nor into a wider "
+                          f"feature")
+            out.skipped.append(Unmachinable(s.id, name, where))
+            continue
+        if isinstance(s, HoleShape) and lo <= zmin + eps and s.bottom != "through":
+            s.bottom = "through"
+        keep.append(s)
+    out.shapes = keep

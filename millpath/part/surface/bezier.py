@@ -201,12 +201,12 @@ class BezierPatch:
     def to_mesh(self, nu: int = 32, nv: int = 32) -> np.ndarray:
         """Triangles ``(2 * nu * nv, 3, 3)`` over an even (nu x nv) parameter grid,
         counter-clockwise seen from +Z for box-mapped patches."""
-        return _grid_triangles(self.evaluate(*np.meshgrid(np.linspace(0, 1, nu + 1),
+        return point_grid_triangles(self.evaluate(*np.meshgrid(np.linspace(0, 1, nu + 1),
                                                           np.linspace(0, 1, nv + 1),
                                                           indexing="ij")))
 
 
-def _grid_triangles(P: np.ndarray) -> np.ndarray:
+def point_grid_triangles(P: np.ndarray) -> np.ndarray:
     """Two triangles per cell of a ``(a, b, 3)`` point grid: ``(2 (a-1) (b-1), 3, 3)``."""
     p00, p10 = P[:-1, :-1], P[1:, :-1]
     p01, p11 = P[:-1, 1:], P[1:, 1:]

@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from millpath.errors import GeometryError
-from millpath.part.surface.bezier import _grid_triangles
+from millpath.part.surface.bezier import point_grid_triangles
 from millpath.io.text import read_number_rows
 
 
@@ -160,8 +160,8 @@ class MeasuredGrid:
         """Triangles ``(k, 3, 3)``: through the samples themselves by default, or over an
         even ``nu x nv`` resampling of the bounding box."""
         if nu is None and nv is None:
-            return _grid_triangles(np.stack([self.X, self.Y, self.Z], axis=-1))
+            return point_grid_triangles(np.stack([self.X, self.Y, self.Z], axis=-1))
         xmin, ymin, xmax, ymax = self.bounds
         gx, gy = np.meshgrid(np.linspace(xmin, xmax, (nu or self.xs.size - 1) + 1),
                              np.linspace(ymin, ymax, (nv or self.ys.size - 1) + 1), indexing="ij")
-        return _grid_triangles(np.stack([gx, gy, self.height(gx, gy)], axis=-1))
+        return point_grid_triangles(np.stack([gx, gy, self.height(gx, gy)], axis=-1))

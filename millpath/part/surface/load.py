@@ -20,6 +20,11 @@
   OpenCASCADE converts the file's length unit to millimetres; with ``units="inch"`` the
   mesh is scaled to inches (``chord_tolerance`` is then in inches too).
 
+- a table ``{ file = "part.stl", rotate = [rx, ry, rz], scale = s, units = "inch",
+  translate = [x, y, z] }`` or ``place = "stock-top"`` instead of ``translate``: any of
+  the above moved into the job's frame (:mod:`millpath.part.surface.placement`); grid
+  and Bezier tables take the same keys.
+
 Relative file names are resolved from ``base_dir``. Errors are :class:`JobError` or
 :class:`GeometryError` naming ``file`` (the job file) or the surface file, and the line
 where known.
@@ -40,6 +45,7 @@ import numpy as np
 from millpath.errors import GeometryError, JobError
 from millpath.io.text import MAX_COORDINATE
 from millpath.part.surface.mesh import Mesh, read_stl
+from millpath.part.surface.placement import place_mesh, split_placement
 
 GRID_SUFFIXES = (".csv", ".xyz", ".txt")
 STEP_SUFFIXES = (".step", ".stp")
@@ -47,23 +53,46 @@ STEP_EXTRA = "STEP surfaces need the optional extra: pip install 'millpath[step-
 
 
 def load_surface(spec, divisions: int, base_dir: Path, file=None, *,
-                 chord_tolerance: float = 0.01, units: str = "mm") -> Mesh:
+                 chord_tolerance: float = 0.01, units: str = "mm",
+                 stock_box=None) -> Mesh:
     """The surface described by ``spec`` as a :class:`Mesh` (see the module docstring).
 
     ``divisions``: Bezier cells per direction, least grid cells along a measured grid's
-    longer side. ``chord_tolerance``: STEP meshing tolerance (job units).
+    longer side. ``chord_tolerance``: STEP meshing tolerance (job units). A table may
+    also place the model (``rotate``, ``scale``, ``units``, ``translate``, ``place``,
+    :mod:`millpath.part.surface.placement`; ``stock_box`` for ``place``).
     """
     where = "surface"
     if isinstance(spec, dict):
-        if "grid" in spec:
-            return _grid_table(spec, divisions, base_dir, file)
-        try:
-            return _bezier_mesh(spec, divisions, where, file)
-        except (ValueError, TypeError) as e:
-            raise JobError(f"{where}: {e}", file) from None
+        placement, spec = split_placement(spec, file)
+        if "file" in spec:
+            unknown = sorted(set(spec) - {"file"})
+            if unknown:
+                raise JobError(f"surface.{unknown[0]}: unknown key (a file table has file, "
+                               "rotate, scale, units, translate, place)", file)
+            name = spec["file"]
+            if not isinstance(name, str):
+                raise JobError("surface.file: expected a file name", file)
+            if placement.units and Path(name).suffix.lower() in STEP_SUFFIXES:
+                raise JobError("surface.units: a STEP file states its own units", file)
+            mesh = _load_file(name, divisions, base_dir, file, chord_tolerance, units)
+        elif "grid" in spec:
+            mesh = _grid_table(spec, divisions, base_dir, file)
+        else:
+            try:
+                mesh = _bezier_mesh(spec, divisions, where, file)
+            except (ValueError, TypeError) as e:
+                raise JobError(f"{where}: {e}", file) from None
+        return place_mesh(mesh, placement, units, stock_box, file)
     if not isinstance(spec, str):
         raise JobError(f"{where}: expected a file name, a Bezier net table or a grid table",
                        file)
+    return _load_file(spec, divisions, base_dir, file, chord_tolerance, units)
+
+
+def _load_file(spec: str, divisions: int, base_dir: Path, file, chord_tolerance: float,
+               units: str) -> Mesh:
+    where = "surface"
     path = _resolve(spec, base_dir)
     suffix = path.suffix.lower()
     known = (".stl", ".toml") + GRID_SUFFIXES + STEP_SUFFIXES
@@ -148,7 +177,7 @@ def _grid_table(table: dict, divisions: int, base_dir: Path, file) -> Mesh:
 
 def grid_mesh(path: Path, method: str, divisions: int) -> Mesh:
     """Mesh of the measured grid in ``path`` (see the module docstring for the density)."""
-    from millpath.part.surface.bezier import _grid_triangles
+    from millpath.part.surface.bezier import point_grid_triangles
     from millpath.part.surface.grid import MeasuredGrid
     g = MeasuredGrid.from_csv(path, method=method)
     nx, ny = g.xs.size, g.ys.size
@@ -174,7 +203,7 @@ def grid_mesh(path: Path, method: str, divisions: int) -> Mesh:
         P = ((1 - s) * (1 - r) * S[I, J] + s * (1 - r) * S[I + 1, J]
              + (1 - s) * r * S[I, J + 1] + s * r * S[I + 1, J + 1])
     try:
-        return Mesh(_grid_triangles(P), path.name)
+        return Mesh(point_grid_triangles(P), path.name)
     except GeometryError as e:
         raise GeometryError(e.message, path) from None
 

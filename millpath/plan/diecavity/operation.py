@@ -407,7 +407,8 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     tp = Toolpath(units=ctx.units)
     tp.begin(Operation("die-cavity", f"die cavity ({params['compensation']})", tool.number,
                        spindle=params["spindle"],
-                       info={"layers": n_layers, "compensation": params["compensation"]}))
+                       info={"layers": n_layers, "compensation": params["compensation"]},
+                       tolerance=tol))
     if arc_in is not None:
         qa = np.roll(q, k - ka, axis=0)          # the contour from the arc entry's vertex
         S, exit_point = S_arc, X_arc

@@ -1,8 +1,11 @@
-"""Operation type ``features``: machine the features of an AP224 file.
+"""Operation type ``features``: machine the features of an AP224 file or a STEP solid.
 
 Job keys (lengths in job units):
 
 - ``step`` (path, required): the AP224 file; its stock is used when the job has none.
+  A STEP file without AP224 features (AP203/AP214/AP242 solid) is recognised instead
+  (:mod:`millpath.plan.features.solid`): ``body``, ``setup`` and ``stock_step`` apply,
+  and the tessellated solid is the design the program is verified against.
 - ``tool``: the only milling cutter to use (drills are still chosen from the library).
 - ``tools``: tool numbers the planner may use (default: all the job's tools).
 - ``finish_allowance``: wall stock left by roughing, removed by the finishing pass
@@ -52,6 +55,8 @@ from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.features import paths
 from millpath.plan.features.cutting import MATERIALS, material_class, speeds
 from millpath.plan.features.design import FeatureDesign, slot_outline
+from millpath.plan.features.region import (clear_general, general_regions, inner_points,
+                                           region_tool)
 from millpath.plan.features.select import (face_tool, hole_tool, matching_drill, pocket_tool,
                                            slot_tool)
 
@@ -63,7 +68,13 @@ def _tools_check(v: Any) -> str | None:
 
 
 PARAMS: dict[str, Param] = {
-    "step": Param("path", doc="AP224 file"),
+    "step": Param("path", doc="AP224 file or STEP solid"),
+    "body": Param("any", None, check=lambda v: None if (isinstance(v, str) or (
+        isinstance(v, int) and not isinstance(v, bool) and v > 0)) else
+        "expected a solid's number (1, 2, ...) or name", doc="solid of a multi-body file"),
+    "setup": Param("str", "+Z", choices=("+Z", "-Z", "+X", "-X", "+Y", "-Y"),
+                   doc="the solid's axis pointing up"),
+    "stock_step": Param("path", None, doc="STEP solid whose box is the stock"),
     "tool": Param("int", None, positive=True, doc="only milling cutter to use"),
     "tools": Param("list", None, check=_tools_check, doc="tool numbers allowed"),
     "finish_allowance": Param("float", None, nonneg=True),
@@ -84,7 +95,7 @@ PARAMS: dict[str, Param] = {
 
 
 #: strategies that mill an area (planned before holes, see _group_key)
-REGION = ("face", "slot", "pocket", "circular")
+REGION = ("face", "slot", "pocket", "circular", "region")
 
 
 @dataclasses.dataclass
@@ -99,7 +110,8 @@ def _scaled(shape, k: float):
     if k == 1.0:
         return shape
     f = {}
-    for name in ("x", "y", "z_top", "diameter", "depth", "length", "width", "corner_radius"):
+    for name in ("x", "y", "z_top", "diameter", "depth", "length", "width", "corner_radius",
+                 "floor_radius"):
         if hasattr(shape, name):
             f[name] = getattr(shape, name) * k
     if isinstance(shape, HoleShape) and shape.bottom in ("spherical", "flat with radius"):
@@ -110,6 +122,10 @@ def _scaled(shape, k: float):
         f["start"] = (shape.start[0] * k, shape.start[1] * k)
     if isinstance(shape, PocketShape):
         f["center"] = (shape.center[0] * k, shape.center[1] * k)
+        if shape.profile == "general":
+            from shapely import affinity
+            f["region"] = affinity.scale(shape.region, k, k, origin=(0, 0))
+            f["keep"] = affinity.scale(shape.keep, k, k, origin=(0, 0))
     return dataclasses.replace(shape, **f)
 
 
@@ -142,15 +158,31 @@ def _order(tasks: list[_Task]) -> list[_Task]:
 def plan(ctx: PlanContext, params: dict) -> PlanResult:
     """Plan all machinable features of the AP224 file ``params['step']``."""
     part = read_part(params["step"])
+    solid = None
+    if not part.features:            # a B-rep solid: recognise its features
+        from millpath.plan.features.solid import load_solid
+        solid = load_solid(params["step"], body=params["body"], setup=params["setup"],
+                           stock_step=params["stock_step"], job_stock=ctx.stock,
+                           job_units=ctx.units)
+        part = solid.part
     job_mm = 25.4 if ctx.units == "inch" else 1.0
     k = part.units.length_mm / job_mm
     inch = ctx.units == "inch"
-    shapes_set = feature_shapes(part)
+    shapes_set = solid.shapes if solid is not None else feature_shapes(part)
     shapes = [_scaled(s, k) for s in shapes_set.shapes]
     notes: list[str] = []
 
     file_stock = None
-    if part.stock is not None:
+    if solid is not None:
+        file_stock = Stock.from_box([v * k for v in solid.stock_box])
+        if file_stock.zmax > solid.box[5] * k + 1e-3 / job_mm:
+            top = [f.id for f in part.features if f.type == "PLANAR_FACE"]
+            mid_y = (file_stock.ymin + file_stock.ymax) / 2.0
+            shapes.append(FaceShape(top[0] if top else 0, (file_stock.xmin, mid_y),
+                                    (1.0, 0.0), file_stock.size[0],
+                                    file_stock.size[1], file_stock.zmax - solid.box[5] * k,
+                                    file_stock.zmax))
+    elif part.stock is not None:
         b = [v * k for v in part.stock.box()]
         file_stock = Stock.from_box(b)
         if part.stock.shape == "cylinder":
@@ -174,6 +206,9 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     cusp = params["taper_cusp"] or (0.0008 if inch else 0.02)
 
     mat = params["material"] or material_class(part.material)
+    if not params["material"] and not part.material:
+        notes.append(f"the file names no material: cutting data for {mat} (set the "
+                     "operation's material)")
     data = MATERIALS[mat]
 
     allowed = params["tools"]
@@ -192,25 +227,39 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     unplanned: list = []            # recognised shapes without a tool: still in the design
     skipped = [dataclasses.asdict(u) for u in shapes_set.skipped]
     for s in shapes:
-        if isinstance(s, HoleShape):
-            strat, tool, note = hole_tool(s, tools, tol)
-        elif isinstance(s, SlotShape):
-            strat, tool, note = slot_tool(s, tools, tol)
-        elif isinstance(s, FaceShape):
-            strat, tool, note = face_tool(s, tools, tol)
-        else:
-            strat, tool, note = pocket_tool(s, tools, tol)
-        if tool is not None:
-            depth = (s.depth if not (isinstance(s, HoleShape) and s.bottom == "through")
-                     else s.z_top - stock.zmin)
-            reach = tool.flute_length
-            if reach < depth - 1e-9:
-                note = "; ".join(x for x in (note, f"T{tool.number} flutes ({reach:g}) are "
-                                             f"shorter than the depth ({depth:g})") if x)
-            if tool.stickout < depth - 1e-9:
-                note = "; ".join(x for x in (note, f"T{tool.number} stickout ({tool.stickout:g})"
-                                             f" is shorter than the depth: the holder will "
-                                             f"touch") if x)
+        def choose(candidates: list[Tool]):
+            if isinstance(s, HoleShape):
+                strat, tool, note = hole_tool(s, candidates, tol)
+                if solid is not None and s.kind == "countersink" and tool is None:
+                    # a countersink (or spot drill) of the cone's angle, at least as wide:
+                    # its tip goes to the cone's apex, its wider part stays above the entry
+                    cs = [t for t in candidates if t.type == "drill"
+                          and t.diameter >= s.diameter - tol
+                          and abs(t.point_angle - s.tip_angle) <= 1.0]
+                    if cs:
+                        strat, tool, note = "drill", min(cs, key=lambda t: t.diameter), ""
+                if solid is not None and s.bottom == "flat" and strat == "drill":
+                    strat, tool, note = "", None, ("flat bottom: no end mill smaller than the "
+                                                   "hole (a pointed drill would leave its cone)")
+                return strat, tool, note
+            if isinstance(s, SlotShape):
+                return slot_tool(s, candidates, tol)
+            if isinstance(s, FaceShape):
+                return face_tool(s, candidates, tol)
+            if s.profile == "general":
+                return region_tool(s, candidates, tol, stock, ctx.units)
+            return pocket_tool(s, candidates, tol)
+
+        reach, flutes = reach_needed(s, stock, breakthrough)
+        strat, tool, note = choose([t for t in tools if reaches(t, reach, flutes)])
+        if tool is None:
+            _, tool_any, _ = choose(tools)
+            if tool_any is not None:        # a tool would suit but none reaches the floor
+                note = reach_reason(reach, flutes, tools, ctx.units)
+                skipped.append({"id": s.id, "type": type(s).__name__.replace("Shape", "")
+                                .upper(), "reason": note, "kind": "reach"})
+                unplanned.append(s)
+                continue
         if tool is None:
             skipped.append({"id": s.id, "type": type(s).__name__.replace("Shape", "").upper(),
                             "reason": note, "kind": "no tool"})
@@ -226,6 +275,12 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         else:
             tasks.append(_Task(s, strat, tool, note))
 
+    if shapes and not tasks:
+        first = next((u for u in skipped if u.get("kind") == "reach"),
+                     skipped[0] if skipped else {"type": "feature", "id": "?", "reason": ""})
+        raise PlanningError(f"no feature can be machined with the job's tools: "
+                            f"{first['type']} #{first['id']}: {first['reason']}",
+                            params["step"])
     merged = _consolidate(tasks, tol) if params["fewer_tools"] else []
     if merged:
         notes.append("tools used for few features were replaced by tools already in use: "
@@ -264,7 +319,8 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         tp.begin(Operation("features", f"T{n} {tool.type} D{tool.diameter:g}: "
                            f"{len(group)} feature(s) ({', '.join(kinds)})", n,
                            spindle=sp.rpm, coolant=params["coolant"],
-                           info={"material": mat, "vc": round(sp.vc, 1), "chip": sp.chip}))
+                           info={"material": mat, "vc": round(sp.vc, 1), "chip": sp.chip},
+                           tolerance=tol))
         for t in group:
             start = _material_top(t.shape, done, z_top)
             if t.strategy == "flatten":
@@ -282,12 +338,18 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
             rec = {k: round(v, 6) if isinstance(v, float) else v for k, v in rec.items()}
             rec.update(id=t.shape.id, type=type(t.shape).__name__.replace("Shape", "").upper(),
                        strategy=t.strategy, tool=n, rpm=sp.rpm, feed=sp.feed)
+            if solid is not None:           # what was recognised: step, slot, counterbore ...
+                rec["kind"] = t.shape.kind
             if t.note:
                 rec["note"] = t.note
             planned.append(rec)
 
-    design = FeatureDesign(z_top, [t.shape for t in tasks] + unplanned,
-                           reach=max(stock.size) * 2 + 100.0)
+    if solid is not None:
+        from millpath.plan.features.solid import SolidDesign
+        design = SolidDesign(solid.solid, tol, ctx.units)
+    else:
+        design = FeatureDesign(z_top, [t.shape for t in tasks] + unplanned,
+                               reach=max(stock.size) * 2 + 100.0)
     report = {"features": {
         "file": str(params["step"]),
         "product": part.product,
@@ -295,6 +357,8 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         "material": part.material,
         "material_class": mat,
         "stock": part.stock.as_dict() if part.stock else None,
+        **({"solid": solid.info, "recognised": [f.as_dict() for f in part.features]}
+           if solid is not None else {}),
         "tool_changes": len(groups),
         "planned": planned,
         "unmachinable": skipped,
@@ -367,6 +431,31 @@ def _group_key(g: list[_Task], n: int):
     return (0 if region else 1 if tool.type == "drill" else 2, -tool.diameter, n)
 
 
+def reach_needed(shape, stock: Stock, breakthrough: float) -> tuple[float, float]:
+    """(stick-out, flute length) a tool needs for ``shape`` (job units): its holder face
+    must stay above the stock top with the tip at its lowest point (a through hole's
+    tip goes ``breakthrough`` below the stock), and its flutes must cover the feature's
+    own depth from its top to its floor (the stock bottom for a through hole)."""
+    through = isinstance(shape, HoleShape) and shape.bottom == "through"
+    floor = stock.zmin if through else shape.z_top - shape.depth
+    return stock.zmax - floor + (breakthrough if through else 0.0), shape.z_top - floor
+
+
+def reaches(tool: Tool, reach: float, flutes: float) -> bool:
+    return tool.stickout >= reach - 1e-9 and tool.flute_length >= flutes - 1e-9
+
+
+def reach_reason(reach: float, flutes: float, tools: list[Tool], units: str) -> str:
+    """Why no tool reaches: 'needs 85 mm of reach, the longest tool reaches 45'."""
+    longest = max(t.stickout for t in tools)
+    if longest < reach - 1e-9:
+        return (f"needs {reach:.4g} {units} of reach, the longest tool reaches "
+                f"{longest:.4g}")
+    fl = max(t.flute_length for t in tools if t.stickout >= reach - 1e-9)
+    return (f"needs {flutes:.4g} {units} of flute length with {reach:.4g} of reach, the "
+            f"longest flutes of a tool that reaches are {fl:.4g}")
+
+
 def _material_top(shape, done: list, z_stock: float) -> float:
     """Z where milling of ``shape`` starts: its own top when the features cut before it
     have cleared down to that top over its whole area (e.g. a hole in a pocket floor),
@@ -379,6 +468,9 @@ def _material_top(shape, done: list, z_stock: float) -> float:
             r = 0.95 * shape.diameter / 2.0
             x = np.append(shape.x + r * np.cos(a), shape.x)
             y = np.append(shape.y + r * np.sin(a), shape.y)
+        elif getattr(shape, "profile", "") == "general":
+            xy = inner_points(shape.region)
+            x, y = xy[:, 0], xy[:, 1]
         else:
             poly = (slot_outline(shape, 0.0) if isinstance(shape, SlotShape)
                     else shape.outline(4))
@@ -426,6 +518,12 @@ def _cut(tp: Toolpath, t: _Task, tool: Tool, sp, h: paths.Heights, z_start: floa
                 "z_start": z_start}
     floor = stock.zmin - breakthrough if getattr(s, "bottom", "") == "through" else \
         s.z_top - s.depth
+    if t.strategy == "region":
+        rough, finish = general_regions(s, tool, allowance, stock)
+        clear_general(tp, rough, finish, z_start, floor, h, step_down=step_down,
+                      stepover=stepover, feed=sp.feed, plunge_feed=sp.plunge)
+        return {"z": floor, "levels": len(paths.levels(z_start, floor, step_down)),
+                "z_start": z_start}
     if t.strategy == "circular":
         paths.bore(tp, s.center[0], s.center[1], s.diameter / 2.0, tool.radius, z_start,
                    floor, h, step_down=step_down, stepover=stepover, allowance=allowance,

@@ -31,6 +31,7 @@ from millpath.plan.gridpocket.cells import PocketGrid, build_grid, check_grid
 from millpath.plan.gridpocket.fitmotion import Chain, Fitter
 from millpath.plan.gridpocket.navigate import adjacent, joined_edges, main_path, zigzag_runs
 from millpath.plan.gridpocket.zfield import ZField, sample_chain
+from millpath.plan.entry import helix_entry, ramp_entry
 
 
 @dataclass
@@ -96,7 +97,9 @@ def layer_floors(top: float, zmin: float, depths: list[float] | None, step: floa
 class _Stats:
     phases: dict[str, float] = field(default_factory=dict)    # feed length per phase
     retracts: int = 0
-    plunges: int = 0
+    plunges: int = 0                # straight descents (into cleared space, or no helix fits)
+    helices: int = 0                # helical entries into material
+    ramps: int = 0                  # zigzag ramp entries (where no helix fits)
     feed_moves: dict[str, int] = field(default_factory=dict)   # fitted blocks per phase
 
 
@@ -121,7 +124,8 @@ class _Builder:
     def begin(self, phase: str, label: str) -> None:
         self.phase = phase
         self.tp.begin(Operation("grid-pocket", f"{self.spec.name}: {label}", self.spec.tool.number,
-                                spindle=self.spec.spindle, info={"phase": phase}))
+                                spindle=self.spec.spindle, info={"phase": phase},
+                                tolerance=self.spec.tolerance))
 
     def _rapid(self, p) -> None:
         self.tp.rapid(*p)
@@ -155,8 +159,7 @@ class _Builder:
             px, py, pz = self.pos
             if math.hypot(tx - px, ty - py) <= 1e-9:
                 if tz < pz:
-                    self._line((tx, ty, tz), s.plunge_feed)
-                    self.stats.plunges += 1
+                    self._descend((tx, ty, tz), done_floor)
                 elif tz > pz:
                     self._rapid((tx, ty, tz))
                 return
@@ -177,8 +180,43 @@ class _Builder:
         if self.pos[2] > above:
             self._rapid((tx, ty, above))
         if self.pos[2] > tz:
-            self._line((tx, ty, tz), s.plunge_feed)
-            self.stats.plunges += 1
+            self._descend((tx, ty, tz), done_floor)
+
+    def _count(self, length: float) -> None:
+        self.stats.phases[self.phase] = self.stats.phases.get(self.phase, 0.0) + length
+
+    def _descend(self, target, done_floor: float) -> None:
+        """Down to ``target`` from straight above: a helix where the last stretch goes
+        into material (millpath.plan.entry), a straight feed where it is cleared."""
+        s = self.spec
+        tx, ty, tz = map(float, target)
+        solid = float(self.material_top(np.array([tx]), np.array([ty]), done_floor)[0])
+        if s.tool.type != "drill" and tz < solid - 1e-9:
+            slack = self.grid.region.buffer(1e-9 * max(s.dx, s.dy))
+
+            def centre_ok(xs, ys):
+                return bool(np.all(shapely.covers(slack, shapely.points(xs, ys))))
+            z0 = float(self.pos[2])
+            hx = helix_entry((tx, ty, tz), z0, s.tool.radius, centre_ok=centre_ok,
+                             floor=self.zf.z)
+            if hx is not None:
+                self.tp.arc((tx, ty, tz), (hx.center[0], hx.center[1], tz), False,
+                            s.plunge_feed, turns=hx.turns)
+                self.pos = np.array([tx, ty, tz])
+                self.stats.helices += 1
+                self._count(math.hypot(2 * math.pi * hx.radius * hx.turns, z0 - tz))
+                return
+            rp = ramp_entry((tx, ty, tz), z0, s.tool.radius, centre_ok=centre_ok,
+                            floor=self.zf.z)
+            if rp is not None:
+                for p in rp.points(z0):
+                    self._line(p, s.plunge_feed)
+                self.stats.ramps += 1
+                leg = math.hypot(rp.far[0] - tx, rp.far[1] - ty)
+                self._count(math.hypot(leg * rp.legs, z0 - tz))
+                return
+        self._line((tx, ty, tz), s.plunge_feed)
+        self.stats.plunges += 1
 
     def cut(self, xy: np.ndarray, floor: float, feed: float, done_floor: float,
             region=None) -> None:
@@ -351,6 +389,8 @@ def plan_pocket(spec: PocketSpec) -> tuple[Toolpath, dict]:
         "feed_length": {k: round(v, 6) for k, v in b.stats.phases.items()},
         "retracts": b.stats.retracts,
         "plunges": b.stats.plunges,
+        "helical_entries": b.stats.helices,
+        "ramp_entries": b.stats.ramps,
         "bottom_min_tip_z": zmin,
         "mesh_error": zf.mesh_error,
         "moves": b.tp.counts(),

@@ -18,7 +18,8 @@ corner radius rc, flat part a = R - rc). The algorithm is written once for that 
   closed form ``v = m w / sqrt(1 + m^2)``; bull: the one root of a quartic in
   ``q = rho - a`` on a bracket, by safeguarded Newton to machine precision.
 
-Speed: a uniform XY grid of triangle lists (CSR), each list sorted by the triangle's
+Speed: a uniform XY grid of triangle lists (CSR; a triangle is listed in the cells its
+footprint meets, not every cell of its bounding box), each list sorted by the triangle's
 top Z, so a query stops scanning a cell at the first triangle whose top is below the
 best contact found (no contact can be higher than a triangle's top vertex);
 bounding-box rejection before any exact test; ``numba`` ``prange`` over points.
@@ -61,31 +62,65 @@ class MeshIndex:
 
 
 @njit(cache=True)
-def _fill_grid(box, order, x0, y0, cell, nx, ny):
+def _tri_overlaps_cell(tri, t, gx0, gx1, gy0, gy1):
+    """Whether triangle ``t``'s XY footprint meets the rectangle (separating axes: the
+    rectangle's two axes are already known to overlap, test the three edge normals;
+    exact also for a vertical triangle, whose footprint is a segment)."""
+    for i in range(3):
+        j = (i + 1) % 3
+        k = (i + 2) % 3
+        nx_ = tri[t, i, 1] - tri[t, j, 1]
+        ny_ = tri[t, j, 0] - tri[t, i, 0]
+        if nx_ == 0.0 and ny_ == 0.0:
+            continue
+        p0 = nx_ * tri[t, i, 0] + ny_ * tri[t, i, 1]
+        pk = nx_ * tri[t, k, 0] + ny_ * tri[t, k, 1]
+        tmin = min(p0, pk)
+        tmax = max(p0, pk)
+        c0 = nx_ * gx0 + ny_ * gy0
+        c1 = nx_ * gx1 + ny_ * gy0
+        c2 = nx_ * gx0 + ny_ * gy1
+        c3 = nx_ * gx1 + ny_ * gy1
+        cmin = min(min(c0, c1), min(c2, c3))
+        cmax = max(max(c0, c1), max(c2, c3))
+        slack = 1e-9 * (abs(cmin) + abs(cmax) + abs(tmin) + abs(tmax))
+        if cmax < tmin - slack or cmin > tmax + slack:
+            return False
+    return True
+
+
+@njit(cache=True)
+def _fill_grid(tri, box, order, x0, y0, cell, nx, ny):
+    """Cell lists (CSR) of the triangles whose footprint meets each cell (a cell grown
+    by a hair on every side), in the order ``order``."""
+    pad = 1e-7 * cell
     counts = np.zeros(nx * ny + 1, np.int64)
-    for k in range(order.shape[0]):
-        t = order[k]
-        ix0 = max(0, min(nx - 1, int((box[t, 0] - x0) / cell)))
-        ix1 = max(0, min(nx - 1, int((box[t, 1] - x0) / cell)))
-        iy0 = max(0, min(ny - 1, int((box[t, 2] - y0) / cell)))
-        iy1 = max(0, min(ny - 1, int((box[t, 3] - y0) / cell)))
-        for iy in range(iy0, iy1 + 1):
-            for ix in range(ix0, ix1 + 1):
-                counts[iy * nx + ix + 1] += 1
-    starts = np.cumsum(counts)
-    fill = starts[:-1].copy()
-    items = np.empty(starts[-1], np.int32)
-    for k in range(order.shape[0]):
-        t = order[k]
-        ix0 = max(0, min(nx - 1, int((box[t, 0] - x0) / cell)))
-        ix1 = max(0, min(nx - 1, int((box[t, 1] - x0) / cell)))
-        iy0 = max(0, min(ny - 1, int((box[t, 2] - y0) / cell)))
-        iy1 = max(0, min(ny - 1, int((box[t, 3] - y0) / cell)))
-        for iy in range(iy0, iy1 + 1):
-            for ix in range(ix0, ix1 + 1):
-                c = iy * nx + ix
-                items[fill[c]] = t
-                fill[c] += 1
+    for pas in range(2):
+        if pas == 1:
+            starts = np.cumsum(counts)
+            fill = starts[:-1].copy()
+            items = np.empty(starts[-1], np.int32)
+        for k in range(order.shape[0]):
+            t = order[k]
+            ix0 = max(0, min(nx - 1, int((box[t, 0] - x0) / cell)))
+            ix1 = max(0, min(nx - 1, int((box[t, 1] - x0) / cell)))
+            iy0 = max(0, min(ny - 1, int((box[t, 2] - y0) / cell)))
+            iy1 = max(0, min(ny - 1, int((box[t, 3] - y0) / cell)))
+            big = ix1 > ix0 + 1 or iy1 > iy0 + 1
+            for iy in range(iy0, iy1 + 1):
+                for ix in range(ix0, ix1 + 1):
+                    if big:
+                        gx0 = x0 + ix * cell - pad
+                        gy0 = y0 + iy * cell - pad
+                        if not _tri_overlaps_cell(tri, t, gx0, gx0 + cell + 2 * pad, gy0,
+                                                  gy0 + cell + 2 * pad):
+                            continue
+                    c = iy * nx + ix
+                    if pas == 0:
+                        counts[c + 1] += 1
+                    else:
+                        items[fill[c]] = t
+                        fill[c] += 1
     return starts, items
 
 
@@ -102,15 +137,19 @@ def build_index(mesh: Mesh, cell: float | None = None) -> MeshIndex:
     d = np.einsum("ij,ij->i", n, tri[:, 0])
     plane = np.ascontiguousarray(np.concatenate([n, d[:, None]], axis=1))
     (x0, y0, _), (x1, y1, _) = mesh.bounds
-    if cell is None:
-        ext = np.maximum(hi[:, 0] - lo[:, 0], hi[:, 1] - lo[:, 1])
-        cell = 3.0 * float(np.mean(ext)) if len(ext) else 1.0
     span = max(x1 - x0, y1 - y0, 1e-9)
+    if cell is None:
+        # three typical (median) triangle extents: a few long triangles (a flat floor,
+        # a vertical wall) are listed only in the cells their footprint meets
+        ext = np.maximum(hi[:, 0] - lo[:, 0], hi[:, 1] - lo[:, 1])
+        cell = 3.0 * float(np.median(ext)) if len(ext) else 1.0
+        cell = max(cell, span / 512.0)
     cell = max(float(cell), span / 4096.0)
     nx = int((x1 - x0) / cell) + 1
     ny = int((y1 - y0) / cell) + 1
     order = np.argsort(-ztop, kind="stable").astype(np.int64)
-    starts, items = _fill_grid(box, order, float(x0), float(y0), cell, nx, ny)
+    starts, items = _fill_grid(np.ascontiguousarray(tri), box, order, float(x0), float(y0),
+                               cell, nx, ny)
     return MeshIndex(mesh, tri, box, ztop, plane, float(x0), float(y0), cell, nx, ny,
                      starts, items)
 

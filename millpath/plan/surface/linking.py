@@ -6,7 +6,8 @@ midpoint like the passes, holder clearance included); otherwise the tool retract
 ``safe_z``, rapids over, rapids down to ``clearance`` above the next start, or above
 ``approach_z`` if that is higher (the stock top: material the operation has not yet
 cut may stand anywhere below it, so no rapid goes lower), and feeds down at
-``plunge_feed``.
+``plunge_feed`` - by a helix (millpath.plan.entry) where that start lies below
+``approach_z`` (material may stand there) and a helix clear of the surface fits.
 """
 
 from __future__ import annotations
@@ -16,8 +17,9 @@ import math
 import numpy as np
 
 from millpath.model.toolpath import Toolpath
+from millpath.plan.entry import helix_entry, ramp_entry
 from millpath.plan.surface.sampler import Sampler
-from millpath.plan.surface.zigzag import Pass, _refine
+from millpath.plan.surface.zigzag import Pass, refine_chords
 
 
 def surface_link(sampler: Sampler, a: np.ndarray, b: np.ndarray, tol: float,
@@ -30,25 +32,49 @@ def surface_link(sampler: Sampler, a: np.ndarray, b: np.ndarray, tol: float,
     uw = ua[None, :] + (ub - ua)[None, :] * t[:, None]
     z, _ = sampler.z_safe(uw[:, 0], uw[:, 1])
     z[0], z[-1] = a[2], b[2]
-    P = _refine(sampler, np.column_stack([uw, z]), tol, tol, 1e-4)
+    P = refine_chords(sampler, np.column_stack([uw, z]), tol, tol, 1e-4)
     xy = sampler.xy(P[:, 0], P[:, 1])
     return np.column_stack([xy, P[:, 2]])
 
 
 def _descend(tp: Toolpath, start, safe_z: float, clearance: float, approach_z: float,
-             plunge_feed: float) -> None:
-    """From ``safe_z`` above ``start``: rapid to the approach height, feed to ``start``."""
+             plunge_feed: float, sampler: Sampler | None = None,
+             allowance: float = 0.0) -> bool:
+    """From ``safe_z`` above ``start``: rapid to the approach height, then feed to
+    ``start``: down a helix (else a zigzag ramp) whose every point stays ``allowance``
+    above the surface when ``start`` is below ``approach_z``, else straight. True if a
+    helix or ramp was used."""
     z = min(safe_z, max(start[2], approach_z) + clearance)
     if z < safe_z - 1e-9:
         tp.rapid(start[0], start[1], z)
+    if sampler is not None and start[2] < approach_z - 1e-9:
+        def floor(xs, ys):
+            uw = sampler.uw(xs, ys)
+            return sampler.z_cut(uw[:, 0], uw[:, 1]) + allowance
+        hx = helix_entry(start, z, sampler.cutter.radius,
+                         centre_ok=lambda xs, ys: True, floor=floor)
+        if hx is not None:
+            tp.arc(tuple(float(v) for v in start), (hx.center[0], hx.center[1],
+                                                    float(start[2])),
+                   False, plunge_feed, turns=hx.turns)
+            return True
+        rp = ramp_entry(start, z, sampler.cutter.radius, centre_ok=lambda xs, ys: True,
+                        floor=floor)
+        if rp is not None:
+            for q in rp.points(z):
+                tp.line(*q, plunge_feed)
+            return True
     tp.line(*start, plunge_feed)
+    return False
 
 
 def add_passes(tp: Toolpath, sampler: Sampler, passes: list[Pass], *, feed: float,
                plunge_feed: float, safe_z: float, clearance: float, link_max: float,
-               tolerance: float, approach_z: float = -math.inf) -> dict:
-    """Append the passes to ``tp`` (its operation already begun); return link counts."""
-    links = {"surface": 0, "retract": 0}
+               tolerance: float, approach_z: float = -math.inf,
+               allowance: float = 0.0) -> dict:
+    """Append the passes to ``tp`` (its operation already begun); return link counts.
+    ``allowance``: stock the passes leave on the surface (entries leave it too)."""
+    links = {"surface": 0, "retract": 0, "helix": 0}
     cur = None
     for p in passes:
         P = p.points
@@ -57,7 +83,8 @@ def add_passes(tp: Toolpath, sampler: Sampler, passes: list[Pass], *, feed: floa
         start = P[0]
         if cur is None:
             tp.rapid(start[0], start[1], safe_z)
-            _descend(tp, start, safe_z, clearance, approach_z, plunge_feed)
+            links["helix"] += _descend(tp, start, safe_z, clearance, approach_z,
+                                       plunge_feed, sampler, allowance)
         elif math.hypot(start[0] - cur[0], start[1] - cur[1]) <= link_max:
             L = surface_link(sampler, cur, start, tolerance, 0.25 * sampler.cutter.radius)
             for q in L[1:]:
@@ -66,7 +93,8 @@ def add_passes(tp: Toolpath, sampler: Sampler, passes: list[Pass], *, feed: floa
         else:
             tp.rapid(cur[0], cur[1], safe_z)
             tp.rapid(start[0], start[1], safe_z)
-            _descend(tp, start, safe_z, clearance, approach_z, plunge_feed)
+            links["helix"] += _descend(tp, start, safe_z, clearance, approach_z,
+                                       plunge_feed, sampler, allowance)
             links["retract"] += 1
         for q in P[1:]:
             tp.line(*q, feed)

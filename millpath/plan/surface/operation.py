@@ -21,7 +21,7 @@ Keys (lengths in the job's units, feeds in units per minute):
 - ``feed``, ``plunge_feed``, ``spindle`` (rpm), ``safe_z`` (default: 5 mm / 0.2 in
   above the highest tool position), ``region`` ``[xmin, ymin, xmax, ymax]`` of the tool
   tip (default: the surface's XY extent grown by the cutter radius, so the
-  edges are finished too), ``compare``: also plan the other side-step
+  edges are finished too), ``compare`` (default false): also plan the other side-step
   method and report both path counts.
 
 The design handed to the simulator is the tessellated surface as a height field.
@@ -37,6 +37,7 @@ from millpath.model.toolpath import Operation, Toolpath
 from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.surface.cutter import Cutter
 from millpath.plan.surface.dropcutter import MeshHeight, build_index
+from millpath.plan.surface.estimate import Estimate, estimate_finish
 from millpath.plan.surface.linking import add_passes
 from millpath.plan.surface.sampler import Sampler
 from millpath.plan.surface.source import SURFACE_PARAMS, load_op_surface
@@ -61,8 +62,12 @@ PARAMS = {
     "spindle": Param("float", 10000.0, positive=True),
     "safe_z": Param("float", None),
     "region": Param("floats", None, length=4),
-    "compare": Param("bool", True),
+    "compare": Param("bool", False, doc="also plan the other side step (twice the work) "
+                     "and report both pass counts"),
     "name": Param("str", "surface finish"),
+    "rest": Param("bool", False, doc="cut only where earlier operations left material"),
+    "rest_allowance": Param("float", None, nonneg=True, unit="length",
+                            doc="rest: stock thinner than this is left (default: scallop)"),
 }
 
 
@@ -114,26 +119,43 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
                       z_floor=float(lo[2]),
                       holder_clearance=0.04 if inch else 1.0)
 
-    def zz_settings(mode: str) -> ZigzagSettings:
+    tol_m = min(tol, 0.25 * scallop)
+    est, _ = estimate_finish(sampler, region, strategy=strategy, scallop=scallop,
+                             tolerance=tol, material_tolerance=tol_m,
+                             side_step=params["side_step"], steep_angle=params["steep_angle"],
+                             stepdown_max=params["stepdown_max"])
+    refuse_impossible(est, sampler, region, strategy, scallop, tol_m, params, inch, file)
+    prog = ctx.progress
+    prog.note(f"{params['name']}: about {est.pass_lines:,} pass lines, {est.levels:,} levels, "
+              f"{est.points:,} points, {est.seconds:.0f} CPU-s (estimate)")
+
+    def zz_settings(mode: str, bar=None) -> ZigzagSettings:
         return ZigzagSettings(tolerance=tol, scallop=scallop, region=region, side_step=mode,
-                              material_tolerance=min(tol, 0.25 * scallop),
-                              trim_edges=not params["region"])
+                              material_tolerance=tol_m, trim_edges=not params["region"],
+                              on_line=(lambda n: bar.update(completed=n)) if bar else None)
 
-    def run(mode: str):
-        return zigzag(sampler, design, zz_settings(mode))
+    def run(mode: str, bar=None):
+        return zigzag(sampler, design, zz_settings(mode, bar))
 
-    wl = WaterlineSettings(tolerance=tol, scallop=scallop, region=region,
-                           material_tolerance=min(tol, 0.25 * scallop),
-                           stepdown_max=params["stepdown_max"],
-                           min_slope=params["steep_angle"])
+    def wl_settings(bar=None) -> WaterlineSettings:
+        return WaterlineSettings(
+            tolerance=tol, scallop=scallop, region=region, material_tolerance=tol_m,
+            stepdown_max=params["stepdown_max"], min_slope=params["steep_angle"],
+            on_level=(lambda n, z: bar.update(completed=n, info=f"z {z:.4g}"))
+            if bar else None)
+
     try:
-        if strategy == "zigzag":
-            res = run(params["side_step"])
-        elif strategy == "waterline":
-            res = waterline(sampler, wl)
-        else:
-            res = steep_shallow(sampler, design, zz_settings(params["side_step"]), wl,
-                                params["steep_angle"])
+        with prog.task(f"{params['name']}: zigzag pass lines",
+                       total=est.pass_lines or None) as zbar, \
+                prog.task(f"{params['name']}: waterline levels", total=est.levels or None) \
+                as wbar:
+            if strategy == "zigzag":
+                res = run(params["side_step"], zbar)
+            elif strategy == "waterline":
+                res = waterline(sampler, wl_settings(wbar))
+            else:
+                res = steep_shallow(sampler, design, zz_settings(params["side_step"], zbar),
+                                    wl_settings(wbar), params["steep_angle"])
     except PlanningError as e:
         raise PlanningError(e.message, file) from None
     top = max(float(np.max(p.points[:, 2])) for p in res.passes) if res.passes else hi[2]
@@ -148,8 +170,16 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     tp = Toolpath(units=ctx.units)
     tp.begin(Operation("surface-finish", params["name"], tool.number, params["spindle"],
                        info={"side_step": params["side_step"], "scallop": scallop,
-                             "tolerance": tol, "strategy": strategy}))
-    links = add_passes(tp, sampler, res.passes, feed=feed, plunge_feed=plunge, safe_z=safe_z,
+                             "tolerance": tol, "strategy": strategy}, tolerance=tol))
+    passes, rest_info = res.passes, None
+    if params["rest"] and ctx.remaining is not None:
+        from millpath.plan.surface.rest import rest_passes
+        thr = params["rest_allowance"] if params["rest_allowance"] is not None else scallop
+        passes, rest_info = rest_passes(res.passes, ctx.remaining, tool, thr)
+        rest_info.update(allowance=thr, cutting_length=round(
+            float(sum(np.linalg.norm(np.diff(p.points, axis=0), axis=1).sum()
+                      for p in passes)), 4))
+    links = add_passes(tp, sampler, passes, feed=feed, plunge_feed=plunge, safe_z=safe_z,
                        clearance=0.04 if inch else 1.0, link_max=3.0 * cutter.radius,
                        tolerance=tol,
                        approach_z=stock_top if ctx.stock is not None else np.inf)
@@ -166,6 +196,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         "side_step": params["side_step"],
         "pass_lines": zres.n_lines if zres is not None else 0,
         "pieces": len(res.passes), "cl_points": res.n_points,
+        "estimate": est.to_json(),
         "cutting_length": round(res.length, 4), "links": links,
         "holder": {"cylinders": [list(c) for c in tool.holder_cylinders()],
                    "lifted_points": n_lifted,
@@ -173,6 +204,8 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
                             "holder clears the surface; material is left there")
                    if n_lifted else "no contact"},
     }
+    if rest_info is not None:
+        section["rest"] = rest_info
     if wres is not None:
         dz = -np.diff(wres.levels) if len(wres.levels) > 1 else np.zeros(1)
         section["waterline"] = {
@@ -205,3 +238,67 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     section = {"operation": params["name"], **section}
     report["surface_finish"] = [section]          # a list: one entry per operation
     return PlanResult(tp, design, report)
+
+
+def refuse_impossible(est: Estimate, sampler: Sampler, region, strategy: str,
+                      scallop: float, tol_m: float, params: dict, inch: bool, file) -> None:
+    """Raise at once, with the numbers and a way out, when the estimate exceeds what the
+    planners plan (5000 zigzag pass lines, 3000 waterline levels)."""
+    max_lines, max_levels = ZigzagSettings.max_passes, WaterlineSettings.max_levels
+    if est.pass_lines <= max_lines and est.levels <= max_levels:
+        return
+    unit = "in" if inch else "mm"
+    d = 2.0 * sampler.cutter.radius
+    what, n, limit = (("passes", est.pass_lines, max_lines) if est.pass_lines > max_lines
+                      else ("levels", est.levels, max_levels))
+    h2 = scallop
+    n2 = n
+    for _ in range(16):                      # the scallop that needs under 80 % of it
+        h2 *= 2.0
+        e2, _ = estimate_finish(sampler, region, strategy=strategy, scallop=h2,
+                                tolerance=params["tolerance"] or tol_m,
+                                material_tolerance=min(tol_m, 0.25 * h2),
+                                side_step=params["side_step"],
+                                steep_angle=params["steep_angle"],
+                                stepdown_max=params["stepdown_max"])
+        n2 = e2.pass_lines if what == "passes" else e2.levels
+        if n2 <= 0.8 * limit:
+            break
+    raise PlanningError(
+        f"scallop {scallop:g} {unit} needs about {n:,} {what} with a {d:g} {unit} "
+        f"{sampler.cutter.kind} (at most {limit:,} are planned); "
+        + (f"scallop {h2:g} {unit} needs about {n2:,}; or use a larger ball"
+           if n2 <= limit else f"even scallop {h2:g} {unit} needs about {n2:,} (the "
+           "slopes set the step)")
+        + ("" if strategy == "steep-shallow" else ', or strategy = "steep-shallow"'), file)
+
+
+def preflight(ctx: PlanContext, params: dict) -> None:
+    """Refuse an impossible request before any operation of the job is planned (the
+    pipeline calls this for every operation first): the estimate of :func:`plan` with the
+    given tool (skipped with ``choose_tool``, where :func:`plan` does it)."""
+    if params["choose_tool"] or params["tool"] is None:
+        return
+    mesh = load_op_surface(ctx, params)
+    tool = ctx.tool(params["tool"], "tool")
+    try:
+        cutter = Cutter.from_tool(tool)
+    except ValueError:
+        return
+    if cutter.corner <= 0:
+        return
+    lo, hi = mesh.bounds
+    region = tuple(params["region"]) if params["region"] else (
+        lo[0] - cutter.radius, lo[1] - cutter.radius, hi[0] + cutter.radius,
+        hi[1] + cutter.radius)
+    inch = ctx.units == "inch"
+    tol = params["tolerance"] or (0.0002 if inch else 0.005)
+    scallop = params["scallop"] or (0.0004 if inch else 0.01)
+    tol_m = min(tol, 0.25 * scallop)
+    sampler = Sampler(build_index(mesh), cutter, params["angle"], (), z_floor=float(lo[2]))
+    est, _ = estimate_finish(sampler, region, strategy=params["strategy"], scallop=scallop,
+                             tolerance=tol, material_tolerance=tol_m,
+                             side_step=params["side_step"], steep_angle=params["steep_angle"],
+                             stepdown_max=params["stepdown_max"])
+    refuse_impossible(est, sampler, region, params["strategy"], scallop, tol_m, params, inch,
+                      ctx.job_file)

@@ -35,8 +35,8 @@ from millpath.plan.surface.dropcutter import MeshHeight, build_index
 from millpath.plan.surface.linking import add_passes
 from millpath.plan.surface.sampler import Sampler
 from millpath.plan.surface.source import SURFACE_PARAMS, load_op_surface
-from millpath.plan.surface.waterline import _runs
-from millpath.plan.surface.zigzag import Pass, _inside
+from millpath.plan.surface.waterline import index_runs
+from millpath.plan.surface.zigzag import Pass, in_region
 
 PARAMS = {
     **SURFACE_PARAMS,
@@ -94,7 +94,7 @@ def rough_passes(sampler: Sampler, region, top: float, stepdown: float, step_ove
         cuts = inside & (target < above - 1e-9)       # material left by the layer above
         for row in range(len(ws)):
             pieces = []
-            for run in _runs(cuts[row]):
+            for run in index_runs(cuts[row]):
                 # one station of margin so the stretch starts and ends clear of the wall
                 a, b = max(run[0] - 1, 0), min(run[-1] + 1, len(u) - 1)
                 a = a if inside[row, a] else run[0]
@@ -124,7 +124,7 @@ def _raster(sampler: Sampler, region, u: np.ndarray, w: np.ndarray
     """On the (w, u) grid: inside the region, the tip Z clear of the surface (cutter and
     holder), and where the cutter touches the surface at all."""
     U, W = np.meshgrid(u, w)
-    inside = _inside(sampler, region, U, W)
+    inside = in_region(sampler, region, U, W)
     zc, cu, _ = sampler.cut(U.ravel(), W.ravel())            # one drop for Z and contact
     floor = np.maximum(zc, sampler.holder_lift(U.ravel(), W.ravel()))
     touch = np.isfinite(cu).reshape(U.shape) & inside
@@ -151,7 +151,7 @@ def _layer_contours(sampler: Sampler, u: np.ndarray, w: np.ndarray, floor: np.nd
         zs, _ = sampler.z_safe(line[:, 0], line[:, 1])
         zt = np.maximum(zs + allowance, level)
         cuts = zt < above - 1e-9
-        for run in _runs(cuts):
+        for run in index_runs(cuts):
             if len(run) < 2:
                 continue
             P = np.column_stack([line[run], zt[run]])
@@ -161,20 +161,30 @@ def _layer_contours(sampler: Sampler, u: np.ndarray, w: np.ndarray, floor: np.nd
 
 
 def _refine_floor(sampler: Sampler, P: np.ndarray, level: float, allowance: float,
-                  tolerance: float) -> np.ndarray:
-    """Split chords whose midpoint would come closer to the surface than the allowance
-    less ``tolerance`` (the points themselves are exact)."""
+                  tolerance: float, checks: int = 7) -> np.ndarray:
+    """Split chords that come closer to the surface than the allowance less
+    ``tolerance`` at any of ``checks`` evenly spaced interior points (the points
+    themselves are exact; beside a vertical wall the floor jumps, and a midpoint alone
+    misses a jump in the first quarter of a chord); the worst point is inserted."""
+    t = np.arange(1, checks + 1) / (checks + 1.0)
     for _ in range(20):
-        mid = 0.5 * (P[1:] + P[:-1])
-        zt, _ = sampler.z_safe(mid[:, 0], mid[:, 1])
-        want = np.maximum(zt + allowance, level)
-        seg = np.hypot(P[1:, 0] - P[:-1, 0], P[1:, 1] - P[:-1, 1])
-        bad = (want - mid[:, 2] > tolerance) & (seg > 1e-3)
+        if len(P) < 2:
+            break
+        A, B = P[:-1], P[1:]
+        Q = A[:, None, :] + (B - A)[:, None, :] * t[None, :, None]
+        zt, _ = sampler.z_safe(Q[..., 0].ravel(), Q[..., 1].ravel())
+        want = np.maximum(zt.reshape(len(A), checks) + allowance, level)
+        over = want - Q[..., 2]
+        seg = np.hypot(B[:, 0] - A[:, 0], B[:, 1] - A[:, 1])
+        rows = np.arange(len(A))
+        worst = np.argmax(over, axis=1)
+        bad = (over[rows, worst] > tolerance) & (seg > 1e-3)
         if not bad.any():
             break
-        mid[:, 2] = want
+        new = Q[rows, worst].copy()
+        new[:, 2] = want[rows, worst]
         idx = np.nonzero(bad)[0]
-        P = np.insert(P, idx + 1, mid[idx], axis=0)
+        P = np.insert(P, idx + 1, new[idx], axis=0)
     return P
 
 
@@ -227,10 +237,10 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
                        file)
     tp = Toolpath(units=ctx.units)
     tp.begin(Operation("surface-rough", params["name"], tool.number, params["spindle"],
-                       info={"stepdown": stepdown, "allowance": allowance}))
+                       info={"stepdown": stepdown, "allowance": allowance}, tolerance=tol))
     links = add_passes(tp, sampler, passes, feed=feed, plunge_feed=plunge, safe_z=safe_z,
                        clearance=0.04 if inch else 1.0, link_max=0.0, tolerance=tol,
-                       approach_z=ctx.stock.zmax)
+                       approach_z=ctx.stock.zmax, allowance=allowance)
     design = MeshHeight(index)
     section = {
         "operation": params["name"], "tool": tool.number,

@@ -29,9 +29,9 @@ from scipy.ndimage import distance_transform_edt
 
 from millpath.plan.surface.sampler import Sampler
 from millpath.plan.surface.waterline import (Raster, WaterlineResult, WaterlineSettings,
-                                             _runs, make_raster, waterline)
+                                             index_runs, make_raster, waterline)
 from millpath.plan.surface.zigzag import (Pass, PassStats, ZigzagResult, ZigzagSettings,
-                                           _refine, zigzag)
+                                           refine_chords, zigzag)
 
 
 @dataclass
@@ -71,7 +71,7 @@ def _extend(sampler: Sampler, R: Raster, mask: np.ndarray, a: np.ndarray, b: np.
     z, _ = sampler.z_safe(uw[:, 0], uw[:, 1])
     if not np.isfinite(z[1]):
         return None
-    P = _refine(sampler, np.column_stack([uw, [a[2], z[1]]]), tol, tol_m,
+    P = refine_chords(sampler, np.column_stack([uw, [a[2], z[1]]]), tol, tol_m,
                 1e-3 * sampler.cutter.radius)
     back = sampler.xy(P[1:, 0], P[1:, 1])
     return np.column_stack([back, P[1:, 2]])
@@ -89,7 +89,7 @@ def mask_passes(sampler: Sampler, R: Raster, mask: np.ndarray, passes: list[Pass
         if inside.all():
             out.append(p)
             continue
-        for run in _runs(inside, False):
+        for run in index_runs(inside, False):
             Q = P[run]
             lifted = p.lifted[run]
             i0, i1 = run[0], run[-1]
@@ -119,6 +119,11 @@ def steep_shallow(sampler: Sampler, design, zs: ZigzagSettings, ws: WaterlineSet
     wl_mask, zz_mask = masks(R, steep_angle, d)
     ws = WaterlineSettings(**{**ws.__dict__, "min_slope": steep_angle})
     wres = waterline(sampler, ws, raster=R, keep=wl_mask)
+    # the zigzag is planned on the shallow side only: steep stations neither set the
+    # side step nor get points
+    # (holding the step on the shallow nodes only, without the overlap band, is faster
+    # on vertical walls but left 0.6 % of test_waterline's cells over the scallop)
+    zs = ZigzagSettings(**{**zs.__dict__, "keep": lambda xy: R.nearest(zz_mask, xy)})
     zres = zigzag(sampler, design, zs)
     tol_m = zs.material_tolerance if zs.material_tolerance is not None else zs.tolerance
     zp = mask_passes(sampler, R, zz_mask, zres.passes, sampler.cutter.radius,

@@ -58,13 +58,15 @@ def flat_side_step(r: float, h: float) -> float:
 
 
 def side_step(r: float, rho, h: float) -> np.ndarray:
-    """Published CL side step across passes for scallop ``h`` (see module docstring).
+    """Published CL side step across passes for scallop ``h`` (see module docstring);
+    ``rho`` and ``h`` may be arrays (elementwise).
 
     Where the formula has no solution (a concave radius at or below the cutter radius,
     where the CL surface has a crease) the step falls back to a quarter of the flat step.
     """
     rho = np.asarray(rho, float)
-    flat = flat_side_step(r, h)
+    h = np.asarray(h, float)
+    flat = 2.0 * np.sqrt(np.maximum(2.0 * r * h - h * h, 0.0))
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
         a = r * r - (r - h) ** 2
         b = (2.0 * rho + r + h) ** 2 - r * r

@@ -39,6 +39,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Callable
 
 import numpy as np
 
@@ -46,7 +47,8 @@ from millpath.errors import PlanningError
 from millpath.plan.surface.dropcutter import drop
 from millpath.plan.surface.sampler import Sampler
 from millpath.plan.surface.steps import flat_side_step, side_step
-from millpath.plan.surface.zigzag import Pass, PassStats, _merge, effective_radius
+from millpath.plan.surface.polyline import densify, merge_collinear
+from millpath.plan.surface.zigzag import Pass, PassStats, effective_radius
 
 
 @dataclass
@@ -180,6 +182,7 @@ class WaterlineSettings:
     holder_clearance: float = 0.0
     max_levels: int = 3000
     z_range: tuple[float, float] | None = None
+    on_level: Callable[[int, float], None] | None = None   # progress: levels so far, z
 
 
 @dataclass
@@ -253,6 +256,7 @@ class _Level:
     def refine(self, P: np.ndarray, z: float) -> np.ndarray:
         """Insert level points where a segment's midpoint leaves the tolerance band."""
         min_len = 1e-3 * self.sampler.cutter.radius
+        frozen = np.zeros(max(len(P) - 1, 0), bool)
         for _ in range(20):
             if len(P) < 2:
                 return P
@@ -261,7 +265,10 @@ class _Level:
             seg = np.linalg.norm(P[1:] - P[:-1], axis=1)
             g = np.hypot(self.R.bilinear(self.R.gx, mid), self.R.bilinear(self.R.gy, mid))
             cos = 1.0 / np.sqrt(1.0 + g * g)
-            bad = ((zm - z > self.tol_g) | ((z - zm) * cos > self.tol_m)) & (seg > min_len)
+            # a midpoint over nothing (the tool beside the part's outer wall) is not
+            # split: no level point exists there
+            bad = (((zm - z > self.tol_g) | ((z - zm) * cos > self.tol_m)) & (seg > min_len)
+                   & ~frozen & (zm > self.R.z_low))
             if not bad.any():
                 break
             idx = np.nonzero(bad)[0]
@@ -269,10 +276,18 @@ class _Level:
             nrm = np.column_stack([t[:, 1], -t[:, 0]]) / np.maximum(seg[idx], 1e-300)[:, None]
             d = self.uphill(mid[idx], nrm)
             q, ok = self.onto(mid[idx], z, d)
-            # an unbracketed midpoint stays on the chord, lifted is not an option at a
-            # level: keep the chord only if it does not gouge, else the low side point
-            q[~ok] = mid[idx][~ok]
-            P = np.insert(P, idx + 1, q, axis=0)
+            # a midpoint that cannot be bracketed is not split again (halving the chord
+            # does not bring it onto the level); the chord is kept only if it does not
+            # gouge (:func:`_gouge_split` removes it otherwise)
+            # material side: the level point found is an upper bound of the distance
+            # to the CL surface (it lies on it); at a vertical CL wall the raster's
+            # slope says nothing, this does
+            near = ok & (zm[idx] < z) & (np.linalg.norm(q - mid[idx], axis=1) <= self.tol_m)
+            frozen[idx[~ok | near]] = True
+            use = ok & ~near
+            ins = idx[use]
+            P = np.insert(P, ins + 1, q[use], axis=0)
+            frozen = np.insert(frozen, ins + 1, False)
         return P
 
     def contours(self, z: float) -> list[np.ndarray]:
@@ -296,6 +311,11 @@ class _Level:
             ok = np.zeros(len(L), bool)
             if valid.any():
                 Q[valid], ok[valid] = self.onto(L[valid], z, d[valid])
+                # nothing under the tool on the low side: the level runs down the
+                # part's outer wall (the tool beside the part), not over the surface
+                beside = ~np.isfinite(drop(self.sampler.index, self.sampler.cutter,
+                                           Q[valid]).z)
+                valid[np.nonzero(valid)[0][beside]] = False
             if closed:
                 Q[-1] = Q[0]
                 ok[-1] = ok[0]
@@ -304,7 +324,7 @@ class _Level:
         return out
 
 
-def _runs(good: np.ndarray, closed: bool = False) -> list[np.ndarray]:
+def index_runs(good: np.ndarray, closed: bool = False) -> list[np.ndarray]:
     """Index runs where ``good`` holds; a closed polyline (last = first) wraps around."""
     n = len(good)
     if good.all():
@@ -387,13 +407,7 @@ def waterline(sampler: Sampler, s: WaterlineSettings, raster: Raster | None = No
         if not sel.any():
             return 0.0
         # nearest distance to the polylines above, on densified vertices
-        segs = []
-        for Q, ok, _, _ in C_up:
-            d = np.linalg.norm(np.diff(Q, axis=0), axis=1)
-            k = np.maximum(1, np.ceil(d / (0.1 * flat)).astype(int))
-            t = [Q[i] + (Q[i + 1] - Q[i]) * np.linspace(0, 1, k[i], endpoint=False)[:, None]
-                 for i in range(len(d))]
-            segs.append(np.concatenate(t + [Q[-1:]]) if t else Q)
+        segs = [densify(Q, 0.1 * flat) for Q, _, _, _ in C_up]
         tree = cKDTree(np.concatenate(segs))
         dxy, _ = tree.query(pts[sel])
         slope = np.radians(R.bilinear(R.slope, pts[sel]))
@@ -412,6 +426,8 @@ def waterline(sampler: Sampler, s: WaterlineSettings, raster: Raster | None = No
     while True:
         levels.append(z)
         contours.append(C)
+        if s.on_level is not None:
+            s.on_level(len(levels), z)
         if z <= bottom + 1e-12:
             break
         if len(levels) >= s.max_levels:
@@ -445,14 +461,14 @@ def waterline(sampler: Sampler, s: WaterlineSettings, raster: Raster | None = No
                 inside = R.nearest(keep, Q)
                 removed["outside_mask"] += int((good & ~inside).sum())
                 good &= inside
-            for run in _runs(good, closed):
+            for run in index_runs(good, closed):
                 if len(run) < 2:
                     continue
                 P = Q[run]
                 is_closed = closed and len(run) >= len(Q) - 1 and good.all()
                 P = lv.refine(P, z)
                 P3 = np.column_stack([P, np.full(len(P), z)])
-                P3 = _merge(P3, 0.2 * min(lv.tol_g, lv.tol_m))
+                P3 = merge_collinear(P3, 0.2 * min(lv.tol_g, lv.tol_m))
                 P = lv.refine(P3[:, :2], z)
                 if is_closed:
                     P[-1] = P[0]
@@ -499,7 +515,7 @@ def _gouge_split(lv: _Level, P: np.ndarray, z: float, closed: bool,
         return [P]
     bad[:-1] |= seg
     bad[1:] |= seg
-    return [P[run] for run in _runs(~bad, closed) if len(run) >= 2]
+    return [P[run] for run in index_runs(~bad, closed) if len(run) >= 2]
 
 
 def _holder_split(sampler: Sampler, P: np.ndarray, z: float, closed: bool,
@@ -520,7 +536,7 @@ def _holder_split(sampler: Sampler, P: np.ndarray, z: float, closed: bool,
     if not bad_p.any():
         return [P]
     out = []
-    for run in _runs(~bad_p, closed):
+    for run in index_runs(~bad_p, closed):
         if len(run) >= 2:
             out.append(P[run])
     return out

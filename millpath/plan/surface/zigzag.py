@@ -29,10 +29,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Callable
 
 import numpy as np
 
 from millpath.errors import PlanningError
+from millpath.plan.surface.polyline import merge_collinear
 from millpath.plan.surface.sampler import Sampler
 from millpath.plan.surface.steps import curvature_radius, feed_step, flat_side_step, side_step
 
@@ -43,7 +45,10 @@ class ZigzagSettings:
     of the tool tip; ``station`` the spacing of the stations along the passes where
     side steps are computed. ``trim_edges``: the region is the surface grown by the
     cutter radius; the first and last pass at each station are moved in to where the
-    contact point just reaches the surface's edge (see :func:`edge_lines`)."""
+    contact point just reaches the surface's edge (see :func:`edge_lines`). ``keep``:
+    XY points ``(n, 2)`` -> where passes are wanted (steep-shallow's shallow side and
+    the overlap), no points are planned elsewhere; ``hold``: where the scallop sets the
+    side step (default ``keep``; steep-shallow: the shallow side only)."""
 
     tolerance: float
     scallop: float
@@ -54,6 +59,9 @@ class ZigzagSettings:
     max_step: float | None = None
     max_passes: int = 5000
     trim_edges: bool = False
+    keep: Callable[[np.ndarray], np.ndarray] | None = None
+    hold: Callable[[np.ndarray], np.ndarray] | None = None
+    on_line: Callable[[int], None] | None = None      # progress: pass lines so far
 
 
 @dataclass
@@ -114,7 +122,7 @@ def _frame_box(sampler: Sampler, region) -> tuple[float, float, float, float]:
     return uw[:, 0].min(), uw[:, 0].max(), uw[:, 1].min(), uw[:, 1].max()
 
 
-def _inside(sampler: Sampler, region, u, w) -> np.ndarray:
+def in_region(sampler: Sampler, region, u, w) -> np.ndarray:
     x0, y0, x1, y1 = region
     xy = sampler.xy(u, w)
     e = 1e-9
@@ -130,18 +138,23 @@ def _runmin(a: np.ndarray, k: int = 1) -> np.ndarray:
     return out
 
 
-def _station_steps(sampler: Sampler, u, W, r, h, fd) -> np.ndarray:
+def _station_steps(sampler: Sampler, u, W, r, h, fd, keep=None) -> np.ndarray:
     """XY side step at each station from the published formula with the local curvature
     and slope across the passes. The scallop is limited to ``h`` measured vertically:
-    the normal height used in the formula is ``h cos(slope)``."""
-    zm = sampler.z_cut(u, W - fd)
-    z0 = sampler.z_cut(u, W)
-    zp = sampler.z_cut(u, W + fd)
+    the normal height used in the formula is ``h cos(slope)``. NaN where unknown (no
+    surface, or outside ``keep``). One drop-cutter batch for the three rows."""
+    u = np.asarray(u, float)
+    W = np.asarray(W, float)
+    n = len(u)
+    z = sampler.z_cut(np.concatenate([u, u, u]), np.concatenate([W - fd, W, W + fd]))
+    zm, z0, zp = z[:n], z[n:2 * n], z[2 * n:]
     ok = np.isfinite(zm) & np.isfinite(z0) & np.isfinite(zp)
-    out = np.full(len(u), np.nan)
+    if keep is not None:
+        ok &= keep(sampler.xy(u, W))
+    out = np.full(n, np.nan)
     rho_cl, slope = curvature_radius(zm[ok], z0[ok], zp[ok], fd)
     cos = 1.0 / np.sqrt(1.0 + slope * slope)
-    out[ok] = np.array([side_step(r, rc - r, h * c) for rc, c in zip(rho_cl, cos)]) * cos
+    out[ok] = side_step(r, rho_cl - r, h * cos) * cos
     return out
 
 
@@ -222,8 +235,9 @@ def pass_lines(sampler: Sampler, design, s: ZigzagSettings) -> tuple[np.ndarray,
         if len(lines) >= s.max_passes:
             raise PlanningError(f"more than {s.max_passes} passes: scallop {h} is too small "
                                 f"for this surface and cutter")
-        inside = _inside(sampler, s.region, u, W)
-        eps = _station_steps(sampler, u, W, r, target, fd)
+        inside = in_region(sampler, s.region, u, W)
+        hold = s.hold or s.keep
+        eps = _station_steps(sampler, u, W, r, target, fd, hold)
         known = inside & np.isfinite(eps)
         if not known.any():
             dW = np.full(n, flat_side_step(r, target))
@@ -232,23 +246,27 @@ def pass_lines(sampler: Sampler, design, s: ZigzagSettings) -> tuple[np.ndarray,
         else:
             e = np.where(known, eps, np.inf)
             e = np.where(np.isfinite(e), e, float(eps[known].min()))
-            dW = _between(sampler, u, W, e, r, target, fd)    # each station its own step
-        dW = _look_ahead(sampler, u, W, dW, wmax, r, target, fd, s.side_step == "published")
+            dW = _between(sampler, u, W, e, r, target, fd, hold)   # each station its own
+        dW = _look_ahead(sampler, u, W, dW, wmax, r, target, fd, s.side_step == "published",
+                         hold)
         Wn = np.minimum(W + dW, wmax)
         steps.append(float(np.mean(Wn - W)))
         W = Wn
         lines.append(W.copy())
+        if s.on_line is not None:
+            s.on_line(len(lines))
     return u, lines, steps
 
 
-def _between(sampler: Sampler, u, W, step, r: float, target: float, fd: float) -> np.ndarray:
+def _between(sampler: Sampler, u, W, step, r: float, target: float, fd: float,
+             keep=None) -> np.ndarray:
     """Each station's step, also held to the steps found halfway to its neighbours (on
     the chord between their points): the passes are straight between stations, so the
     surface there counts too, but not what a neighbour meets farther along w."""
     if len(u) < 2:
         return np.asarray(step, float)
     um, wm = 0.5 * (u[1:] + u[:-1]), 0.5 * (W[1:] + W[:-1])
-    em = _station_steps(sampler, um, wm, r, target, fd)
+    em = _station_steps(sampler, um, wm, r, target, fd, keep)
     em = np.where(np.isfinite(em), em, np.inf)
     out = np.asarray(step, float).copy()
     out[1:] = np.minimum(out[1:], em)
@@ -257,7 +275,7 @@ def _between(sampler: Sampler, u, W, step, r: float, target: float, fd: float) -
 
 
 def _look_ahead(sampler: Sampler, u, W, dW, wmax, r: float, target: float,
-                fd: float, uniform: bool, rounds: int = 4) -> np.ndarray:
+                fd: float, uniform: bool, keep=None, rounds: int = 4) -> np.ndarray:
     """Shrink the step ``dW`` to the published step found at the candidate next line:
     the formula is local, and over a convex crease (or the edge the tool rolls over)
     it allows up to a cutter diameter that the surface beyond cannot take. Each round
@@ -265,7 +283,7 @@ def _look_ahead(sampler: Sampler, u, W, dW, wmax, r: float, target: float,
     dW = np.asarray(dW, float).copy()
     for _ in range(rounds):
         Wn = np.minimum(W + dW, wmax)
-        ahead = _station_steps(sampler, u, Wn, r, target, fd)
+        ahead = _station_steps(sampler, u, Wn, r, target, fd, keep)
         ok = np.isfinite(ahead) & (Wn < wmax - 1e-9)
         if not ok.any():
             break
@@ -273,60 +291,45 @@ def _look_ahead(sampler: Sampler, u, W, dW, wmax, r: float, target: float,
         if uniform:
             new = np.full_like(dW, float(new.min()))
         else:
-            new = _between(sampler, u, Wn, new, r, target, fd)
+            new = _between(sampler, u, Wn, new, r, target, fd, keep)
         if np.allclose(new, dW, rtol=1e-3, atol=0.0):
             break
         dW = new
     return dW
 
 
-def _refine(sampler: Sampler, P: np.ndarray, tol_g: float, tol_m: float,
-            min_len: float) -> np.ndarray:
-    """Split segments of ``P`` (rows u, w, z) whose midpoint deviates beyond tolerance."""
+def refine_chords(sampler: Sampler, P: np.ndarray, tol_g: float, tol_m: float,
+            min_len: float, checks: int = 3) -> np.ndarray:
+    """Split segments of ``P`` (rows u, w, z) that deviate beyond tolerance at any of
+    ``checks`` evenly spaced interior points (the midpoint alone misses a bump of the
+    CL surface narrower than half a segment); the worst point is inserted."""
+    t = np.arange(1, checks + 1) / (checks + 1.0)
     for _ in range(20):
-        mid = 0.5 * (P[1:] + P[:-1])
-        zt, _ = sampler.z_safe(mid[:, 0], mid[:, 1])
-        dev = zt - mid[:, 2]
-        seg = np.hypot(P[1:, 0] - P[:-1, 0], P[1:, 1] - P[:-1, 1])
-        bad = ((dev > tol_g) | (dev < -tol_m)) & (seg > min_len)
+        if len(P) < 2:
+            break
+        A, B = P[:-1], P[1:]
+        Q = A[:, None, :] + (B - A)[:, None, :] * t[None, :, None]      # (m, k, 3)
+        zt, _ = sampler.z_safe(Q[..., 0].ravel(), Q[..., 1].ravel())
+        zt = zt.reshape(len(A), checks)
+        dev = zt - Q[..., 2]
+        over = np.maximum(dev - tol_g, -dev - tol_m)                   # > 0: outside
+        seg = np.hypot(B[:, 0] - A[:, 0], B[:, 1] - A[:, 1])
+        worst = np.argmax(over, axis=1)
+        rows = np.arange(len(A))
+        bad = (over[rows, worst] > 0) & (seg > min_len)
         if not bad.any():
             break
-        mid[:, 2] = zt
+        new = Q[rows, worst].copy()
+        new[:, 2] = zt[rows, worst]
         idx = np.nonzero(bad)[0]
-        P = np.insert(P, idx + 1, mid[idx], axis=0)
+        P = np.insert(P, idx + 1, new[idx], axis=0)
     return P
-
-
-def _merge(P: np.ndarray, tol: float) -> np.ndarray:
-    """Drop interior points within ``tol`` (3D) of the chord joining their neighbours
-    kept so far (greedy, forward)."""
-    if len(P) < 3:
-        return P
-    keep = [0]
-    a = 0
-    i = 2
-    while i < len(P):
-        A, B = P[a], P[i]
-        AB = B - A
-        L2 = float(AB @ AB)
-        inner = P[a + 1:i]
-        if L2 > 0:
-            t = np.clip((inner - A) @ AB / L2, 0.0, 1.0)
-            dist = np.linalg.norm(inner - (A + t[:, None] * AB), axis=1)
-        else:
-            dist = np.linalg.norm(inner - A, axis=1)
-        if dist.max() > tol:
-            keep.append(i - 1)
-            a = i - 1
-        i += 1
-    keep.append(len(P) - 1)
-    return P[keep]
 
 
 def sample_pass(sampler: Sampler, u: np.ndarray, W: np.ndarray, s: ZigzagSettings,
                 r: float) -> np.ndarray | None:
     """Tolerance-driven CL points (rows u, w, z in the pass frame) along one pass."""
-    inside = _inside(sampler, s.region, u, W)
+    inside = in_region(sampler, s.region, u, W)
     if inside.sum() < 2:
         return None
     u, W = u[inside], W[inside]
@@ -358,15 +361,15 @@ def sample_pass(sampler: Sampler, u: np.ndarray, W: np.ndarray, s: ZigzagSetting
     Ns = np.linspace(0.0, N[-1], k + 1)
     # the stations too: w(u) is piecewise linear between them (variable side step), and
     # a chord across a kink would leave the next pass's scallop wider than planned
-    # (on a flat the Z check cannot see it); _merge drops the collinear ones
+    # (on a flat the Z check cannot see it); merge_collinear drops the collinear ones
     us = np.union1d(np.interp(Ns, N, u), u)
     ws = np.interp(us, u, W)
     zs, _ = sampler.z_safe(us, ws)
     P = np.stack([us, ws, zs], axis=1)
     min_len = 1e-3 * max(r, 1e-3)
-    P = _refine(sampler, P, tol_g, tol_m, min_len)
-    P = _merge(P, 0.2 * min(tol_g, tol_m))
-    P = _refine(sampler, P, tol_g, tol_m, min_len)
+    P = refine_chords(sampler, P, tol_g, tol_m, min_len)
+    P = merge_collinear(P, 0.2 * min(tol_g, tol_m))
+    P = refine_chords(sampler, P, tol_g, tol_m, min_len)
     return P
 
 
@@ -382,6 +385,12 @@ def zigzag(sampler: Sampler, design, s: ZigzagSettings) -> ZigzagResult:
         # a station already on the last line was finished by the pass before
         active = (lines[0] < wmax - 1e-9) if k == 0 else lines[k - 1] < wmax - 1e-9
         active = active | np.roll(active, 1) | np.roll(active, -1)
+        if s.keep is not None:
+            # only where passes are wanted, two stations beyond (the caller trims)
+            want = s.keep(sampler.xy(u, W))
+            for _ in range(2):
+                want = want | np.roll(want, 1) | np.roll(want, -1)
+            active &= want
         pieces = []
         for run in np.split(np.arange(len(u)), np.nonzero(np.diff(active.astype(int)))[0] + 1):
             if not active[run[0]] or len(run) < 2:

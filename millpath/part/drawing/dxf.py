@@ -1,0 +1,180 @@
+"""Read the contours of a DXF drawing (model space) with ezdxf.
+
+Entities: LINE, ARC, CIRCLE, LWPOLYLINE (bulges), 2D POLYLINE (bulges), SPLINE and
+ELLIPSE, and those inside INSERTed blocks. Arcs and bulges are flattened into chords
+within ``tolerance`` of the true curve (sagitta), splines and ellipses by ezdxf's
+adaptive flattening to the same distance. Entities in an OCS (extrusion not +Z) are
+mapped to world X, Y. ``$INSUNITS`` (inch, foot, mm, cm, m, micron) converts to the
+job's units; 0 (unitless) means the job's units. Z is ignored (the drawing is the XY
+plane seen from +Z).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from millpath.errors import GeometryError
+from millpath.part.drawing.chains import Loop, Piece, join_pieces
+
+#: $INSUNITS code -> millimetres per drawing unit
+INSUNITS_MM = {1: 25.4, 2: 304.8, 4: 1.0, 5: 10.0, 6: 1000.0, 8: 1e-6 * 25.4, 9: 0.0254,
+               10: 914.4, 13: 1e-3, 14: 100.0}
+SUPPORTED = ("LINE", "ARC", "CIRCLE", "LWPOLYLINE", "POLYLINE", "SPLINE", "ELLIPSE")
+
+
+def arc_points(cx: float, cy: float, r: float, a0: float, sweep: float,
+               tolerance: float) -> np.ndarray:
+    """Points on a circular arc from angle ``a0`` through signed ``sweep`` (radians,
+    positive counter-clockwise), chords within ``tolerance`` of the arc."""
+    if r <= tolerance:
+        n = max(3, int(math.ceil(abs(sweep) / (math.pi / 2))))
+    else:
+        step = 2.0 * math.acos(max(1.0 - tolerance / r, -1.0))
+        n = max(1, int(math.ceil(abs(sweep) / max(step, 1e-9) - 1e-9)))
+    t = a0 + sweep * np.linspace(0.0, 1.0, n + 1)
+    return np.column_stack([cx + r * np.cos(t), cy + r * np.sin(t)])
+
+
+def bulge_points(vertices: list[tuple[float, float, float]], closed: bool,
+                 tolerance: float) -> np.ndarray:
+    """A polyline with bulges (x, y, bulge) as chords; bulge = tan(included angle / 4),
+    positive counter-clockwise."""
+    out: list[np.ndarray] = []
+    n = len(vertices)
+    last = n if closed else n - 1
+    for i in range(last):
+        x0, y0, b = vertices[i]
+        x1, y1, _ = vertices[(i + 1) % n]
+        if abs(b) < 1e-12 or (x0 == x1 and y0 == y1):
+            out.append(np.array([[x0, y0], [x1, y1]]))
+            continue
+        theta = 4.0 * math.atan(b)
+        chord = math.hypot(x1 - x0, y1 - y0)
+        r = chord / (2.0 * math.sin(abs(theta) / 2.0))
+        mx, my = (x0 + x1) / 2, (y0 + y1) / 2
+        d = r * math.cos(theta / 2.0)          # signed: centre left of the chord if b > 0
+        ux, uy = (x1 - x0) / chord, (y1 - y0) / chord
+        cx, cy = mx - uy * d * math.copysign(1, b), my + ux * d * math.copysign(1, b)
+        a0 = math.atan2(y0 - cy, x0 - cx)
+        out.append(arc_points(cx, cy, r, a0, theta, tolerance))
+    if not out:
+        return np.array([[v[0], v[1]] for v in vertices])
+    return np.vstack([out[0]] + [o[1:] for o in out[1:]])
+
+
+def _ocs_xy(e, pts: np.ndarray) -> np.ndarray:
+    """Map OCS points (n, 2) of a 2D entity to world XY."""
+    ext = e.dxf.get("extrusion", None)
+    if ext is None or (abs(ext[0]) < 1e-12 and abs(ext[1]) < 1e-12 and ext[2] > 0):
+        return pts
+    from ezdxf.math import OCS
+    ocs = OCS(ext)
+    elev = float(e.dxf.get("elevation", 0.0) or 0.0) if e.dxftype() == "LWPOLYLINE" else 0.0
+    w = [ocs.to_wcs((float(x), float(y), elev)) for x, y in pts]
+    return np.array([[v.x, v.y] for v in w])
+
+
+def _piece(e, tol: float) -> Piece | None:
+    t = e.dxftype()
+    h = str(e.dxf.handle)
+    if t == "LINE":
+        s, f = e.dxf.start, e.dxf.end
+        return Piece(np.array([[s.x, s.y], [f.x, f.y]]), h)
+    if t == "CIRCLE":
+        c, r = e.dxf.center, float(e.dxf.radius)
+        pts = arc_points(c.x, c.y, r, 0.0, 2 * math.pi, tol)[:-1]
+        return Piece(_ocs_xy(e, pts), h, closed=True)
+    if t == "ARC":
+        c, r = e.dxf.center, float(e.dxf.radius)
+        a0, a1 = math.radians(e.dxf.start_angle), math.radians(e.dxf.end_angle)
+        sweep = (a1 - a0) % (2 * math.pi) or 2 * math.pi
+        return Piece(_ocs_xy(e, arc_points(c.x, c.y, r, a0, sweep, tol)), h)
+    if t == "LWPOLYLINE":
+        v = [(float(x), float(y), float(b)) for x, y, b in e.get_points("xyb")]
+        if len(v) < 2:
+            return None
+        return Piece(_ocs_xy(e, bulge_points(v, bool(e.closed), tol)), h, bool(e.closed))
+    if t == "POLYLINE":
+        if e.is_3d_polyline or e.is_poly_face_mesh or e.is_polygon_mesh:
+            pts = np.array([[v.dxf.location.x, v.dxf.location.y] for v in e.vertices])
+            return Piece(pts, h, bool(e.is_closed)) if len(pts) >= 2 else None
+        v = [(float(q.dxf.location.x), float(q.dxf.location.y), float(q.dxf.get("bulge", 0.0)))
+             for q in e.vertices]
+        if len(v) < 2:
+            return None
+        return Piece(_ocs_xy(e, bulge_points(v, bool(e.is_closed), tol)), h, bool(e.is_closed))
+    if t in ("SPLINE", "ELLIPSE"):
+        pts = np.array([[p.x, p.y] for p in e.flattening(tol)])
+        closed = t == "SPLINE" and bool(e.closed)
+        return Piece(pts, h, closed) if len(pts) >= 2 else None
+    return None
+
+
+def _entities(msp, layer: str | None):
+    for e in msp:
+        if e.dxftype() == "INSERT":
+            if layer is not None and e.dxf.layer.lower() != layer.lower():
+                continue
+            try:
+                yield from e.virtual_entities()
+            except Exception:           # ezdxf raises various errors on odd blocks
+                continue
+            continue
+        if layer is not None and e.dxf.layer.lower() != layer.lower():
+            continue
+        yield e
+
+
+def read_dxf(path: str | Path, units: str, tolerance: float, *, layer: str | None = None,
+             join_tolerance: float | None = None) -> list[Loop]:
+    """Closed loops (job units) of the DXF at ``path`` on ``layer`` (all layers if None).
+
+    ``tolerance``: chordal tolerance in job units; ``join_tolerance`` (default 10 x
+    ``tolerance``): the largest gap closed between entity ends. GeometryError for an
+    unreadable file, no supported entity, or a chain left open.
+    """
+    import ezdxf
+    path = Path(path)
+    if not path.is_file():
+        raise GeometryError("DXF file not found", path)
+    try:
+        doc = ezdxf.readfile(str(path))
+    except (IOError, ezdxf.DXFStructureError, ezdxf.DXFError, UnicodeDecodeError) as e:
+        raise GeometryError(f"not a readable DXF file ({e})", path) from None
+    code = int(doc.header.get("$INSUNITS", 0) or 0)
+    job_mm = 25.4 if units == "inch" else 1.0
+    scale = INSUNITS_MM[code] / job_mm if code in INSUNITS_MM else 1.0
+    if code not in INSUNITS_MM and code != 0:
+        raise GeometryError(f"$INSUNITS = {code}: unsupported drawing unit", path)
+    tol_d = tolerance / scale            # flatten in drawing units
+    pieces: list[Piece] = []
+    layers = set()
+    for e in _entities(doc.modelspace(), layer):
+        layers.add(e.dxf.layer)
+        if e.dxftype() not in SUPPORTED:
+            continue
+        try:
+            p = _piece(e, tol_d)
+        except (ValueError, ZeroDivisionError, AttributeError) as ex:
+            raise GeometryError(f"cannot read {e.dxftype()} ({ex})", path,
+                                entity=f"entity {e.dxf.handle}") from None
+        if p is None:
+            continue
+        if not np.isfinite(p.points).all():
+            raise GeometryError(f"{e.dxftype()} has a non-finite coordinate", path,
+                                entity=f"entity {p.handle}")
+        p.points = p.points * scale
+        pieces.append(p)
+    if not pieces:
+        where = f" on layer {layer!r}" if layer is not None else ""
+        known = sorted({str(e.dxf.layer) for e in doc.modelspace()})
+        raise GeometryError(f"no LINE, ARC, CIRCLE, LWPOLYLINE, POLYLINE or SPLINE{where} "
+                            f"(layers in the file: {', '.join(known) or 'none'})", path)
+    jt = join_tolerance if join_tolerance is not None else 10.0 * tolerance
+    loops = join_pieces(pieces, jt, path)
+    if not loops:
+        raise GeometryError("no closed contour in the drawing", path)
+    return loops

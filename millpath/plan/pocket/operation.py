@@ -1,0 +1,225 @@
+"""Operation ``pocket``: clear drawn regions (with islands) to a flat floor (issue 21).
+
+Keys (job units; feeds in units per minute; Z absolute, tool tip):
+
+- geometry: ``dxf`` (+ ``layer``, ``join_tolerance``) or ``polygon`` + ``islands``;
+  ``tolerance``: chordal tolerance of arcs and splines (default 0.01 mm / 0.0005 in).
+- ``tool``: flat or bull end mill; ``top`` (default: the stock top), ``depth`` below
+  it, ``stepdown`` per level.
+- ``strategy``: ``offset`` (rings from the inside out), ``zigzag`` (lines at
+  ``angle`` degrees then a contour), ``adaptive`` (constant ``engagement``, a fraction
+  of the diameter in (0, 1), default 0.15); ``stepover`` (default 0.4 D) for offset
+  and zigzag and for the floor finish.
+- ``finish_allowance``: stock left on walls and floor by the clearing levels; when
+  positive a second operation "pocket finish" cuts the walls at every level and the
+  floor (rings ``stepover`` apart) to size.
+- ``entry``: ``helix`` (radius ``helix_radius``, default 0.5 R, where it fits) or
+  ``ramp`` (along the cut); both descend at ``ramp_angle`` degrees (default 3); a
+  straight feed down only where the column is empty (in-process stock).
+- ``direction``: ``climb`` (default; clockwise spindle) or ``conventional``.
+- ``rest``: cut only where the in-process stock left by the earlier operations is more
+  than ``finish_allowance`` (at least ``tolerance``) above each level. Without it the
+  operation still skips stretches where its tool meets no material.
+- ``feed``, ``plunge_feed`` (default feed / 2), ``spindle``, ``safe_z`` (default: top
+  + 5 mm / 0.2 in).
+"""
+
+from __future__ import annotations
+
+import math
+
+import shapely
+from shapely.geometry import Point
+
+from millpath.errors import JobError, PlanningError
+from millpath.io.schema import Param
+from millpath.model import Operation, Toolpath
+from millpath.plan.base import PlanContext, PlanResult
+from millpath.plan.pocket.design import PocketDesign
+from millpath.plan.pocket.emit import Emitter
+from millpath.plan.pocket.passes import Cut, offset_cuts, order_nearest, zigzag_cuts
+from millpath.plan.twod.field import MaterialField, Raster, stock_heights
+from millpath.plan.twod.geometry import GEOMETRY_PARAMS, default_tolerance, load_regions
+from millpath.plan.twod.offsets import offset, polygons, rings
+from millpath.plan.twod.writer import PathWriter
+
+
+def _fraction(v) -> str | None:
+    return None if 0.0 < v < 1.0 else f"must be a fraction of the tool diameter in (0, 1), got {v!r}"
+
+
+PARAMS = {
+    **GEOMETRY_PARAMS,
+    "tool": Param("int", positive=True, doc="flat or bull end mill"),
+    "top": Param("float", None, doc="Z of the pocket top (default: stock top)", unit="length"),
+    "depth": Param("float", positive=True, doc="below top", unit="length"),
+    "stepdown": Param("float", positive=True, doc="depth per level", unit="length"),
+    "strategy": Param("str", "offset", choices=("offset", "zigzag", "adaptive")),
+    "stepover": Param("float", None, positive=True, doc="default 0.4 D", unit="length"),
+    "angle": Param("float", 0.0, doc="zigzag line angle from X, degrees", unit="deg"),
+    "engagement": Param("float", 0.15, check=_fraction, doc="adaptive: width of cut / D", unit="ratio"),
+    "finish_allowance": Param("float", 0.0, nonneg=True, unit="length"),
+    "entry": Param("str", "helix", choices=("helix", "ramp")),
+    "helix_radius": Param("float", None, positive=True, doc="default 0.5 x tool radius", unit="length"),
+    "ramp_angle": Param("float", 3.0, positive=True, unit="deg"),
+    "direction": Param("str", "climb", choices=("climb", "conventional")),
+    "rest": Param("bool", False),
+    "feed": Param("float", positive=True, unit="feed"),
+    "plunge_feed": Param("float", None, positive=True, unit="feed"),
+    "spindle": Param("float", 0.0, unit="rpm"),
+    "safe_z": Param("float", None, unit="length"),
+}
+
+
+def levels(top: float, floor: float, stepdown: float) -> list[float]:
+    """Z of each level from ``top`` down to ``floor``, equal steps <= ``stepdown``."""
+    depth = top - floor
+    n = max(1, int(math.ceil(depth / stepdown - 1e-9)))
+    return [top - depth * (k + 1) / n for k in range(n)]
+
+
+def check_fit(region, free, tool, file) -> None:
+    """PlanningError if the tool does not fit in the region or through a neck of it."""
+    comps = polygons(free)
+    if not comps:
+        mic = shapely.maximum_inscribed_circle(region.polygon, 1e-3)
+        c = mic.coords[0]
+        width = 2 * Point(c).distance(region.polygon.boundary)
+        raise PlanningError(f"tool {tool.number} (diameter {tool.diameter:g}) does not fit in "
+                            f"the pocket {region.name}: its widest place, round "
+                            f"({c[0]:.3f}, {c[1]:.3f}), is {width:.4g} wide", file)
+    if len(comps) > 1:
+        comps.sort(key=lambda p: -p.area)
+        a, b = shapely.ops.nearest_points(comps[0], comps[1])
+        x, y = (a.x + b.x) / 2, (a.y + b.y) / 2
+        raise PlanningError(f"tool {tool.number} (diameter {tool.diameter:g}) does not fit "
+                            f"through the neck of the pocket {region.name} at "
+                            f"({x:.3f}, {y:.3f})", file)
+
+
+def plan(ctx: PlanContext, params: dict) -> PlanResult:
+    file = ctx.job_file
+    tool = ctx.tool(params["tool"])
+    if tool.type not in ("flat", "bull"):
+        raise JobError(f"tool: a pocket needs a flat or bull end mill, tool {tool.number} "
+                       f"is {tool.type}", file)
+    regions = load_regions(params, ctx.units, file)
+    R, D = tool.radius, tool.diameter
+    allow = params["finish_allowance"]
+    stock_top = ctx.stock.zmax if ctx.stock is not None else None
+    top = params["top"] if params["top"] is not None else stock_top
+    if top is None:
+        raise JobError("top: needed when the job gives no [stock]", file)
+    floor = top - params["depth"]
+    mm = ctx.units == "mm"
+    clearance = 0.5 if mm else 0.02
+    upper = max(top, stock_top if stock_top is not None else top)
+    safe = params["safe_z"] if params["safe_z"] is not None else upper + (5.0 if mm else 0.2)
+    if safe <= upper:
+        raise JobError(f"safe_z: {safe:g} is not above the stock top {upper:g}", file)
+    stepover = params["stepover"] or 0.4 * D
+    if stepover > D:
+        raise JobError(f"stepover: {stepover:g} is more than the tool diameter", file)
+    tol = params["tolerance"] or default_tolerance(ctx.units)
+    feed = params["feed"]
+    plunge = params["plunge_feed"] or feed / 2
+    climb = params["direction"] == "climb"
+    rest = params["rest"]
+    threshold = max(allow, tol) if rest else tol
+    hr = params["helix_radius"] or 0.5 * R
+
+    tp = Toolpath(ctx.units)
+    strategy = params["strategy"]
+    label = f"pocket {strategy}" + (" rest" if rest else "")
+    op = Operation("pocket", label, tool.number, spindle=params["spindle"],
+                   info={"strategy": strategy, "rest": rest,
+                         "engagement_target": params["engagement"] if strategy == "adaptive"
+                         else None})
+    tp.begin(op)
+    w = PathWriter(tp, safe_z=safe, clear_z=upper + clearance, feed=feed, plunge_feed=plunge,
+                   ramp_angle=params["ramp_angle"])
+    em = Emitter(w, radius=R, helix_radius=hr, entry=params["entry"], clearance=clearance)
+    rough_levels = levels(top, floor + allow, params["stepdown"])
+    report = {"regions": [], "left_cells": 0}
+    frees = []
+    for reg in regions:
+        free = offset(reg.polygon, -(R + allow))
+        check_fit(reg, free, tool, params["dxf"] or file)
+        frees.append(free)
+    for reg, free in zip(regions, frees):
+        z_prev = None
+        for z in rough_levels:
+            z_from = upper + clearance if z_prev is None else min(upper + clearance,
+                                                                  z_prev + clearance)
+            if strategy == "adaptive":
+                from millpath.plan.pocket.adaptive import adaptive_level
+                left = adaptive_level(w, em, ctx, reg.polygon, free, tool, z, z_from,
+                                      threshold, allow, params["engagement"], hr, climb,
+                                      stock_top if stock_top is not None else top, rest)
+                report["left_cells"] += left
+            else:
+                field = _field(ctx, free, R, z, threshold, stock_top, top)
+                if strategy == "offset":
+                    cuts = offset_cuts(free, stepover, climb)
+                else:
+                    cuts = zigzag_cuts(free, stepover, params["angle"], climb)
+                cuts = order_nearest(cuts, w.pos[:2] if w.pos else None)
+                em.level(cuts, z, z_from, field)
+            z_prev = z
+        report["regions"].append({"name": reg.name, "islands": len(reg.island_names),
+                                  "area": round(reg.polygon.area, 4)})
+    w.retract()
+    op.info["entry_moves"] = list(em.entry_ranges)
+    op.info["entries"] = dict(w.entries)
+    if allow > 0:
+        _finish(tp, ctx, params, regions, tool, top, floor, safe, upper, clearance, stepover,
+                feed, plunge, climb, rest, tol, hr, stock_top)
+    op.info["regions"] = report["regions"]
+    op.info["left_cells"] = report["left_cells"]
+    design = PocketDesign([r.polygon for r in regions], floor,
+                          stock_top if stock_top is not None else top)
+    return PlanResult(tp, design=design)
+
+
+def _field(ctx, free, R, z, threshold, stock_top, top) -> MaterialField | None:
+    """The material field at ``z`` from the in-process stock; None for a full block."""
+    if ctx.remaining is None:
+        return None
+    h = R / 8.0
+    raster = Raster.around(free.bounds, h, R + 2 * h)
+    heights = stock_heights(ctx.remaining, raster, stock_top if stock_top is not None else top)
+    reach = raster.inside(offset(free, R), margin=h)
+    return MaterialField(heights, raster, z, threshold, R, reach)
+
+
+def _finish(tp, ctx, params, regions, tool, top, floor, safe, upper, clearance, stepover,
+            feed, plunge, climb, rest, tol, hr, stock_top) -> None:
+    """Walls at every level and the floor, to size (the allowance left by clearing)."""
+    R = tool.radius
+    op = Operation("pocket", "pocket finish" + (" rest" if rest else ""), tool.number,
+                   spindle=params["spindle"], info={"strategy": "finish", "rest": rest})
+    tp.begin(op)
+    w = PathWriter(tp, safe_z=safe, clear_z=upper + clearance, feed=feed, plunge_feed=plunge,
+                   ramp_angle=params["ramp_angle"])
+    em = Emitter(w, radius=R, helix_radius=hr, entry="ramp", clearance=clearance)
+    allow = params["finish_allowance"]
+    thr = max(allow, tol) if rest else tol
+    for reg in regions:
+        free0 = offset(reg.polygon, -R)
+        wall_levels = levels(top, floor, params["stepdown"])
+        z_prev = None
+        for z in wall_levels:
+            z_from = upper + clearance if z_prev is None else z_prev + clearance
+            field = _field(ctx, free0, R, z, thr, stock_top, top) if rest else None
+            if z > floor + 1e-9:
+                cuts = [Cut(r if climb else r[::-1], True, p)
+                        for p in polygons(free0) for r in rings(p)]
+            else:
+                cuts = offset_cuts(free0, stepover, climb)
+            cuts = order_nearest(cuts, w.pos[:2] if w.pos else None)
+            em.level(cuts, z, min(z_from, z + allow + clearance) if z <= floor + 1e-9
+                     else z_from, field)
+            z_prev = z
+    w.retract()
+    op.info["entry_moves"] = list(em.entry_ranges)
+    op.info["entries"] = dict(w.entries)

@@ -1,0 +1,164 @@
+"""Estimates before planning: pass lines, waterline levels, CL points and CPU time of a
+surface finishing operation, from a coarse drop-cutter raster and the step formulas
+(:mod:`.steps`), in well under a second. Job units; angles in degrees.
+
+- zigzag pass lines: along each station ``u`` the passes advance by the side step for
+  the scallop measured vertically (the flat formula with ``h cos(slope)``, times
+  ``cos(slope)`` on XY, never below a quarter of it as in :func:`.steps.side_step`), so
+  the station needs ``sum(dw / step)`` lines; the operation needs the most any station
+  needs (variable side step) or the width over the smallest step (published). Curvature
+  is ignored (a lower bound on concave ground, an upper one on convex).
+- waterline levels: the height over the level step ``min(stepdown_max, flat step x
+  sin(the shallowest slope held))``; the contour length summed over all levels is the
+  integral of the CL slope over the steep area (coarea formula).
+- points: pass lines x stations per line, contour length / raster spacing; CPU time:
+  drop-cutter queries (about 25 per zigzag point and 20 per waterline point, from the
+  planners' step, look-ahead, bisection and verification rounds) times the measured cost
+  of one query on the coarse raster, times the Python overhead per query batch.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from millpath.plan.surface.sampler import Sampler
+from millpath.plan.surface.steps import flat_side_step
+
+#: drop-cutter queries per planned CL point (measured on the bench jobs, rounded up)
+DROPS_PER_ZIGZAG_POINT = 25
+DROPS_PER_WATERLINE_POINT = 20
+#: CPU seconds of Python work per CL point (array handling between the kernels)
+PYTHON_PER_POINT = 3e-5
+
+
+@dataclass
+class Estimate:
+    """What an operation will take (rough figures, see the module docstring)."""
+
+    pass_lines: int = 0
+    levels: int = 0
+    points: int = 0
+    drops: int = 0
+    seconds: float = 0.0
+
+    def to_json(self) -> dict:
+        return {"pass_lines": self.pass_lines, "levels": self.levels, "points": self.points,
+                "drop_queries": self.drops, "cpu_s": round(self.seconds, 1)}
+
+
+@dataclass
+class CoarseRaster:
+    """Drop-cutter tip Z ``z[j, i]`` on a grid in the pass frame (``u[i]``, ``w[j]``)."""
+
+    u: np.ndarray
+    w: np.ndarray
+    z: np.ndarray
+    us_per_drop: float
+
+    @staticmethod
+    def build(sampler: Sampler, region, n: int = 160) -> "CoarseRaster":
+        x0, y0, x1, y1 = region
+        c = sampler.uw(np.array([x0, x1, x1, x0]), np.array([y0, y0, y1, y1]))
+        u = np.linspace(c[:, 0].min(), c[:, 0].max(), n)
+        w = np.linspace(c[:, 1].min(), c[:, 1].max(), n)
+        U, W = np.meshgrid(u, w)
+        t = time.process_time()
+        z = sampler.z_cut(U, W)
+        dt = time.process_time() - t
+        return CoarseRaster(u, w, z, 1e6 * dt / z.size)
+
+    def slopes(self) -> tuple[np.ndarray, np.ndarray]:
+        """(slope across the passes dz/dw, slope magnitude in degrees); NaN off the part."""
+        zf = np.where(np.isfinite(self.z), self.z, np.nan)
+        hw = self.w[1] - self.w[0] if len(self.w) > 1 else 1.0
+        hu = self.u[1] - self.u[0] if len(self.u) > 1 else 1.0
+        gw, gu = np.gradient(zf, hw, hu)
+        return gw, np.degrees(np.arctan(np.hypot(gw, gu)))
+
+
+def _target(h: float, tol_m: float) -> float:
+    return max(0.9 * h - min(tol_m, 0.25 * h), 0.25 * h)
+
+
+def zigzag_lines(R: CoarseRaster, r: float, h: float, tol_m: float, published: bool,
+                 max_slope: float | None = None) -> int:
+    """Pass lines a zigzag needs (see the module docstring); ``max_slope``: only the
+    shallower ground is held (steep-shallow)."""
+    gw, mag = R.slopes()
+    cos = 1.0 / np.sqrt(1.0 + gw * gw)
+    tgt = _target(h, tol_m)
+    flat = 2.0 * np.sqrt(np.maximum(2.0 * r * tgt * cos - (tgt * cos) ** 2, 0.0))
+    step = flat * cos
+    held = np.isfinite(step) & (step > 0)
+    if max_slope is not None:
+        held &= mag < max_slope
+    width = float(R.w[-1] - R.w[0])
+    if not held.any():
+        return max(1, int(math.ceil(width / flat_side_step(r, tgt)))) + 1
+    if published:
+        return int(math.ceil(width / float(step[held].min()))) + 1
+    dw = R.w[1] - R.w[0] if len(R.w) > 1 else width
+    free = flat_side_step(r, tgt)
+    per = np.where(held, dw / np.where(held, step, 1.0), dw / free)
+    return int(math.ceil(float(per.sum(axis=0).max()))) + 1
+
+
+def waterline_levels(R: CoarseRaster, r: float, h: float, tol_m: float, min_slope: float,
+                     dz_max: float) -> tuple[int, float]:
+    """(levels, contour length over all levels) of a waterline holding the scallop on
+    slopes of ``min_slope`` and more."""
+    _, mag = R.slopes()
+    fin = np.isfinite(R.z)
+    if not fin.any():
+        return 0, 0.0
+    steep = fin & (mag >= min_slope)
+    tgt = _target(h, tol_m)
+    sl = float(mag[steep].min()) if steep.any() else 90.0
+    dz = min(dz_max, flat_side_step(r, tgt) * math.sin(math.radians(max(sl, min_slope))))
+    height = float(R.z[fin].max() - R.z[fin].min())
+    levels = max(1, int(math.ceil(height / max(dz, 1e-12)))) + 1
+    # coarea: the length of all contours is the integral of |grad z| over the area,
+    # jumps included (the raster's differences); divided by the level step
+    zl = np.where(fin, R.z, float(R.z[fin].min()))
+    hu = float(R.u[1] - R.u[0])
+    hw = float(R.w[1] - R.w[0])
+    jump = (np.abs(np.diff(zl, axis=1)).sum() * hw + np.abs(np.diff(zl, axis=0)).sum() * hu)
+    return levels, float(jump / max(dz, 1e-12))
+
+
+def estimate_finish(sampler: Sampler, region, *, strategy: str, scallop: float,
+                    tolerance: float, material_tolerance: float, side_step: str,
+                    steep_angle: float, stepdown_max: float | None,
+                    raster: CoarseRaster | None = None) -> tuple[Estimate, CoarseRaster]:
+    """Estimate of a ``surface-finish`` operation and the coarse raster it used."""
+    R = raster or CoarseRaster.build(sampler, region)
+    c = sampler.cutter
+    r = c.corner if c.corner > 0 else c.radius
+    e = Estimate()
+    station = min(0.5, c.radius / 4.0)
+    n_st = max(2, int(math.ceil(float(R.u[-1] - R.u[0]) / station)) + 1)
+    zz_points = 0
+    if strategy in ("zigzag", "steep-shallow"):
+        e.pass_lines = zigzag_lines(R, r, scallop, material_tolerance,
+                                    side_step == "published",
+                                    steep_angle if strategy == "steep-shallow" else None)
+        zz_points = e.pass_lines * n_st
+        if strategy == "steep-shallow":
+            _, mag = R.slopes()
+            fin = np.isfinite(R.z)
+            shallow = float((fin & (mag < steep_angle)).sum() / max(1, fin.sum()))
+            zz_points = int(zz_points * max(shallow, 0.05))
+    wl_points = 0
+    if strategy in ("waterline", "steep-shallow"):
+        e.levels, length = waterline_levels(R, r, scallop, material_tolerance, steep_angle,
+                                            stepdown_max or r)
+        wl_points = int(length / (c.radius / 8.0))
+    e.points = zz_points + wl_points
+    e.drops = zz_points * DROPS_PER_ZIGZAG_POINT + wl_points * DROPS_PER_WATERLINE_POINT
+    holder = 1.0 + len(sampler.holder)
+    e.seconds = (e.drops * holder * R.us_per_drop * 1e-6 + e.points * PYTHON_PER_POINT)
+    return e, R

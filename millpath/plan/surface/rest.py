@@ -1,0 +1,102 @@
+"""Rest machining for surface finishing: keep only where the tool meets material.
+
+A tool-tip position (x, y, z) meets material when a cell of the in-process stock
+(``ctx.remaining``, sampled on a raster of its own resolution, each sample raised to
+the highest of its 3 x 3 neighbours so the test errs toward cutting) within the tool radius
+stands more than ``threshold`` above the tool's surface there (tip Z plus the cutter's
+profile height at that distance: flat, ball or bull). Passes are cut into the runs of
+points that meet material, each grown by ``pad`` points so a run starts and ends in
+air; the linking of :func:`millpath.plan.surface.linking.add_passes` joins them. Z is
+part of the test: stock left high on a slope is found even where the XY spot was
+cleared higher up. Lengths in job units.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+from scipy import ndimage
+
+from millpath.plan.surface.zigzag import Pass
+
+FLAT, BALL, BULL = 0, 1, 2
+
+
+@njit(cache=True)
+def _touch(P, H, gx, gy, h, R, kind, rc, thr):
+    n = P.shape[0]
+    ny, nx = H.shape
+    out = np.zeros(n, np.bool_)
+    for k in range(n):
+        x, y, z = P[k, 0], P[k, 1], P[k, 2]
+        i0 = max(0, int(math.floor((x - R - gx) / h)))
+        i1 = min(nx - 1, int(math.floor((x + R - gx) / h)))
+        j0 = max(0, int(math.floor((y - R - gy) / h)))
+        j1 = min(ny - 1, int(math.floor((y + R - gy) / h)))
+        hit = False
+        for j in range(j0, j1 + 1):
+            yc = gy + (j + 0.5) * h
+            for i in range(i0, i1 + 1):
+                xc = gx + (i + 0.5) * h
+                r = math.sqrt((xc - x) ** 2 + (yc - y) ** 2)
+                if r > R:
+                    continue
+                if kind == FLAT:
+                    prof = 0.0
+                elif kind == BALL:
+                    prof = R - math.sqrt(max(R * R - r * r, 0.0))
+                else:
+                    f = R - rc
+                    d = r - f
+                    prof = 0.0 if d <= 0.0 else rc - math.sqrt(max(rc * rc - d * d, 0.0))
+                if H[j, i] > z + prof + thr:
+                    hit = True
+                    break
+            if hit:
+                break
+        out[k] = hit
+    return out
+
+
+def rest_passes(passes: list[Pass], remaining, tool, threshold: float,
+                pad: int = 2) -> tuple[list[Pass], dict]:
+    """The runs of ``passes`` where ``tool`` meets more than ``threshold`` of the
+    in-process stock ``remaining``; and counts for the report."""
+    pts = [p.points for p in passes if len(p.points)]
+    if not pts:
+        return [], {"points_kept": 0, "points": 0}
+    allp = np.vstack(pts)
+    R = tool.radius
+    h = float(getattr(remaining, "resolution", R / 8))
+    x0, y0 = allp[:, 0].min() - R - h, allp[:, 1].min() - R - h
+    nx = int(math.ceil((allp[:, 0].max() - x0 + R + h) / h)) + 1
+    ny = int(math.ceil((allp[:, 1].max() - y0 + R + h) / h)) + 1
+    X, Y = np.meshgrid(x0 + (np.arange(nx) + 0.5) * h, y0 + (np.arange(ny) + 0.5) * h)
+    # each cell takes the highest of its neighbours: between samples the stock can stand
+    # higher (on a slope), and skipping must err toward cutting
+    H = np.ascontiguousarray(ndimage.maximum_filter(remaining.height(X, Y), size=3),
+                             dtype=float)
+    kind = {"flat": FLAT, "ball": BALL, "bull": BULL}.get(tool.type, FLAT)
+    out: list[Pass] = []
+    kept = total = 0
+    for p in passes:
+        P = np.ascontiguousarray(p.points, dtype=float)
+        if not len(P):
+            continue
+        t = _touch(P, H, x0, y0, h, R, kind, float(tool.corner_radius), threshold)
+        total += len(P)
+        if not t.any():
+            continue
+        idx = np.flatnonzero(t)
+        grow = t.copy()
+        for k in range(1, pad + 1):
+            grow[np.clip(idx - k, 0, len(t) - 1)] = True
+            grow[np.clip(idx + k, 0, len(t) - 1)] = True
+        edges = np.flatnonzero(np.diff(np.concatenate([[0], grow.astype(int), [0]])))
+        for a, b in zip(edges[::2], edges[1::2]):
+            if b - a >= 2:
+                out.append(Pass(P[a:b].copy(), p.lifted[a:b].copy()))
+                kept += b - a
+    return out, {"points_kept": int(kept), "points": int(total)}

@@ -1,0 +1,57 @@
+"""Drawing keys of pocket and profile operations and the regions they name.
+
+``dxf = "part.dxf"`` (with ``layer``, ``join_tolerance``) or ``polygon = [[x, y], ...]``
+with ``islands = [[[x, y], ...], ...]``; ``tolerance`` is the chordal tolerance of
+flattened arcs and splines (job units).
+"""
+
+from __future__ import annotations
+
+from shapely.geometry import Polygon
+
+from millpath.errors import JobError
+from millpath.io.schema import Param
+from millpath.part.drawing import Region, read_dxf, region_from_polygon, regions_from_loops
+
+GEOMETRY_PARAMS = {
+    "dxf": Param("path", None, doc="DXF drawing of the contours"),
+    "layer": Param("str", None, doc="DXF layer (default: all layers)"),
+    "join_tolerance": Param("float", None, positive=True,
+                            doc="largest gap closed between entity ends (default 10 x tolerance)", unit="length"),
+    "polygon": Param("points", None, doc="outer contour [[x, y], ...]"),
+    "islands": Param("list", None, doc="islands [[[x, y], ...], ...] inside the polygon"),
+    "tolerance": Param("float", None, positive=True,
+                       doc="chordal tolerance (default 0.01 mm / 0.0005 in)", unit="length"),
+}
+
+
+def default_tolerance(units: str) -> float:
+    return 0.0005 if units == "inch" else 0.01
+
+
+def load_regions(params: dict, units: str, file=None) -> list[Region]:
+    """The regions (outer contour with islands) the operation's keys describe."""
+    tol = params["tolerance"] or default_tolerance(units)
+    if (params["dxf"] is None) == (params["polygon"] is None):
+        raise JobError("give exactly one of dxf (a drawing) or polygon (points)", file)
+    if params["dxf"] is not None:
+        if params["islands"] is not None:
+            raise JobError("islands: not used with dxf (islands are the drawing's inner "
+                           "contours)", file)
+        loops = read_dxf(params["dxf"], units, tol, layer=params["layer"],
+                         join_tolerance=params["join_tolerance"])
+        return regions_from_loops(loops, params["dxf"])
+    islands = params["islands"] or []
+    for k, q in enumerate(islands):
+        if (not isinstance(q, list) or len(q) < 3
+                or not all(isinstance(p, list) and len(p) in (2, 3) and all(
+                    isinstance(v, (int, float)) and not isinstance(v, bool) for v in p)
+                    for p in q)):
+            raise JobError(f"islands[{k}]: expected a list of at least 3 points [x, y]", file)
+    return [region_from_polygon(params["polygon"], islands, file)]
+
+
+def union_polygon(regions: list[Region]) -> Polygon:
+    """All regions as one (multi)polygon."""
+    from shapely.ops import unary_union
+    return unary_union([r.polygon for r in regions])
