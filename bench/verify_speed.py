@@ -98,7 +98,7 @@ def main() -> None:
         from millpath.job.jobfile import load_job
         job = load_job(Path(__file__).resolve().parents[1] / "millpath/examples/surface-mould/job.toml")
         tp, results, st = P.plan_job(job)
-        tp = P._fit(job, tp)
+        tp = P.fit_job(job, tp)
         prog, ml = _program(tp, job.tools)
         from millpath.interpret import interpret
         refs = None

@@ -23,6 +23,7 @@ from numba import njit, prange
 
 from millpath.geometry.convex import (BALL, BULL, CYL, DRILL, FLAT, depth, meets, shape_rings,
                                       support_swept)
+from millpath.geometry.distance import ball_core, core_triangle_dist2
 from millpath.geometry.index import BoxIndex, bucket_range, first_bucket
 from millpath.model.tool import Tool
 
@@ -82,8 +83,14 @@ def _gouge_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn,
         P0 = S[c]
         P1 = E[c]
         sp = np.empty(3)
+        Q1 = np.empty((3, 3))
+        Q2 = np.empty((3, 3))
         for j in range(nshape[s]):
             Rj = R[s, j]
+            is_ball = kind[s, j] == BALL
+            flat_core = False
+            if is_ball:
+                flat_core = ball_core(P0, P1, Rj, L[s, j], Q1, Q2)
             nr0, rho0 = shape_rings(kind[s, j], Rj, rc[s, j], k[s, j], zb[s, j], L[s, j], e0,
                                     rr, rh)
             if nr0 == 0:
@@ -116,8 +123,14 @@ def _gouge_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn,
                         if sp[0] * nx + sp[1] * ny + sp[2] * nz > pd:
                             continue
                         lo = e0 if e0 > best else best
-                        d = depth(tri[t], P0, P1, kind[s, j], Rj, rc[s, j], k[s, j],
-                                  zb[s, j], L[s, j], lo, tol, rr, rh)
+                        if is_ball:     # exact: R - distance to the swept core
+                            d2 = core_triangle_dist2(tri[t], flat_core, Q1, Q2)
+                            d = Rj - math.sqrt(d2)
+                            if d < lo:
+                                continue
+                        else:
+                            d = depth(tri[t], P0, P1, kind[s, j], Rj, rc[s, j], k[s, j],
+                                      zb[s, j], L[s, j], lo, tol, rr, rh)
                         if d > best:
                             best = d
                             bt = t

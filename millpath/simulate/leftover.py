@@ -16,7 +16,8 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from millpath.geometry.convex import meets, shape_rings
+from millpath.geometry.convex import BALL, meets, shape_rings
+from millpath.geometry.distance import ball_core, core_segment_dist2
 from millpath.geometry.index import BoxIndex, bucket_range, first_bucket
 
 
@@ -209,6 +210,8 @@ def _left(P, N, U0, S, E, slot, kind, R, rc, k, zb, L, clo, chi, start, items, b
         rr = np.empty(3)
         rh = np.empty(3)
         T = np.empty((3, 3))
+        Q1 = np.empty((3, 3))
+        Q2 = np.empty((3, 3))
         p = P[q]
         n = N[q]
         U = U0[q]
@@ -235,6 +238,31 @@ def _left(P, N, U0, S, E, slot, kind, R, rc, k, zb, L, clo, chi, start, items, b
                                 or clo[c, 1] > qy1 or chi[c, 2] < qz0 or clo[c, 2] > qz1):
                             continue
                         s = slot[c]
+                        if kind[s, 0] == BALL:      # exact distances to the swept core
+                            Rb = R[s, 0]
+                            R2 = Rb * Rb
+                            fc = ball_core(S[c], E[c], Rb, L[s, 0], Q1, Q2)
+                            if core_segment_dist2(p[0], p[1], p[2], p[0] + n[0] * U,
+                                                  p[1] + n[1] * U, p[2] + n[2] * U,
+                                                  fc, Q1, Q2) > R2:
+                                continue
+                            who = c
+                            if core_segment_dist2(p[0], p[1], p[2], p[0], p[1], p[2],
+                                                  fc, Q1, Q2) <= R2:
+                                U = 0.0
+                                break
+                            lo = 0.0
+                            hi = U
+                            while hi - lo > tol:
+                                mid = 0.5 * (lo + hi)
+                                if core_segment_dist2(p[0], p[1], p[2], p[0] + n[0] * mid,
+                                                      p[1] + n[1] * mid, p[2] + n[2] * mid,
+                                                      fc, Q1, Q2) <= R2:
+                                    hi = mid
+                                else:
+                                    lo = mid
+                            U = hi
+                            continue
                         nr, rho = shape_rings(kind[s, 0], R[s, 0], rc[s, 0], k[s, 0], 0.0,
                                               L[s, 0], 0.0, rr, rh)
                         if nr == 0:

@@ -172,7 +172,8 @@ def test_cli_design_is_used_and_reported(tmp_path):
     (tmp_path / "t.tbl").write_text("T1 P1 D6 Z50\n")
     res = CliRunner().invoke(cli, ["simulate", str(tmp_path / "p.ngc"), "--tools",
                                    str(tmp_path / "t.tbl"), "--stock", "-20,-20,-10,5,20,0",
-                                   "--design", str(tmp_path / "part.stl"), "--json"])
+                                   "--design", str(tmp_path / "part.stl"), "--json",
+                                   "--machine-units", "mm"])
     assert res.exit_code == 0, res.output
     j = json.loads(res.output)
     assert j["max_gouge"] == pytest.approx(0.02, abs=TOL)
@@ -200,7 +201,8 @@ def test_cli_bad_design(tmp_path, case):
     (tmp_path / "t.tbl").write_text("T1 P1 D6 Z50\n")
     res = CliRunner().invoke(cli, ["simulate", str(tmp_path / "p.ngc"), "--tools",
                                    str(tmp_path / "t.tbl"), "--stock", "-20,-20,-10,5,20,0",
-                                   "--design", str(p), "--json"])
+                                   "--design", str(p), "--json",
+                                   "--machine-units", "mm"])
     assert res.exit_code == 1
     out = res.output.strip()
     assert "Traceback" not in out and len(out.splitlines()) == 1, out
