@@ -328,9 +328,24 @@ def material_left(points, normals, owner, stock_box, triangles, tri_index: BoxIn
     chi[:, :2] += Rc[:, None]
     chi[:, 2] += Lc
     cidx = BoxIndex.build(clo, chi)
-    _left(P, N, U0, S, E, np.ascontiguousarray(slot, np.int64), *shapes.arrays()[:6],
+    slot = np.ascontiguousarray(slot, np.int64)
+    # rays near the design first (few chords near a short ray), then the full length
+    # only where nothing cut within ``near``
+    near = margin / 4.0
+    U1 = np.minimum(U0, near)
+    _left(P, N, U1, S, E, slot, *shapes.arrays()[:6],
           cidx.lo, cidx.hi, cidx.start, cidx.items, cidx.bi0, cidx.bj0, cidx.x0, cidx.y0,
           cidx.bs, cidx.nbx, cidx.nby, accuracy / 20.0, out, who)
+    far = np.flatnonzero((out >= U1) & (U0 > U1))
+    if len(far):
+        o2 = np.zeros(len(far))
+        w2 = np.full(len(far), -1, np.int64)
+        _left(np.ascontiguousarray(P[far]), np.ascontiguousarray(N[far]), U0[far], S, E,
+              slot, *shapes.arrays()[:6], cidx.lo, cidx.hi, cidx.start, cidx.items,
+              cidx.bi0, cidx.bj0, cidx.x0, cidx.y0, cidx.bs, cidx.nbx, cidx.nby,
+              accuracy / 20.0, o2, w2)
+        out[far] = o2
+        who[far] = w2
     _medial(P, N, np.ascontiguousarray(owner, np.int64), triangles, *tri_index.arrays(),
             margin, out)
     return out, who
