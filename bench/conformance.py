@@ -27,7 +27,6 @@ SKIP_RULES = [
     ("o-word calls to subroutine files, M98/M99", re.compile(r"m\s*9[89](?![\d])")),
     ("threading, probing, lathe or tapping cycles (G33 G38 G7 G8 G70-G76 G84 G86-G88)",
      re.compile(r"g\s*0*(33|38|7|8|70|71|72|73\.|74|76|84|86|87|88)(?![\d])")),
-    ("NURBS (G5.2/G5.3, G6.2)", re.compile(r"g\s*0*5\s*\.\s*[23]|g\s*0*6\s*\.\s*2")),
     ("G10 L0 or planes G17.1-G19.1",
      re.compile(r"g\s*10[^\n]*l\s*0(?![\d])|g\s*1[789]\s*\.\s*1")),
     ("I/O, M19, M70-M73, M98/M99, user M codes",

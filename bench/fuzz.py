@@ -1,6 +1,8 @@
 """Fuzz millpath's readers for a set time: crashes, hangs and memory blow-ups.
 
-    python bench/fuzz.py --minutes 5 --reader gcode [--reader tooltable] [--seed N]
+    python bench/fuzz.py --minutes 5 [--reader gcode --reader stl ...] [--seed N]
+
+Readers: gcode, tooltable, job, points, grid, bezier, toollib, p21, ap224, stl, dxf.
 
 Inputs come from hypothesis strategies (fixed seed, no shrinking, no example database);
 each case is written to a file and read in a worker process limited to ``--memory-gb``
@@ -131,6 +133,144 @@ def read_tooltable(path: Path) -> object:
 
 
 register("tooltable", TOOLTABLE, read_tooltable, ".tbl")
+
+
+# --- the file readers (mutations of valid inputs, tests/fuzz/mutate.py) ------------------
+def _mutated(text: str) -> st.SearchStrategy:
+    from tests.fuzz.mutate import mutated
+    return mutated(text)
+
+
+EXAMPLES = ROOT / "millpath" / "examples"
+STEP_TEXT = (ROOT / "tests" / "step" / "fixtures" / "plate_three_holes.stp").read_text()
+
+
+def read_job(path: Path) -> object:
+    """``millpath run PATH``'s loading: the job, its tools and the STEP file it names."""
+    from millpath.job.jobfile import load_job
+    part = path.parent / "part.stp"
+    if not part.exists():
+        part.write_text(STEP_TEXT)
+    return load_job(path)
+
+
+register("job", _mutated((EXAMPLES / "features-plate" / "job.toml").read_text()), read_job,
+         ".toml")
+
+
+def read_points(path: Path) -> object:
+    """A die-cavity / ``millpath drop`` points file."""
+    from millpath.io.text import read_number_rows
+    return read_number_rows(path, "x, y")
+
+
+register("points", _mutated("x, y\n0, 0\n10, 0\n10, 5\n0, 5  # a comment\n"), read_points,
+         ".csv")
+
+
+def read_grid(path: Path) -> object:
+    """A measured grid, meshed as a surface operation meshes it."""
+    from millpath.part.surface.load import grid_mesh
+    return grid_mesh(path, "cubic", 8)
+
+
+register("grid", _mutated("x,y,z\n" + "".join(f"{x},{y},{0.1 * x * y}\n"
+                                                for x in range(4) for y in range(4))),
+         read_grid, ".csv")
+
+
+def read_bezier(path: Path) -> object:
+    """A Bezier net file, meshed as a surface operation meshes it."""
+    from millpath.part.surface.load import load_surface
+    return load_surface(path.name, 8, path.parent)
+
+
+register("bezier", _mutated("box = [0, 0, 100, 80]\nheights = [[0, -1, 0], [-1, -5, -1], "
+                            "[0, -1, 0]]\n"), read_bezier, ".toml")
+
+
+def read_toollib(path: Path) -> object:
+    from millpath.io.toollib import read_tool_library
+    return read_tool_library(path)
+
+
+register("toollib", _mutated('[[tools]]\nnumber = 1\ntype = "ball"\ndiameter = 6\n'
+                             'stickout = 30\nholder = [[20, 40]]\n'), read_toollib, ".toml")
+
+
+def read_p21(path: Path) -> object:
+    """The ISO 10303-21 layer alone (any schema)."""
+    from millpath.part.step.p21 import read
+    return read(path)
+
+
+def read_ap224(path: Path) -> object:
+    """The AP224 feature layer (``millpath features``)."""
+    from millpath.part.step.ap224 import read_part
+    return read_part(path)
+
+
+register("p21", _mutated(STEP_TEXT), read_p21, ".stp")
+register("ap224", _mutated(STEP_TEXT), read_ap224, ".stp")
+
+
+def _stl_case(data: tuple) -> bytes:
+    import numpy as np
+    n, count, cut, values = data
+    rec = np.zeros(n, dtype=[("normal", "<f4", 3), ("v", "<f4", (3, 3)), ("attr", "<u2")])
+    v = np.resize(np.array(values or [0.0], dtype="<f4"), (n, 3, 3))
+    rec["v"] = v
+    body = rec.tobytes()
+    return (b"binary".ljust(80, b" ") + np.uint32(count if count is not None else n).tobytes()
+            + body[:cut if cut is not None else len(body)])
+
+
+STL = st.one_of(
+    st.tuples(st.integers(0, 8), st.one_of(st.none(), st.integers(0, 2**32 - 1)),
+              st.one_of(st.none(), st.integers(0, 500)),
+              st.lists(st.one_of(st.floats(width=32), st.sampled_from([3e38, -3e38, 0.0])),
+                       max_size=40)).map(_stl_case),
+    _mutated("solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 10 0 0\n"
+             "vertex 0 10 1\nendloop\nendfacet\nfacet normal 0 0 1\nouter loop\n"
+             "vertex 10 0 0\nvertex 10 10 1\nvertex 0 10 1\nendloop\nendfacet\n"
+             "endsolid x\n"))
+
+
+def read_stl_file(path: Path) -> object:
+    from millpath.part.surface.mesh import read_stl
+    return read_stl(path)
+
+
+register("stl", STL, read_stl_file, ".stl")
+
+
+def _dxf_text() -> str:
+    """A small valid drawing: a bulged pocket outline, a circle island, an arc and lines."""
+    import io
+    import ezdxf
+    doc = ezdxf.new("R2010")
+    doc.header["$INSUNITS"] = 4
+    msp = doc.modelspace()
+    msp.add_lwpolyline([(0, 0, 0, 0, 0), (60, 0, 0, 0, 0.4), (60, 40, 0, 0, 0), (0, 40)],
+                       format="xyseb", close=True, dxfattribs={"layer": "POCKET"})
+    msp.add_circle((30, 20), 6, dxfattribs={"layer": "ISLAND"})
+    msp.add_line((80, 0), (100, 0))
+    msp.add_arc((100, 10), 10, -90, 90)
+    msp.add_line((100, 20), (80, 20))
+    msp.add_spline([(80, 20), (75, 10), (80, 0)])
+    out = io.StringIO()
+    doc.write(out)
+    return out.getvalue()
+
+
+def read_dxf_file(path: Path) -> object:
+    """A pocket's drawing: loops, then the regions a pocket operation would build."""
+    from millpath.part.drawing.dxf import read_dxf
+    from millpath.part.drawing.region import regions_from_loops
+    return regions_from_loops(read_dxf(path, "mm", 0.01), file=path)
+
+
+register("dxf", _mutated(_dxf_text()), read_dxf_file, ".dxf")
 
 
 # --- worker process -----------------------------------------------------------------------

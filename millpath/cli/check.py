@@ -19,6 +19,7 @@ import numpy as np
 from millpath.errors import MillpathError
 from millpath.interpret import run
 from millpath.interpret.store import KINDS, MotionList
+from millpath.model.stock import Machine
 
 #: rapid rate assumed for the cycle time estimate, units per minute
 RAPID = {"mm": 5000.0, "inch": 200.0}
@@ -60,8 +61,8 @@ def _arc_points(a: dict[str, np.ndarray]) -> np.ndarray:
 
 
 def _lengths(a: dict[str, np.ndarray], controls: dict[int, tuple]) -> np.ndarray:
-    """Path length of each move (arcs and helices exact, cubics by sampling);
-    ``controls`` are the cubics' control points by index into the arrays."""
+    """Path length of each move (arcs and helices exact, cubics and NURBS by sampling);
+    ``controls`` are the curves' control points by index into the arrays."""
     start, end, center = a["start"], a["end"], a["center"]
     kind, rot, plane = a["kind"], a["rotation"], a["plane"]
     n = len(kind)
@@ -95,21 +96,42 @@ def _lengths(a: dict[str, np.ndarray], controls: dict[int, tuple]) -> np.ndarray
         pts = ((1 - t) ** 3 * p0 + 3 * (1 - t) ** 2 * t * p1 + 3 * (1 - t) * t ** 2 * p2
                + t ** 3 * p3)
         length[i] = float(np.sum(np.linalg.norm(np.diff(pts, axis=0), axis=1)))
+    for i in np.nonzero(kind == KINDS.index("nurbs"))[0]:
+        c = controls.get(int(i))
+        if c is not None:
+            length[i] = c.length()
     return length
+
+
+def _nurbs_points(a: dict[str, np.ndarray], controls: dict[int, tuple]) -> np.ndarray:
+    """Points along the NURBS moves (for the bounding box; chords within 1e-4 of
+    the curve's extent)."""
+    out = [np.zeros((0, 3))]
+    for i in np.nonzero(a["kind"] == KINDS.index("nurbs"))[0]:
+        c = controls.get(int(i))
+        if c is not None:
+            xy = c.sample(1e-4 * max(1e-3, c.extent()))
+            out.append(np.column_stack([xy, np.full(len(xy), a["start"][i, 2])]))
+    return np.vstack(out)
 
 
 class Summary:
     """Moves by kind, bounding box, feed length (units) and cycle time (seconds),
     gathered block by block from motion arrays (a ``MotionList`` sink)."""
 
-    def __init__(self) -> None:
+    def __init__(self, max_feed: dict[str, float] | None = None) -> None:
+        # feeds above the machine's limit run at it (units/min, by the program's units
+        # at the end, which a streaming summary does not know yet: both are kept)
+        self.caps = dict(max_feed or {"mm": math.inf, "inch": math.inf})
+        self.fast: dict[str, tuple[int, float] | None] = {u: None for u in self.caps}
+        self.fast_count = {u: 0 for u in self.caps}
+        self.feed_seconds = {u: 0.0 for u in self.caps}
         self.counts = np.zeros(len(KINDS), dtype=np.int64)
         self.lo = np.full(3, np.inf)
         self.first = True
         self.hi = np.full(3, -np.inf)
         self.feed_length = 0.0
         self.rapid_length = 0.0
-        self.feed_seconds = 0.0
         self.dwell_seconds = 0.0
 
     def add(self, a: dict[str, np.ndarray], states: list[tuple],
@@ -126,7 +148,8 @@ class Summary:
             if self.first:
                 starts[np.flatnonzero(moving)[0]] = False
                 self.first = False
-            pts = np.vstack([a["start"][starts], a["end"][moving], _arc_points(a)])
+            pts = np.vstack([a["start"][starts], a["end"][moving], _arc_points(a),
+                             _nurbs_points(a, controls)])
             self.lo = np.minimum(self.lo, pts.min(axis=0))
             self.hi = np.maximum(self.hi, pts.max(axis=0))
         traverse = kind == KINDS.index("traverse")
@@ -136,24 +159,32 @@ class Summary:
         inverse = np.array([st[3] == "inverse_time" for st in states], dtype=bool)
         f = a["feed"][cutting]
         inv = inverse[a["state"][cutting]]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            t = np.where(inv, 60.0 / f, length[cutting] / f * 60.0)
-        self.feed_seconds += float(t[f > 0].sum())
+        for u, cap in self.caps.items():
+            over = ~inv & (f > cap)
+            if np.any(over):
+                if self.fast[u] is None:
+                    k = int(np.flatnonzero(over)[0])
+                    self.fast[u] = (int(a["line"][cutting][k]), float(f[k]))
+                self.fast_count[u] += int(over.sum())
+            with np.errstate(divide="ignore", invalid="ignore"):
+                t = np.where(inv, 60.0 / f, length[cutting] / np.minimum(f, cap) * 60.0)
+            self.feed_seconds[u] += float(t[f > 0].sum())
         self.dwell_seconds += float(a["center"][kind == KINDS.index("dwell"), 0].sum())
 
     def result(self, units: str) -> dict:
         moving = int(self.counts.sum() - self.counts[KINDS.index("dwell")])
         bbox = [self.lo.tolist(), self.hi.tolist()] if moving else None
-        seconds = self.rapid_length / RAPID[units] * 60.0 + self.feed_seconds \
+        seconds = self.rapid_length / RAPID[units] * 60.0 + self.feed_seconds[units] \
             + self.dwell_seconds
         return {"units": units, "moves": {k: int(self.counts[i]) for i, k in enumerate(KINDS)},
                 "bbox": bbox, "feed_length": self.feed_length,
                 "rapid_length": self.rapid_length, "cycle_time_s": seconds}
 
 
-def summary(motions: MotionList, units: str) -> dict:
-    """Moves by kind, bounding box, feed length (units) and cycle time (seconds)."""
-    s = Summary()
+def summary(motions: MotionList, units: str, max_feed: float = math.inf) -> dict:
+    """Moves by kind, bounding box, feed length (units) and cycle time (seconds, feeds
+    capped at ``max_feed`` units/min)."""
+    s = Summary({units: max_feed})
     s.add(motions.arrays(), motions.states, motions.controls)
     return s.result(units)
 
@@ -165,16 +196,31 @@ def summary(motions: MotionList, units: str) -> dict:
 @click.option("--machine-units", type=click.Choice(["inch", "mm"]), default=None,
               help="Units of the tool table values when its header does not state them "
               "(default inch, as LinuxCNC's rs274).")
+@click.option("--tool", "spindle_tool", type=click.IntRange(min=0), default=0,
+              help="The tool already in the spindle when the program starts.")
+@click.option("--max-feed", type=float, default=None,
+              help="Machine's feed limit for the cycle time, program units/min (default "
+                   "3000 mm/min, 120 in/min); faster feeds are capped with a warning.")
 @click.option("--json", "as_json", is_flag=True, help="Print the motion as one JSON object.")
 def command(program: Path, tools: Path | None, machine_units: str | None,
-            as_json: bool) -> None:
+            spindle_tool: int, max_feed: float | None, as_json: bool) -> None:
     """Interpret PROGRAM.ngc as LinuxCNC 2.9 would and summarize or dump its motion."""
     from millpath.io.tooltable import file_table_units
+    if max_feed is not None and not (max_feed > 0 and math.isfinite(max_feed)):
+        raise MillpathError(f"--max-feed must be a positive feed, not {max_feed}")
     machine_units = (file_table_units(tools) if tools else None) or machine_units or "inch"
-    acc = None if as_json else Summary()
+    if max_feed is None:
+        caps = {u: Machine.default_for(u).max_feed for u in ("mm", "inch")}
+    else:
+        caps = {"mm": max_feed, "inch": max_feed}
+    acc = None if as_json else Summary(caps)
     # the summary streams: memory stays bounded whatever the program's length
-    result = run(program, tools, machine_units=machine_units,
-                 sink=None if acc is None else acc.add)
+    try:
+        result = run(program, tools, machine_units=machine_units,
+                     sink=None if acc is None else acc.add, spindle_tool=spindle_tool)
+    except ValueError:
+        raise MillpathError(f"--tool {spindle_tool}: no such tool in the tool table "
+                            "(give --tools with it)", program) from None
     err = result.error
     if as_json:
         out = {"units": result.units,
@@ -190,6 +236,11 @@ def command(program: Path, tools: Path | None, machine_units: str | None,
     result.motions.flush(force=True)
     s = acc.result(result.units)
     u = s["units"]
+    fast = acc.fast[u]
+    if fast is not None:
+        from millpath.cli.programs import feed_warning
+        click.echo(feed_warning(program, fast[0], fast[1], acc.fast_count[u], acc.caps[u], u),
+                   err=True)
     click.echo(f"{program}: {sum(s['moves'].values())} moves, units {u}")
     click.echo("  " + ", ".join(f"{k} {v}" for k, v in s["moves"].items() if v))
     if s["bbox"]:
@@ -200,4 +251,5 @@ def command(program: Path, tools: Path | None, machine_units: str | None,
                f"{s['rapid_length']:.3f} {u}")
     t = s["cycle_time_s"]
     clock = f"{int(t // 60)}:{t % 60:04.1f}" if math.isfinite(t) else "too long to express"
-    click.echo(f"  cycle time {clock} (rapids at {RAPID[u]:g} {u}/min)")
+    click.echo(f"  cycle time {clock} (rapids at {RAPID[u]:g} {u}/min, feeds at most "
+               f"{acc.caps[u]:g} {u}/min)")

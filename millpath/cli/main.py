@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import importlib
 import sys
+import logging
 import warnings
 
 import click
@@ -38,8 +39,22 @@ def _show_warning(message, category, filename, lineno, file=None, line=None) -> 
 
 
 class _Group(click.Group):
+    # commands are imported when used: `check` does not pay for `run`'s imports
+    def list_commands(self, ctx: click.Context) -> list[str]:
+        return list(COMMANDS)
+
+    def get_command(self, ctx: click.Context, name: str):
+        if name not in COMMANDS:
+            return None
+        return importlib.import_module(f"millpath.cli.{name}").command
+
     def invoke(self, ctx: click.Context):
         debug = bool(ctx.params.get("debug"))
+        if not debug:
+            # libraries that log (ezdxf's "Ignored invalid DXF entity", numba) carry no
+            # news for a user; millpath's own findings are warnings or errors
+            logging.getLogger().addHandler(logging.NullHandler())
+            logging.getLogger().setLevel(logging.CRITICAL)
         with warnings.catch_warnings():
             if not debug:
                 warnings.simplefilter("ignore")
@@ -75,10 +90,6 @@ def _fail(debug: bool, message: str, status: int) -> None:
 def cli(ctx: click.Context, debug: bool) -> None:
     """millpath: part definitions to verified RS274NGC (LinuxCNC) programs."""
     ctx.obj = {"debug": debug}
-
-
-for _name in COMMANDS:
-    cli.add_command(importlib.import_module(f"millpath.cli.{_name}").command, _name)
 
 
 def main() -> None:

@@ -48,16 +48,29 @@ def read_tools(path: Path | None, units: str, table_k: float = 1.0):
         return tools, tools
     from millpath.io.tooltable import read_tool_table
     entries = read_tool_table(path)
-    tools = {e.number: Tool(e.number, "flat", e.diameter * table_k, comment=e.comment)
-             for e in entries if e.diameter > 0}
+    # A table gives the diameter and the gauge length (Z), not the flutes, shank or holder:
+    # the cutter is taken to run the whole gauge length (no shank, no holder), so no holder
+    # contact is invented; a TOML library gives the real holder.
+    tools = {}
+    for e in entries:
+        if e.diameter > 0:
+            reach = e.offsets.get("Z", 0.0) * table_k
+            reach = reach if reach > 0 else 1e6
+            tools[e.number] = Tool(e.number, "flat", e.diameter * table_k, flute_length=reach,
+                                   stickout=reach, comment=e.comment)
     return tools, path
 
 
-def interpret_program(program: Path, tool_arg, units: str):
-    """Interpret ``program`` with machine units ``units``; an error raises
-    :class:`millpath.interpret.InterpreterError` naming the line."""
+def interpret_program(program: Path, tool_arg, units: str, spindle_tool: int = 0):
+    """Interpret ``program`` with machine units ``units`` (``spindle_tool`` already in the
+    spindle); an error raises :class:`millpath.interpret.InterpreterError` naming the
+    line."""
     from millpath.interpret import InterpreterError, run
-    res = run(program, tool_arg, machine_units=units)
+    try:
+        res = run(program, tool_arg, machine_units=units, spindle_tool=spindle_tool)
+    except ValueError:
+        raise MillpathError(f"--tool {spindle_tool}: no such tool in the tool table "
+                            "(give --tools with it)", program) from None
     if res.error is not None:
         raise InterpreterError(res.error.line, res.error.message, res.motions, program)
     return res
@@ -95,6 +108,43 @@ def read_design(path: Path, units: str, stock=None):
     return design, [Reference(orient_outward(tri), path.name, None)]
 
 
+CUTTING = ("feed", "arc", "cubic", "nurbs")
+
+
+def feed_warning(program: Path, line: int, feed: float, count: int, max_feed: float,
+                 units: str) -> str:
+    """One line: the first feed above the machine's limit, by its program line."""
+    more = (f" ({count - 1} more move{'s' if count > 2 else ''} above it)" if count > 1
+            else "")
+    return (f"millpath: warning: {program}:{line}: feed F{feed:.10g} {units}/min exceeds the "
+            f"machine's max_feed {max_feed:g} {units}/min; the cycle time assumes "
+            f"{max_feed:g}{more}")
+
+
+def check_feeds(motions, max_feed: float) -> tuple[int, float, int] | None:
+    """(line, feed, count) of the cutting moves faster than ``max_feed`` (units per
+    minute; inverse-time moves are not compared), or None."""
+    over = [m for m in motions if m.kind in CUTTING and m.feed_mode != "inverse_time"
+            and m.feed > max_feed]
+    if not over:
+        return None
+    return over[0].line, over[0].feed, len(over)
+
+
+def default_resolution(stock, motions, tools: dict) -> float:
+    """The stock's longer side / 1000, at most a tenth of the smallest tool that cuts
+    (feeds, arcs, splines; else that moves) in the program: tools of the table the
+    program never uses do not count."""
+    w, h, _ = stock.size
+    resolution = max(w, h) / 1000.0
+    cutting = {m.tool for m in motions if m.kind in CUTTING and m.tool != 0}
+    moving = {m.tool for m in motions if m.kind != "dwell" and m.tool != 0}
+    used = [t for t in (cutting or moving) if t in tools]
+    if used:
+        resolution = min(resolution, min(tools[t].diameter for t in used) / 10.0)
+    return resolution
+
+
 @dataclass
 class SimulatedProgram:
     """A program interpreted and simulated on its stock (program units)."""
@@ -111,14 +161,19 @@ class SimulatedProgram:
 def simulate_program(program: Path, tools_path: Path | None, stock_text: str,
                      design_path: Path | None, resolution: float | None, *,
                      progress: bool = False,
-                     machine_units: str | None = None) -> SimulatedProgram:
+                     machine_units: str | None = None, spindle_tool: int = 0,
+                     max_feed: float | None = None) -> SimulatedProgram:
     """Interpret ``program`` and simulate it on the stock. A LinuxCNC tool table is in
     the machine's units: those its header states, else ``machine_units``, else inch
     (as LinuxCNC's rs274); a TOML tool library is in the program's units (read in mm
     first, again in inch if the program says G20).
 
-    Default ``resolution``: the stock's longer side / 1000, at most a tenth of the
-    smallest tool used."""
+    ``spindle_tool``: the tool in the spindle when the program starts (LinuxCNC's
+    sample programs assume one). ``max_feed`` (units/min, program units; default the
+    machine's, 3000 mm/min or 120 in/min) caps the feeds of the cycle time; a one-line
+    warning names the first line whose feed is above it.
+
+    Default ``resolution``: see :func:`default_resolution`."""
     from millpath.model.stock import Machine
     from millpath.simulate import simulate_motions
 
@@ -131,17 +186,17 @@ def simulate_program(program: Path, tools_path: Path | None, stock_text: str,
             tools_path.suffix.lower() != ".toml":
         from millpath.io.tooltable import file_table_units
         mu = file_table_units(tools_path) or machine_units or "inch"
-        res = interpret_program(program, tools_path, mu)
+        res = interpret_program(program, tools_path, mu, spindle_tool)
         units = res.units
         k = 1.0 if mu == units else (25.4 if mu == "inch" else 1.0 / 25.4)
         tools, tool_arg = read_tools(tools_path, units, k)
     else:
         tools, tool_arg = read_tools(tools_path, "mm")
-        res = interpret_program(program, tool_arg, "mm")
+        res = interpret_program(program, tool_arg, "mm", spindle_tool)
         units = res.units
         if units == "inch":
             tools, tool_arg = read_tools(tools_path, "inch")
-            res = interpret_program(program, tool_arg, "inch")
+            res = interpret_program(program, tool_arg, "inch", spindle_tool)
     design, refs = (read_design(design_path, units, stock) if design_path is not None
                     else (None, None))
     motions = list(res.motions)
@@ -153,17 +208,24 @@ def simulate_program(program: Path, tools_path: Path | None, stock_text: str,
                     if tools_path else "; give --tools")
             raise MillpathError(f"tool {t} is not defined{hint}", program, line)
     if not used and any(m.kind != "dwell" for m in motions):
-        click.echo("millpath: warning: no tool is loaded (T.. M6): nothing is cut", err=True)
+        click.echo("millpath: warning: no tool is loaded (T.. M6, or --tool N for the tool "
+                   "already in the spindle): nothing is cut", err=True)
     if resolution is None:
-        w, h, _ = stock.size
-        resolution = max(w, h) / 1000.0
-        if used:
-            resolution = min(resolution, min(tools[t].diameter for t in used) / 10.0)
+        resolution = default_resolution(stock, motions, tools)
     if not (resolution > 0 and math.isfinite(resolution)):
         raise MillpathError(f"--resolution must be a positive length, not {resolution}")
+    machine = Machine.default_for(units)
+    if max_feed is not None:
+        if not (max_feed > 0 and math.isfinite(max_feed)):
+            raise MillpathError(f"--max-feed must be a positive feed, not {max_feed}")
+        machine = Machine(machine.rapid, max_feed, machine.acceleration)
+    fast = check_feeds(motions, machine.max_feed)
+    if fast is not None:
+        click.echo(feed_warning(program, fast[0], fast[1], fast[2], machine.max_feed, units),
+                   err=True)
     try:
         r = simulate_motions(motions, tools, stock, resolution=resolution, design=design,
-                             machine=Machine.default_for(units), progress=progress,
+                             machine=machine, progress=progress,
                              references=refs, accuracy=0.001 if units == "mm" else 0.00004)
     except ValueError as e:                    # --resolution too fine, a tool's shape
         raise MillpathError(str(e), program) from None

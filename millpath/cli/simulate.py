@@ -29,24 +29,32 @@ from millpath.cli.programs import simulate_program
                    "exact gouge and material-left checks (normal to the design).")
 @click.option("--resolution", type=float, default=None,
               help="Z-map cell size (default: stock size / 1000, at most D/10 of the "
-                   "smallest tool).")
+                   "smallest tool the program cuts with).")
 @click.option("--machine-units", type=click.Choice(["inch", "mm"]), default=None,
               help="Units of a tool table whose header does not state them (default "
               "inch, as LinuxCNC's rs274).")
+@click.option("--tool", "spindle_tool", type=click.IntRange(min=0), default=0,
+              help="The tool already in the spindle when the program starts (LinuxCNC's "
+                   "sample programs assume one; no length offset until G43).")
+@click.option("--max-feed", type=float, default=None,
+              help="Machine's feed limit for the cycle time, program units/min (default "
+                   "3000 mm/min, 120 in/min); faster feeds are capped with a warning.")
 @click.option("--json", "as_json", is_flag=True, help="Print the results as JSON.")
 @click.option("--png", "png", type=click.Path(path_type=Path), default=None,
               help="Write a shaded picture of the stock (and FILE_deviation.png with "
                    "--design).")
 def command(program: Path, tools_path: Path | None, stock_text: str,
             design_path: Path | None, resolution: float | None, machine_units: str | None,
-            as_json: bool, png: Path | None) -> None:
+            spindle_tool: int, max_feed: float | None, as_json: bool,
+            png: Path | None) -> None:
     """Simulate PROGRAM on a block of stock: removed volume, gouges, material left,
     rapids through material, holder contacts and cycle time."""
     from millpath.simulate import render_deviation, render_stock
 
     sp = simulate_program(program, tools_path, stock_text, design_path, resolution,
                           progress=not as_json and sys.stderr.isatty(),
-                          machine_units=machine_units)
+                          machine_units=machine_units, spindle_tool=spindle_tool,
+                          max_feed=max_feed)
     r, design, units, motions = sp.result, sp.design, sp.units, sp.motions
     resolution = sp.resolution
     if png is not None:
@@ -76,5 +84,7 @@ def command(program: Path, tools_path: Path | None, stock_text: str,
     click.echo(f"rapids through material  {j['rapids_through_material']}"
                + (f" (lines {', '.join(map(str, r.rapid_lines[:10]))})" if r.rapid_lines else ""))
     click.echo(f"holder contacts          {j['holder_contacts']}"
-               + (f" (lines {', '.join(map(str, r.holder_lines[:10]))})" if r.holder_lines else ""))
+               + (f" (lines {', '.join(map(str, r.holder_lines[:10]))})" if r.holder_lines else "")
+               + ("" if tools_path is None or tools_path.suffix.lower() == ".toml" else
+                  " (holders not checked: a tool table has no holder; use a .toml library)"))
     click.echo(f"cycle time       {j['cycle_time_s']:.1f} s")

@@ -28,15 +28,17 @@ from millpath.errors import MillpathError
                    "is coloured by deviation from it.")
 @click.option("--resolution", type=float, default=None,
               help="Z-map cell size (default: stock size / 1000, at most D/10 of the "
-                   "smallest tool).")
+                   "smallest tool the program cuts with).")
+@click.option("--tool", "spindle_tool", type=click.IntRange(min=0), default=0,
+              help="The tool already in the spindle when the program starts.")
 @click.option("--tolerance", type=float, default=None,
               help="Deviation drawn as neutral (default 0.01 mm / 0.0005 inch); the page "
                    "can change it.")
 @click.option("-o", "--output", "output", type=click.Path(path_type=Path),
               default=Path("view.html"), show_default=True, help="HTML file to write.")
 def command(program: Path, tools_path: Path | None, stock_text: str,
-            design_path: Path | None, resolution: float | None, tolerance: float | None,
-            output: Path) -> None:
+            design_path: Path | None, resolution: float | None, spindle_tool: int,
+            tolerance: float | None, output: Path) -> None:
     """Write an interactive 3D view of PROGRAM: tool path, stock, simulated stock
     coloured by deviation from the design, and a player that runs it move by move."""
     from millpath.report.viewer import write_view
@@ -45,7 +47,7 @@ def command(program: Path, tools_path: Path | None, stock_text: str,
     if tolerance is not None and not tolerance >= 0:
         raise MillpathError(f"--tolerance must be a length >= 0, not {tolerance}")
     sp = simulate_program(program, tools_path, stock_text, design_path, resolution,
-                          progress=sys.stderr.isatty())
+                          progress=sys.stderr.isatty(), spindle_tool=spindle_tool)
     motions = approach_from_above(sp.motions, sp.stock.zmax)
     if not motions:
         raise MillpathError("the program has no motion to show", program)

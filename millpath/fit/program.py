@@ -1,6 +1,8 @@
 """Fit the linear runs of an existing RS274NGC (LinuxCNC) program.
 
-The program is read line by line with just enough of the interpreter's modal state to
+The program is read line by line by the interpreter's lexer (:mod:`millpath.gcode.lexer`,
+one grammar for both: any word order, case, spacing, comments), with just enough of the
+interpreter's modal state to
 know where the tool is: units (G20/G21), distance mode (G90/G91, G90.1/G91.1), plane,
 motion mode, feed mode, cutter compensation. A *fittable* block is a straight feed in
 absolute coordinates (G90, G94, no compensation) that holds only ``N``, ``G1``, ``X``,
@@ -28,12 +30,12 @@ import re
 import numpy as np
 
 from millpath.errors import MillpathError
+from millpath.gcode.errors import GCodeError
+from millpath.gcode.lexer import MAX_PARAM, normalize, read_block
 from millpath.fit import FitSettings, fit_points
 from millpath.fit.segment import PLANE_NAMES, PLANES
 
-_WORD = re.compile(r"([A-Za-z])\s*([-+]?(?:\d+\.?\d*|\.\d+))")
-_ALL_WORDS = re.compile(r"(?:\s*[A-Za-z]\s*[-+]?(?:\d+\.?\d*|\.\d+))*\s*$")
-_COMMENT = re.compile(r"\([^)]*\)|;.*$")
+_OWORD = re.compile(r"(?:/)?(?:n[\d.]*)?o")     # normalized text of an O-word line
 _PLANE_CODE = {"XY": "G17", "XZ": "G18", "YZ": "G19"}
 _IJK = "IJK"
 # G codes that change neither the position nor how a G1 run is read
@@ -74,34 +76,64 @@ class _State:
         return all(p is not None for p in self.pos)
 
 
+class _AnyName(dict):
+    """Named parameters for reading a block's codes only: every name reads as 0."""
+
+    def __contains__(self, key) -> bool:
+        return True
+
+    def __missing__(self, key) -> float:
+        return 0.0
+
+
+_ZEROS = [0.0] * MAX_PARAM
+
+
 class _Block:
-    """One parsed line: G codes, other words, and whether it can join a run."""
+    """One line read by the interpreter's lexer (:mod:`millpath.gcode.lexer`): G codes,
+    M codes, other words with their written numbers, and whether it can join a run.
+
+    Lines with parameters, expressions, O-words or block delete are *opaque*: their
+    codes are read (parameters as 0) to follow the motion mode, their position is not.
+    """
 
     def __init__(self, raw: str):
         self.raw = raw
-        body = raw.strip()
-        self.comment = ("(" in body or ";" in body) and bool(_COMMENT.search(body))
-        code = _COMMENT.sub("", body).strip() if self.comment else body
-        self.opaque = code.startswith("/")       # block delete: optional, not followed
-        if self.opaque:
-            code = code[1:]
-        self.empty = code == "" or code == "%"
-        if not _ALL_WORDS.match(code) or "#" in code or "[" in code:
-            self.opaque = True                   # expressions, parameters, O-words
         self.g: list[float] = []
+        self.m: list[int] = []
         self.words: dict[str, float] = {}
         self.text: dict[str, str] = {}
-        for letter, num in _WORD.findall(code):
-            letter = letter.upper()
-            if letter == "G":
-                self.g.append(round(float(num), 2))
-            elif letter in self.words and letter != "M":
-                self.opaque = True               # repeated word: leave to LinuxCNC
-            else:
-                self.words[letter] = float(num)
-                self.text[letter] = num
-            if letter == "O":
-                self.opaque = True
+        self.comment = False
+        self.opaque = False
+        self.unknown = False            # codes unread (an O-word, a line rs274 refuses)
+        body = raw.strip()
+        self.empty = body == "" or body == "%"
+        if self.empty:
+            return
+        try:
+            norm, _ = normalize(raw)
+        except GCodeError:
+            self.opaque = self.unknown = True
+            return
+        self.comment = "(" in norm or ";" in raw
+        core = norm.replace("(", "")
+        self.empty = core == ""
+        if self.empty:
+            return
+        if core.startswith("/") or "#" in core or "[" in core:
+            self.opaque = True
+        if _OWORD.match(core):
+            self.opaque = self.unknown = True
+            return
+        try:
+            blk = read_block(raw, 0, _ZEROS, _AnyName())
+        except GCodeError:
+            self.opaque = self.unknown = True
+            return
+        self.g = [round(code / 10.0, 1) for code in blk.g.values()]
+        self.m = list(blk.m.values())
+        self.words = {k.upper(): v for k, v in blk.words.items()}
+        self.text = {k.upper(): v for k, v in blk.literal.items()}
 
 
 def _apply(st: _State, b: _Block) -> None:
@@ -109,7 +141,8 @@ def _apply(st: _State, b: _Block) -> None:
     far as the fitter needs it)."""
     if b.opaque:
         st.pos = [None, None, None]
-        st.motion = None if any(g in _MOTION_G for g in b.g) else st.motion
+        if b.unknown or any(g in _MOTION_G for g in b.g):
+            st.motion = None
         return
     w = b.words
     lost = False
@@ -148,7 +181,7 @@ def _apply(st: _State, b: _Block) -> None:
             lost = True                      # G10, G28, G30, G52, G53, G54.., G92, ...
     if "F" in w:
         st.feed = w["F"]
-    if "M" in w and w["M"] in (6.0, 61.0):
+    if 6 in b.m or 61 in b.m:
         lost = True                          # a tool change may move the tool
     axes = [a for a in "XYZ" if a in w]
     moved = bool(axes) and not any(g in (4.0, 10.0, 28.0, 30.0, 52.0, 92.0) for g in b.g)
@@ -182,9 +215,9 @@ def _apply(st: _State, b: _Block) -> None:
 
 def _fittable(st: _State, b: _Block) -> bool:
     """Can block ``b`` (given the state before it) join a run of G1 moves?"""
-    if b.opaque or b.comment or b.empty:
+    if b.opaque or b.comment or b.empty or b.m:
         return False
-    if any(l not in "NGXYZF" for l in b.words) or not any(a in b.words for a in "XYZ"):
+    if any(l not in "XYZF" for l in b.words) or not any(a in b.words for a in "XYZ"):
         return False
     if any(g != 1.0 for g in b.g):
         return False

@@ -33,20 +33,22 @@ def _text(program: str | Path) -> tuple[str, str | None]:
 
 
 def run(program: str | Path, tools=None, *, machine_units: str = "inch",
-        sink=None) -> InterpretResult:
+        sink=None, spindle_tool: int = 0) -> InterpretResult:
     """Interpret a program; G-code errors are reported in ``result.error``. With
     ``sink(arrays, states, controls)``, motion streams to it in blocks and only the last
-    block stays in ``result.motions`` (see :class:`MotionList`)."""
+    block stays in ``result.motions`` (see :class:`MotionList`). ``spindle_tool``: the
+    tool already in the spindle at the start (ValueError if not in ``tools``)."""
     text, _ = _text(program)
-    units, motions, err = run_program(text, tools, machine_units, sink)
+    units, motions, err = run_program(text, tools, machine_units, sink, spindle_tool)
     info = InterpreterErrorInfo(err[0], err[1]) if err else None
     return InterpretResult(units=units, motions=motions, error=info)
 
 
-def interpret(program: str | Path, tools=None, *, machine_units: str = "inch") -> MotionList:
+def interpret(program: str | Path, tools=None, *, machine_units: str = "inch",
+              spindle_tool: int = 0) -> MotionList:
     """Interpret a program and return its motion; raise InterpreterError on an error."""
     text, name = _text(program)
-    units, motions, err = run_program(text, tools, machine_units)
+    units, motions, err = run_program(text, tools, machine_units, spindle_tool=spindle_tool)
     if err:
         raise InterpreterError(err[0], err[1], motions, name)
     return motions

@@ -17,7 +17,7 @@ from millpath.interpret.errors import GCodeError
 from millpath.interpret.store import KIND_CODE, PACK, PLANE_CODE
 
 LEFT, RIGHT = 2, 1
-_atan2, _cos, _sin = math.atan2, math.cos, math.sin
+_atan2, _cos, _sin, _hypot = math.atan2, math.cos, math.sin, math.hypot
 T_ARC = KIND_CODE["arc"]
 T_DWELL = KIND_CODE["dwell"]
 PI = math.pi
@@ -353,15 +353,6 @@ class CompMixin:
             self.prog = p
 
     # --- arcs -------------------------------------------------------------------------
-    def _comp_arc_center(self, move: int, r_word: float | None, sx: float, sy: float,
-                         ex: float, ey: float, off1: float,
-                         off2: float) -> tuple[float, float]:
-        if r_word is not None:
-            return arc_center_r(move == 20, self.units, sx, sy, ex, ey, r_word)
-        c1, c2, _, _ = arc_center_ijk(self.plane, self.units, sx, sy, ex, ey, self.ijk_abs,
-                                      off1, off2)
-        return c1, c2
-
     def arc_comp1(self, move: int, blk, end, off1: float, off2: float, turn: int,
                   feed: float) -> None:
         side = self.comp_side
@@ -408,17 +399,23 @@ class CompMixin:
                   off2: float, turn: int, feed: float) -> None:
         """A compensated arc after the entry move (``r_word``: the R value, or None for
         I/J/K centers ``off1``, ``off2``), LinuxCNC's convert_arc_comp2."""
-        opx, opy, opz = self._pc(self.prog)
-        cx, cy, cz = self._pc(self.cur)
-        end_x, end_y, end_z = self._pc(end)
-        centerx, centery = self._comp_arc_center(move, r_word, opx, opy, end_x, end_y, off1,
-                                                 off2)
+        a1, a2, an = self.axes
+        p, c = self.prog, self.cur
+        opx, opy = p[a1], p[a2]
+        cx, cy, cz = c[a1], c[a2], c[an]
+        end_x, end_y, end_z = end[a1], end[a2], end[an]
+        if r_word is not None:
+            centerx, centery = arc_center_r(move == 20, self.units, opx, opy, end_x, end_y,
+                                            r_word)
+        else:
+            centerx, centery, _, _ = arc_center_ijk(self.plane, self.units, opx, opy, end_x,
+                                                    end_y, self.ijk_abs, off1, off2)
         side = self.comp_side
         tool_radius = self.comp_radius
-        arc_radius = math.hypot(centerx - end_x, centery - end_y)
-        theta = math.atan2(cy - opy, cx - opx)
+        arc_radius = _hypot(centerx - end_x, centery - end_y)
+        theta = _atan2(cy - opy, cx - opx)
         theta = theta - HALF_PI if side == LEFT else theta + HALF_PI
-        delta = math.atan2(centery - opy, centerx - opx)
+        delta = _atan2(centery - opy, centerx - opx)
         alpha = delta - HALF_PI if move == 30 else delta + HALF_PI
         beta = theta - alpha if side == LEFT else alpha - theta
         if beta > 1.5 * PI:
@@ -426,15 +423,15 @@ class CompMixin:
         elif beta < -HALF_PI:
             beta += 2 * PI
         if (side == LEFT and move == 30) or (side == RIGHT and move == 20):
-            gamma = math.atan2(centery - end_y, centerx - end_x)
+            gamma = _atan2(centery - end_y, centerx - end_x)
             if arc_radius <= tool_radius:
                 raise GCodeError("Tool radius not less than arc radius with comp")
         else:
-            gamma = math.atan2(end_y - centery, end_x - centerx)
+            gamma = _atan2(end_y - centery, end_x - centerx)
             delta = delta + PI
-        new_end_x = end_x + tool_radius * math.cos(gamma)
-        new_end_y = end_y + tool_radius * math.sin(gamma)
-        inside = _inside(side, turn)
+        new_end_x = end_x + tool_radius * _cos(gamma)
+        new_end_y = end_y + tool_radius * _sin(gamma)
+        inside = (side == LEFT and turn > 0) or (side == RIGHT and turn < 0)
         if beta < -SMALL or beta > PI + SMALL or (abs(beta - PI) < SMALL and not inside):
             front = self.queue[0] if self.queue else None
             if front is None or front[0] != "A":
@@ -483,21 +480,30 @@ class CompMixin:
             self.enqueue_arc(line, find_turn(opx, opy, centerx, centery, turn, end_x, end_y),
                              new_end_x, new_end_y, centerx, centery, turn, end_z, feed)
         elif beta > SMALL:
-            midx = opx + tool_radius * math.cos(delta)
-            midy = opy + tool_radius * math.sin(delta)
+            midx = opx + tool_radius * _cos(delta)
+            midy = opy + tool_radius * _sin(delta)
             self.dequeue()
-            self.enqueue_arc(line, 0.0, midx, midy, opx, opy, -1 if side == LEFT else 1,
-                             cz, feed)
+            self.queue.append(["A", line, 0.0, midx, midy, opx, opy, -1 if side == LEFT else 1,
+                               cz, feed, self._state_idx])
             self.dequeue()
-            self.set_endpoint(midx, midy)
-            self.enqueue_arc(line, find_turn(opx, opy, centerx, centery, turn, end_x, end_y),
-                             new_end_x, new_end_y, centerx, centery, turn, end_z, feed)
+            self.endpoint = [midx, midy]
+            self.endpoint_valid = True
+            self.queue.append(["A", line, find_turn(opx, opy, centerx, centery, turn, end_x,
+                                                    end_y),
+                               new_end_x, new_end_y, centerx, centery, turn, end_z, feed,
+                               self._state_idx])
         else:
-            self.dequeue()
-            self.set_endpoint(cx, cy)
-            self.enqueue_arc(line, find_turn(opx, opy, centerx, centery, turn, end_x, end_y),
-                             new_end_x, new_end_y, centerx, centery, turn, end_z, feed)
-        if self.axes[0] == 0:
+            if self.queue:
+                self.dequeue()
+            else:
+                self.endpoint_valid = False
+            self.endpoint = [cx, cy]
+            self.endpoint_valid = True
+            self.queue.append(["A", line, find_turn(opx, opy, centerx, centery, turn, end_x,
+                                                    end_y),
+                               new_end_x, new_end_y, centerx, centery, turn, end_z, feed,
+                               self._state_idx])
+        if a1 == 0:
             self.prog = [end_x, end_y, end_z]
             self.cur = [new_end_x, new_end_y, end_z]
         else:

@@ -3,6 +3,9 @@
 from __future__ import annotations
 
 from millpath.errors import MillpathError
+from millpath.gcode.errors import GCodeError
+
+__all__ = ["InterpreterError", "GCodeError"]
 
 
 class InterpreterError(MillpathError):
@@ -16,10 +19,3 @@ class InterpreterError(MillpathError):
         super().__init__(message, file, line)
         self.motions = motions if motions is not None else []
 
-
-class GCodeError(Exception):
-    """Raised inside the interpreter; converted to InterpreterError with the line."""
-
-    def __init__(self, message: str):
-        super().__init__(message)
-        self.message = message

@@ -17,7 +17,7 @@ from math import hypot
 from millpath.interpret.errors import GCodeError
 from millpath.interpret.arcs import (RADIUS_TOLERANCE, SPIRAL_RELATIVE, SPIRAL_TOLERANCE,
                                      arc_center_r)
-from millpath.interpret.lexer import Block
+from millpath.gcode.lexer import Block
 from millpath.interpret.store import PACK, PLANE_CODE
 
 _NUM = r"([-+]?+(?:\d++\.?+\d*+|\.\d++))"

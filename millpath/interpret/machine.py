@@ -18,14 +18,15 @@ from millpath.interpret.arcs import arc_center_ijk, arc_center_r
 from millpath.interpret.comp import CompMixin
 from millpath.interpret.cycles import CycleMixin, CYCLES
 from millpath.interpret.errors import GCodeError
-from millpath.interpret.lexer import AXES, Block, c_int
+from millpath.gcode.lexer import AXES, Block, c_int
 from millpath.interpret.offsets import OffsetsMixin, rotate
+from millpath.model.nurbs import Nurbs
 from millpath.interpret.store import KIND_CODE, PACK, MotionList, PLANE_CODE
 
 PLANE_AXES = {"XY": (0, 1, 2), "XZ": (2, 0, 1), "YZ": (1, 2, 0)}
 PLANE_OF_G = {170: "XY", 180: "XZ", 190: "YZ"}
-T_TRAVERSE, T_FEED, T_ARC, T_CUBIC, T_DWELL = (KIND_CODE[k] for k in
-                                                ("traverse", "feed", "arc", "cubic", "dwell"))
+T_TRAVERSE, T_FEED, T_ARC, T_CUBIC, T_DWELL, T_NURBS = (
+    KIND_CODE[k] for k in ("traverse", "feed", "arc", "cubic", "dwell", "nurbs"))
 MM_PER_INCH = 25.4
 
 
@@ -68,6 +69,8 @@ class Machine(OffsetsMixin, CompMixin, CycleMixin):
         self.cycle_init()
         self.spline_i = 0.0
         self.spline_j = 0.0
+        self.nurbs_points: list[tuple[float, float, float]] = []    # G5.2 (x, y, w)
+        self.nurbs_order = 3
         self.store = MotionList()
         self._state_key = None
         self._state_idx = 0
@@ -253,13 +256,13 @@ class Machine(OffsetsMixin, CompMixin, CycleMixin):
             raise GCodeError("J word with no G2, G3, G5, G5.1, G10, G76 or G87 to use it")
         if "k" in w and motion not in (20, 30, 330, 331, 760, 870):
             raise GCodeError("K word with no G2, G3, G33, G33.1, G76, or G87 to use it")
-        if "l" in w and not (810 <= motion <= 890 or motion in (760, 520, 730) or g0 == 100
+        if "l" in w and not (810 <= motion <= 890 or motion in (760, 52, 730) or g0 == 100
                              or g7 in (410, 411, 420, 421) or m.get(5) == 66):
             raise GCodeError("L word with no G10, cutter compensation, canned cycle, "
                              "digital/analog input, M98 or NURBS code")
         if "p" in w:
             if not (g0 in (100, 40) or g.get(13) == 640
-                    or motion in (760, 820, 860, 880, 890, 50, 520, 20, 30)
+                    or motion in (760, 820, 860, 880, 890, 50, 52, 20, 30)
                     or m.get(9) in (50, 51, 52, 53) or m.get(5) in (62, 63, 64, 65, 66)
                     or m.get(7) == 19):
                 raise GCodeError("P word with no G2 G3 G4 G10 G64 G5 G5.2 G76 G82 G86 G88 "
@@ -328,6 +331,13 @@ class Machine(OffsetsMixin, CompMixin, CycleMixin):
                 raise GCodeError(f"Requested tool {t} not found in the tool table")
             self.spindle_tool = t
             self.toolchange_flag = True
+        self.touch_state()
+
+    def load_spindle(self, t: int) -> None:
+        """Start with tool ``t`` in the spindle (selected and changed, as ``T t M6``)."""
+        if t not in self.tools:
+            raise ValueError(f"tool {t} is not in the tool table")
+        self.selected_tool = self.spindle_tool = self.spindle_data_tool = t
         self.touch_state()
 
     def spindle(self, code: int) -> None:
@@ -427,21 +437,16 @@ class Machine(OffsetsMixin, CompMixin, CycleMixin):
             for k in range(3):
                 self.cur[k] -= self.tlo_effect[k]
             self.sync_out()
-        # the canon layer does not track G5 splines either: after a run of splines it is
-        # still where the run began
+        # rs274's canon layer leaves X and Y at 0 after a G5/G5.1/G5.3 curve (its
+        # NURBS_FEED does not keep the end point): when the last move is one, the tool
+        # change puts the current point there (program coordinates; Z is kept)
         st = self.store
         j = len(st) - 1
-        first = last = None
-        while j >= 0 and st.kind_at(j) in (T_CUBIC, T_DWELL):
-            if st.kind_at(j) == T_CUBIC:
-                first = j
-                if last is None:
-                    last = j
+        while j >= st.base and st.kind_at(j) == T_DWELL:
             j -= 1
-        if first is not None:
-            a, b = st[first], st[last]
-            self.cur[0] += a.start[0] - b.end[0]
-            self.cur[1] += a.start[1] - b.end[1]
+        if j >= st.base and st.kind_at(j) in (T_CUBIC, T_NURBS):
+            self.cur[0] = 0.0
+            self.cur[1] = 0.0
             self.sync_out()
         self.tlo_effect = [0.0, 0.0, 0.0]
         self.tlo_mark = len(self.store)
@@ -532,6 +537,8 @@ class Machine(OffsetsMixin, CompMixin, CycleMixin):
             self.cycle(code, blk)
         elif code in (50, 51):
             self.spline(code, blk)
+        elif code in (52, 53):
+            self.nurbs(code, blk)
         else:
             raise GCodeError(f"G{code // 10}{'.' + str(code % 10) if code % 10 else ''} "
                              "is not supported by this interpreter")
@@ -657,6 +664,51 @@ class Machine(OffsetsMixin, CompMixin, CycleMixin):
         self.emit(T_CUBIC, blk.line, end, feed)
         self.store.controls[n] = (c1, c2)
         self.cur = [end[0], end[1], c[2]]
+
+    def nurbs(self, code: int, blk: Block) -> None:
+        """G5.2 gathers control points (X Y with weight P, order L), G5.3 cuts the curve,
+        as LinuxCNC's convert_nurbs: the first point is the current one (weight P on a
+        block without X and Y, else 1); the current point moves only at G5.3."""
+        w = blk.words
+        pts = self.nurbs_points
+        if code == 52:
+            if ("x" in w) != ("y" in w):
+                raise GCodeError("You must specify both X and Y coordinates for Control Points")
+            p = w.get("p", -1.0)
+            if "x" not in w and p > 0 and pts:
+                raise GCodeError("Can specify P without X and Y only for the first control "
+                                 "point")
+            if p <= 0 and pts:
+                raise GCodeError("Must specify positive weight P for every Control Point")
+            if self.feed_mode == 0 and self.feed_rate == 0.0:
+                raise GCodeError("Cannot make a NURBS with 0 feedrate")
+            if self.motion_mode != 52:
+                pts.clear()
+            if not pts:
+                c = self.cur
+                pts.append((c[0], c[1], p if "x" not in w and p > 0 else 1.0))
+                self.nurbs_order = 3
+            lv = int(w.get("l", -1))
+            if lv > 3:
+                self.nurbs_order = lv
+            if "x" in w:
+                end = self.find_ends(blk)
+                pts.append((end[0], end[1], p))
+            self.motion_mode = 52
+            return
+        if self.motion_mode != 52:
+            raise GCodeError("Cannot use G5.3 without G5.2 first")
+        if len(pts) < self.nurbs_order:
+            raise GCodeError("You must specify a number of control points at least equal "
+                             f"to the order L = {self.nurbs_order}")
+        c = self.cur
+        end = [pts[-1][0], pts[-1][1], c[2]]
+        n = len(self.store)
+        self.emit(T_NURBS, blk.line, end, self.move_feed(blk))
+        self.store.controls[n] = Nurbs(self.nurbs_order, tuple(pts))
+        self.cur = end
+        self.nurbs_points = []
+        self.motion_mode = -1
 
     def stop(self, code: int, line: int) -> None:
         self.flush_comp(line)

@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 
 from millpath.interpret.errors import GCodeError
-from millpath.interpret.lexer import Block
+from millpath.gcode.lexer import Block
 
 
 def rotate(x: float, y: float, degrees: float) -> tuple[float, float]:

@@ -17,7 +17,7 @@ from __future__ import annotations
 import re
 
 from millpath.interpret.errors import GCodeError
-from millpath.interpret.lexer import Reader, normalize
+from millpath.gcode.lexer import Reader, normalize
 
 _OLINE = re.compile(r"^(?:n\d+(?:\.\d*)?)?o(<[^>]*>|\d+)([a-z]+)(.*)$")
 _PREFILTER = re.compile(r"[ \t]*/?[ \t]*(?:[nN][ \t]*[\d.]+[ \t]*)?[oO]")

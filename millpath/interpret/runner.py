@@ -12,7 +12,7 @@ from typing import Iterator
 
 from millpath.interpret.errors import GCodeError
 from millpath.interpret.fastpath import FastPath
-from millpath.interpret.lexer import MAX_LINE, read_block
+from millpath.gcode.lexer import MAX_LINE, read_block
 from millpath.interpret.machine import Machine
 from millpath.interpret.store import MotionList
 from millpath.interpret.tools import load_tools
@@ -99,12 +99,15 @@ def _run_flow(text: str, machine: Machine) -> tuple[str, MotionList, tuple[int, 
     return machine.units, machine.store, (max(len(lines), 1), msg)
 
 
-def run_program(text: str, tools, machine_units: str, sink=None
+def run_program(text: str, tools, machine_units: str, sink=None, spindle_tool: int = 0
                 ) -> tuple[str, MotionList, tuple[int, str] | None]:
     """Interpret ``text``; returns (units at the end, motions, (line, message) or None).
     With ``sink``, motion streams to it (see :class:`MotionList`); the records not yet
-    handed over stay in the returned list."""
+    handed over stay in the returned list. ``spindle_tool``: the tool already in the
+    spindle when the program starts (as after ``T.. M6``; no length offset until G43)."""
     machine = Machine(load_tools(tools), machine_units)
+    if spindle_tool:
+        machine.load_spindle(spindle_tool)
     machine.store.sink = sink
     from millpath.interpret.oword import has_owords
     if has_owords(text):

@@ -21,7 +21,7 @@ import numpy as np
 
 from millpath.model.motion import Motion
 
-KINDS = ("traverse", "feed", "arc", "cubic", "dwell")
+KINDS = ("traverse", "feed", "arc", "cubic", "dwell", "nurbs")
 KIND_CODE = {k: i for i, k in enumerate(KINDS)}
 PLANES = ("XY", "XZ", "YZ")
 PLANE_CODE = {p: i for i, p in enumerate(PLANES)}
@@ -82,7 +82,7 @@ class MotionList(Sequence):
             m.center = (f[7], f[8], f[9])
         elif kind == "dwell":
             m.dwell = f[7]
-        elif kind == "cubic":
+        elif kind == "cubic" or kind == "nurbs":
             m.controls = self.controls.get(n)
         return m
 

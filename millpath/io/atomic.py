@@ -54,11 +54,19 @@ def write_bytes(path: str | Path, data: bytes) -> None:
     try:
         with os.fdopen(fd, "wb") as fh:
             fh.write(data)
+        os.chmod(tmp, 0o666 & ~_umask())      # as open() would create it, not mkstemp's 0600
         os.replace(tmp, p)
     except BaseException:
         if os.path.exists(tmp):
             os.unlink(tmp)
         raise
+
+
+def _umask() -> int:
+    """The process umask (read by setting it and putting it back)."""
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
 
 
 def _key(final: Path) -> str:
@@ -204,7 +212,7 @@ def staged_dir(final: str | Path) -> Iterator[Path]:
             yield tmp
             (tmp / MARKER).write_text("written by millpath; the folder is replaced as a "
                                       "whole by the next run\n")
-            tmp.chmod(0o755)
+            tmp.chmod(0o777 & ~_umask())
             if whole:
                 _switch(tmp, final)
             else:

@@ -6,19 +6,24 @@ LinuxCNC's canonical calls. ``tool_offset`` is the tool length offset in force
 (x, y, z), ``tool`` the tool in the spindle. Arcs: ``plane`` XY/XZ/YZ, ``center``
 (normal-axis component = the start's), ``rotation`` signed full-turn count about the
 plane normal: +1 counter-clockwise (G3), -1 clockwise (G2), -2 for ``G2 ... P2``.
-Cubics (G5, XY only): ``controls`` = the two Bezier control points (x, y).
+Cubics (G5, XY only): ``controls`` = the two Bezier control points (x, y). NURBS (G5.2/G5.3,
+XY only, Z constant): ``controls`` = a :class:`millpath.model.nurbs.Nurbs`.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from millpath.model.nurbs import Nurbs
 
 Vec3 = tuple[float, float, float]
 
 
 @dataclass(slots=True)
 class Motion:
-    kind: str                       # "traverse" | "feed" | "arc" | "cubic" | "dwell"
+    kind: str                       # "traverse" | "feed" | "arc" | "cubic" | "nurbs" | "dwell"
     line: int                       # 1-based source line of the block
     start: Vec3
     end: Vec3
@@ -28,7 +33,7 @@ class Motion:
     plane: str = "XY"
     center: Vec3 | None = None
     rotation: int = 0
-    controls: tuple[tuple[float, float], tuple[float, float]] | None = None
+    controls: "tuple[tuple[float, float], tuple[float, float]] | Nurbs | None" = None
     dwell: float = 0.0              # seconds, for kind "dwell"
     feed_mode: str = "units_per_minute"   # or "inverse_time"
     spindle: float = 0.0            # rpm (negative: M4)
@@ -40,6 +45,9 @@ class Motion:
             d.update(plane=self.plane, center=list(self.center or ()), rotation=self.rotation)
         if self.kind == "cubic" and self.controls is not None:
             d["controls"] = [list(self.controls[0]), list(self.controls[1])]
+        if self.kind == "nurbs" and self.controls is not None:
+            d["order"] = self.controls.order
+            d["controls"] = [list(p) for p in self.controls.points]
         if self.kind == "dwell":
             d["seconds"] = self.dwell
         return d

@@ -46,8 +46,11 @@ def _tangents(mo: Motion) -> tuple[np.ndarray, np.ndarray, float, float]:
             v[an] = dn
             out.append(v)
         return out[0], out[1], length, r
-    if mo.kind == "cubic":
-        pts = motion_points(mo, 1e-4 * max(1e-3, float(np.linalg.norm(e - s))))
+    if mo.kind == "cubic" or mo.kind == "nurbs":
+        size = float(np.linalg.norm(e - s))
+        if mo.kind == "nurbs":
+            size = max(size, mo.controls.extent())
+        pts = motion_points(mo, 1e-4 * max(1e-3, size))
         seg = np.diff(pts, axis=0)
         length = float(np.linalg.norm(seg, axis=1).sum())
         return seg[0], seg[-1], length, math.inf
@@ -111,7 +114,7 @@ def motion_times(motions: list[Motion], machine: Machine, *,
     for i, k in enumerate(kinds):
         if k == "traverse":
             kind[i] = 1
-        elif k == "arc" or (k == "cubic" and motions[i].controls is not None):
+        elif k == "arc" or (k in ("cubic", "nurbs") and motions[i].controls is not None):
             t_in[i], t_out[i], L[i], radius[i] = _tangents(motions[i])
         elif k == "dwell":
             kind[i] = 2

@@ -199,7 +199,22 @@ def motion_points(mo: Motion, chord_tol: float) -> np.ndarray:
         out[0] = s
         out[-1] = e
         return out
+    if mo.kind == "nurbs" and mo.controls is not None:
+        xy = mo.controls.sample(chord_tol)
+        out = np.empty((len(xy), 3))
+        out[:, :2] = xy
+        out[:, 2] = s[2]
+        out[0] = s
+        out[-1] = e
+        return out
     return np.vstack([s, e])
+
+
+def is_curve(mo: Motion) -> bool:
+    """Whether ``mo`` is cut into chords (arcs; cubics and NURBS with their control
+    points; rs274's NURBS output without them is known only by its end points)."""
+    k = mo.kind
+    return k == "arc" or ((k == "cubic" or k == "nurbs") and mo.controls is not None)
 
 
 @dataclass
@@ -234,7 +249,7 @@ def motion_segments(motions: list[Motion], chord_tol: float) -> Segments:
         kind = mo.kind
         if kind == "dwell":
             continue
-        if kind != "arc" and kind != "cubic" or (kind == "cubic" and mo.controls is None):
+        if not is_curve(mo):
             # traverse, feed, and motion known only by its end points (rs274's NURBS
             # output of G5): a straight chord
             starts.append(mo.start)

@@ -100,6 +100,14 @@ def test_step_ap224(tmp_path_factory, text):
     _check(read_part, text, tmp_path_factory.mktemp("stp"), ".stp")
 
 
+@settings(FUZZ, max_examples=80)
+@given(text=mutated(STEP))
+def test_step_p21_layer(tmp_path_factory, text):
+    """The ISO 10303-21 layer alone (any schema), as ``millpath`` reads every STEP file."""
+    from millpath.part.step.p21 import read
+    _check(read, text, tmp_path_factory.mktemp("p21"), ".stp")
+
+
 def _stl_bytes(seed: int) -> list[bytes]:
     """Binary STLs with random headers, counts and values (NaN, inf, huge included)."""
     rng = np.random.default_rng(seed)
@@ -134,3 +142,46 @@ def test_stl_files(tmp_path, k):
         assert Path(e.file).name == "input.stl" and "\n" not in str(e)
     else:
         assert np.all(np.isfinite(m.triangles))
+
+
+def _dxf_text() -> str:
+    import io
+
+    import ezdxf
+    doc = ezdxf.new("R2010")
+    doc.header["$INSUNITS"] = 4
+    msp = doc.modelspace()
+    msp.add_lwpolyline([(0, 0, 0, 0, 0), (60, 0, 0, 0, 0.4), (60, 40, 0, 0, 0), (0, 40)],
+                       format="xyseb", close=True)
+    msp.add_circle((30, 20), 6)
+    out = io.StringIO()
+    doc.write(out)
+    return out.getvalue()
+
+
+DXF = _dxf_text()
+
+
+def _read_dxf(p: Path) -> None:
+    from millpath.part.drawing.dxf import read_dxf
+    from millpath.part.drawing.region import regions_from_loops
+    regions_from_loops(read_dxf(p, "mm", 0.01), file=p)
+
+
+@settings(FUZZ, max_examples=80)
+@given(text=mutated(DXF))
+def test_dxf_drawings(tmp_path_factory, text):
+    _check(_read_dxf, text, tmp_path_factory.mktemp("dxf"), ".dxf")
+
+
+@pytest.mark.parametrize("cut", ["header", "symbol-table"])
+def test_dxf_parser_failures_are_one_line(tmp_path, cut):
+    """Found by bench/fuzz.py: a header cut short made ezdxf raise StopIteration, and a
+    bad group code gave a message with a newline in it."""
+    text = DXF[:DXF.index("$LASTSAVEDBY") + 13] if cut == "header" else \
+        DXF.replace("AcDbSymbolTable\n", "AcDbSymbolTable\n\n", 1)
+    p = tmp_path / "bad.dxf"
+    p.write_text(text)
+    with pytest.raises(MillpathError) as e:
+        _read_dxf(p)
+    assert Path(e.value.file).name == "bad.dxf" and "\n" not in str(e.value)

@@ -22,7 +22,8 @@ def test_params_are_exactly_the_keys_of_the_issue():
         "tool", "polygon", "bottom", "grid", "depths", "step", "motion", "tolerance",
         "zigzag", "feed", "finish_feed", "plunge_feed", "spindle", "safe_z", "z_mode",
         "force_grid",
-        "navigation", "grid_centre", "bezier_parameters"}        # issue 17
+        "navigation", "grid_centre", "bezier_parameters",        # issue 17
+        "rest", "allowance"}                                     # issue 21
 
 
 def test_force_grid_accepts_cells_larger_than_d_over_sqrt2(tmp_path, gp):

@@ -153,3 +153,22 @@ def test_writable_folder_in_read_only_parent(tmp_path, monkeypatch):
     assert sorted(f.name for f in out.iterdir()) == [".millpath-output", ".millpath.lock",
                                                       "program.ngc"]
     assert list(tmp_path.iterdir()) == [out]
+
+
+def test_written_files_have_the_users_umask_permissions(tmp_path):
+    """Outputs are created as ``open()`` would create them (0666 less the umask), not with
+    the temp file's private 0600: a shop's other users (or the machine's) can read them."""
+    import os
+    import stat
+
+    from millpath.io.atomic import staged_dir, write_text
+    old = os.umask(0o022)
+    try:
+        write_text(tmp_path / "a.ngc", "M2\n")
+        assert stat.S_IMODE((tmp_path / "a.ngc").stat().st_mode) == 0o644
+        with staged_dir(tmp_path / "out") as tmp:
+            write_text(tmp / "program.ngc", "M2\n")
+        assert stat.S_IMODE((tmp_path / "out").stat().st_mode) == 0o755
+        assert stat.S_IMODE((tmp_path / "out" / "program.ngc").stat().st_mode) == 0o644
+    finally:
+        os.umask(old)

@@ -166,3 +166,20 @@ def test_program_without_a_tool_change_warns_that_nothing_is_cut(tmp_path):
     assert r.exit_code == 0, r.output
     assert json.loads(r.stdout)["removed_volume"] == 0
     assert "no tool is loaded" in r.stderr
+
+
+def test_a_tool_table_invents_no_holder(tmp_path):
+    """A tool table gives a diameter and a gauge length, no flutes, shank or holder: a
+    25 mm deep slot with a 50 mm long tool is no holder contact (it was counted as one
+    from a made-up 20 mm flute and a shank above it), and the summary says holders
+    were not checked."""
+    (tmp_path / "p.ngc").write_text("G21 G17 G90\nT1 M6 G43\nS10000 M3\nG0 X-5 Y10 Z5\n"
+                                    "G1 Z-25 F200\nG1 X40 F600\nG0 Z5\nM2\n")
+    (tmp_path / "tools.tbl").write_text("; values in mm\nT1 P1 D6 Z50 ;flat 6\n")
+    args = [tmp_path / "p.ngc", "--tools", tmp_path / "tools.tbl", "--stock",
+            "0,0,-30,35,20,0", "--resolution", "0.5"]
+    r = _run([*args, "--json"])
+    assert r.exit_code == 0, r.output
+    assert json.loads(r.output)["holder_contacts"] == 0
+    r = _run(args)
+    assert "holders not checked" in r.output

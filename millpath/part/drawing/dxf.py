@@ -142,9 +142,14 @@ def read_dxf(path: str | Path, units: str, tolerance: float, *, layer: str | Non
         raise GeometryError("DXF file not found", path)
     try:
         doc = ezdxf.readfile(str(path))
-    except (IOError, ezdxf.DXFStructureError, ezdxf.DXFError, UnicodeDecodeError) as e:
-        raise GeometryError(f"not a readable DXF file ({e})", path) from None
-    code = int(doc.header.get("$INSUNITS", 0) or 0)
+    except Exception as e:  # noqa: BLE001 - any failure of the DXF parser is a bad file
+        why = " ".join(str(e).split()) or type(e).__name__
+        raise GeometryError(f"not a readable DXF file ({why})", path) from None
+    try:
+        code = int(doc.header.get("$INSUNITS", 0) or 0)
+    except (TypeError, ValueError):
+        raise GeometryError(f"$INSUNITS = {doc.header.get('$INSUNITS')!r} is not a unit code",
+                            path) from None
     job_mm = 25.4 if units == "inch" else 1.0
     scale = INSUNITS_MM[code] / job_mm if code in INSUNITS_MM else 1.0
     if code not in INSUNITS_MM and code != 0:

@@ -11,7 +11,9 @@ Per level (job units; ``R`` tool radius, ``D`` diameter):
    the roomiest spot still full of material (radius ``helix_radius`` or less).
 3. The walker (:mod:`.walker`) runs until it cannot keep the engagement; the next
    pass is reached by a feed straight through cleared space when the whole tool stays
-   in it, otherwise by a retract and a feed down where the column is clear.
+   in it, or by two such feeds by way of a place the tool has been at on this level
+   (route no longer than ``link_max``), otherwise by a retract and a feed down where the column is clear, at the
+   last step before the pass first cuts (the walker's idle steps before it are air).
 
 The engagement limit per step is ``engagement * D * ds`` of area, less ``margin``
 (default 8 %) for the raster's counting error.
@@ -63,11 +65,14 @@ def approach(M, A, gx, gy, h, R, x, y, ux, uy, limit):
 
 def clear_level(M: np.ndarray, A: np.ndarray, gx: float, gy: float, h: float, R: float,
                 engagement: float, *, helix_radius: float, start=None, S=None,
-                margin: float = 0.08, max_passes: int = 2000) -> LevelResult:
+                margin: float = 0.08, max_passes: int = 2000,
+                link_max: float = 0.0) -> LevelResult:
     """Walker passes clearing the material raster ``M`` (modified: cleared) with the tool
     centre kept in ``A``. ``S`` (default: ``M``): the part of ``M`` passes are started
     for (material the clean-up rings would otherwise take); engagement is always
-    counted on ``M``. ``start``: the tool's (x, y) before the level, if known."""
+    counted on ``M``. ``start``: the tool's (x, y) before the level, if known.
+    ``link_max``: longest link by way of a point the tool has already been at (two
+    straight feeds through cleared space) taken instead of a retract; 0: none."""
     if S is None:
         S = M.copy()
     D = 2 * R
@@ -78,6 +83,7 @@ def clear_level(M: np.ndarray, A: np.ndarray, gx: float, gy: float, h: float, R:
     hc = f * h
     dist_A = ndimage.distance_transform_edt(A) * h      # room round allowed centres
     passes: list[Pass] = []
+    visited: list[np.ndarray] = []       # centres the tool has been at on this level
     pos = start
     tried = np.zeros_like(block_any(S, f))
     for _ in range(max_passes):
@@ -115,14 +121,31 @@ def clear_level(M: np.ndarray, A: np.ndarray, gx: float, gy: float, h: float, R:
         if cand is not None:
             x, y, heading, cj, ci = cand
             kind = "jump"
+            via = None
             if pos is not None and segment_clear(M, A, gx, gy, h, R + h, pos[0], pos[1], x, y):
                 kind = "link"
+            elif pos is not None and link_max > 0 and visited:
+                via = _via(M, A, gx, gy, h, R, pos, (x, y), np.vstack(visited), link_max)
+                kind = "jump" if via is None else "link"
+            M_before = M.copy() if kind == "jump" else M
             n = walk(M, S, A, gx, gy, h, R, x, y, heading, ds, amax, len(buf) - 1,
                      int(2 * math.pi * R / ds) + 4, buf)
             if n <= 1:
                 tried[max(cj - 1, 0):cj + 2, max(ci - 1, 0):ci + 2] = True
                 continue
-            passes.append(Pass(kind, buf[:n, :2].copy()))
+            s0 = 0
+            if kind == "jump":           # enter where the pass begins to cut: the idle
+                cut_at = np.flatnonzero(buf[1:n, 2] > 0)   # steps before are in air
+                s0 = int(cut_at[0]) if len(cut_at) else 0
+                # ... at the last of them whose disk, one cell larger, held no material
+                while s0 > 0 and crescent(M_before, gx, gy, h, R + h, buf[s0, 0] + 1e9,
+                                          buf[s0, 1], buf[s0, 0], buf[s0, 1], False) > 0:
+                    s0 -= 1
+            pts = buf[s0:n, :2].copy()
+            visited.append(pts[::2])
+            if via is not None:
+                pts = np.vstack([via[None, :], pts])
+            passes.append(Pass(kind, pts))
             pos = (float(buf[n - 1, 0]), float(buf[n - 1, 1]))
             continue
         # no cleared space next to material: bore a new start with a helix
@@ -141,5 +164,24 @@ def clear_level(M: np.ndarray, A: np.ndarray, gx: float, gy: float, h: float, R:
         n = walk(M, S, A, gx, gy, h, R, cx + rh, cy, math.pi / 2, ds, amax, len(buf) - 1,
                  int(2 * math.pi * R / ds) + 4, buf)
         passes.append(Pass("helix", buf[:max(n, 1), :2].copy(), (cx, cy), rh))
+        visited.append(buf[:max(n, 1):2, :2].copy())
         pos = (float(buf[max(n, 1) - 1, 0]), float(buf[max(n, 1) - 1, 1]))
     return LevelResult(passes, int(S.sum()))
+
+
+def _via(M, A, gx, gy, h, R, a, b, pts: np.ndarray, link_max: float, tries: int = 12):
+    """A point of ``pts`` (places the tool has been at) from which the tool feeds
+    straight to ``a`` and to ``b`` through cleared space (disk radius ``R`` free of
+    ``M``), the route a -> via -> b no longer than ``link_max``; the shortest of the
+    ``tries`` shortest candidates that works, or None."""
+    d = np.hypot(pts[:, 0] - a[0], pts[:, 1] - a[1]) + np.hypot(pts[:, 0] - b[0],
+                                                                 pts[:, 1] - b[1])
+    ok = np.flatnonzero(d <= link_max)
+    if not len(ok):
+        return None
+    for k in ok[np.argsort(d[ok])][:tries]:
+        v = pts[k]
+        if segment_clear(M, A, gx, gy, h, R, a[0], a[1], v[0], v[1]) and \
+                segment_clear(M, A, gx, gy, h, R, v[0], v[1], b[0], b[1]):
+            return v.copy()
+    return None

@@ -11,7 +11,10 @@ directions from hard right to hard left and refining the boundary by bisection; 
 stops when no direction keeps within the limit (a corner it cannot take), when it has
 cut nothing for ``idle_max`` steps, or after ``max_steps``. In a corner it cannot
 enter in one bite it loops in cleared space and takes another small bite on the next
-lap (trochoidal motion). Lengths in job units.
+lap (trochoidal motion); an idle stretch between two steps that cut is replaced by the
+straight way between them when the tool passes it in cleared space (no cell of ``M``
+in its disk anywhere along it).
+Lengths in job units.
 """
 
 from __future__ import annotations
@@ -101,6 +104,7 @@ def walk(M, S, A, gx, gy, h, R, x, y, heading, ds, amax, max_steps, idle_max, ou
     out[0, 2] = 0.0
     n = 1
     idle = 0
+    lastcut = 0
     cap = out.shape[0]
     for _ in range(max_steps):
         if n >= cap:
@@ -150,6 +154,16 @@ def walk(M, S, A, gx, gy, h, R, x, y, heading, ds, amax, max_steps, idle_max, ou
             if idle > idle_max:
                 break
         else:
+            if idle > 1 and segment_clear(M, A, gx, gy, h, R, out[lastcut, 0],
+                                          out[lastcut, 1], x, y):
+                # the idle loop since the last step that cut went through cleared
+                # space only (nothing was cut on it): replace it by the straight way
+                # from that step's end to here, which the full tool passes in air
+                n = lastcut + 1
+                out[n, 0] = x
+                out[n, 1] = y
+                out[n, 2] = 0.0
+                n += 1
             idle = 0
         qx = x + ds * math.cos(best_a)
         qy = y + ds * math.sin(best_a)
@@ -161,6 +175,8 @@ def walk(M, S, A, gx, gy, h, R, x, y, heading, ds, amax, max_steps, idle_max, ou
         out[n, 0] = x
         out[n, 1] = y
         out[n, 2] = best_c
+        if best_c > 0:
+            lastcut = n
         n += 1
     # drop the idle tail: steps after the last one that cut
     last = n - 1

@@ -22,6 +22,10 @@ Job keys (lengths in job units):
   ``material``: a material class overriding the file's (see
   :data:`millpath.plan.features.cutting.MATERIALS`).
 
+- ``rest``: keep only the moves whose tool meets more than ``allowance`` (default: the
+  in-process stock's cell width) of the stock left by earlier operations, Z included
+  (:mod:`millpath.plan.restcut`); the report's ``features.rest`` gives the figures.
+
 Holes get canned cycles (G81; G73 chip breaking or G83 full retract pecks of one
 diameter beyond three diameters deep), helical interpolation or a ball plunge; a
 flat-bottom hole with a drill of its diameter is drilled and its point's cone milled
@@ -78,6 +82,9 @@ PARAMS: dict[str, Param] = {
     "tool": Param("int", None, positive=True, doc="only milling cutter to use"),
     "tools": Param("list", None, check=_tools_check, doc="tool numbers allowed"),
     "finish_allowance": Param("float", None, nonneg=True),
+    "rest": Param("bool", False, doc="cut only where earlier operations left material"),
+    "allowance": Param("float", None, nonneg=True, unit="length",
+                       doc="rest: stock thinner than this is left (default: stock cell)"),
     "taper_cusp": Param("float", None, positive=True, unit="length",
                         doc="largest step left on a 'flat with taper' hole bottom's cone, "
                             "normal to it (default 0.02 mm / 0.0008 in)"),
@@ -364,6 +371,13 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         "unmachinable": skipped,
         "notes": notes,
     }}
+    if params["rest"] and ctx.remaining is not None:
+        from millpath.plan.restcut import rest_filter
+        allow = params["allowance"]
+        report["features"]["rest"] = rest_filter(
+            tp, ctx.remaining, ctx.tools,
+            allow if allow is not None else float(ctx.remaining.resolution), h.z_safe,
+            0.04 if inch else 1.0)
     return PlanResult(toolpath=tp, design=design, report=report,
                       stock=file_stock if ctx.stock is None else None)
 

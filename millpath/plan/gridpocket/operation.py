@@ -26,6 +26,9 @@ Keys (job units: mm or inch; feeds in units per minute; Z absolute, tool tip):
 - ``zigzag``: X and Y clean-up runs (default true).
 - ``feed``, ``finish_feed`` (default feed), ``plunge_feed`` (default feed / 2),
   ``spindle`` (rpm, required: a pocket is never cut with the spindle off), ``safe_z`` (default stock top + 0.2 in / 5 mm).
+- ``rest``: keep only the moves whose tool meets more than ``allowance`` (default: the
+  in-process stock's cell width) of the stock left by earlier operations, Z included
+  (:mod:`millpath.plan.restcut`); the report's ``pocket.rest`` gives the figures.
 - ``z_mode``: ``tool`` (drop the real tool onto the bottom: no gouge) or ``surface``
   (the tip on the surface under the tool centre, as in the thesis).
 """
@@ -124,6 +127,9 @@ PARAMS: dict[str, Param] = {
     "spindle": Param("float", positive=True, doc="rpm, clockwise (M3); required"),
     "safe_z": Param("float", None, doc="retract height"),
     "z_mode": Param("str", "tool", choices=("tool", "surface")),
+    "rest": Param("bool", False, doc="cut only where earlier operations left material"),
+    "allowance": Param("float", None, nonneg=True, unit="length",
+                       doc="rest: stock thinner than this is left (default: stock cell)"),
     "force_grid": Param("bool", False, doc="accept cells larger than D/sqrt(2) "
                         "(leaves material uncut in plan view)"),
 }
@@ -215,5 +221,12 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         grid_anchor=tuple(params["grid_centre"]) if params["grid_centre"] else None,
         bezier_parameters=params["bezier_parameters"], file=f)
     tp, report = plan_pocket(spec)
+    if params["rest"] and ctx.remaining is not None:
+        from millpath.plan.restcut import rest_filter
+        allow = params["allowance"]
+        report["rest"] = rest_filter(
+            tp, ctx.remaining, ctx.tools,
+            allow if allow is not None else float(ctx.remaining.resolution), safe_z,
+            0.04 if inch else 1.0)
     return PlanResult(toolpath=tp, design=PocketDesign(poly, surface, top),
                       report={"pocket": report})

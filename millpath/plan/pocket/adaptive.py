@@ -42,8 +42,11 @@ def adaptive_level(w, em, ctx, pocket, free, tool, z: float, z_from: float,
     S = M & (dist_A <= R - 2 * h)      # passes are not started for the last cells: clean-up
     air = heights <= z + 1e-9 * max(1.0, abs(z))
     start = w.pos[:2] if (w.pos is not None and abs(w.pos[2] - z) < 1e-9) else None
+    # a link by way of cleared space is worth taking when it is no longer than the
+    # retract's feed down at half the feed (from z_from) counted twice
     res = clear_level(M, A, raster.gx, raster.gy, h, R, engagement,
-                      helix_radius=helix_radius, start=start, S=S)
+                      helix_radius=helix_radius, start=start, S=S,
+                      link_max=4.0 * max(z_from - z, 0.0))
     for p in res.passes:
         pts = p.pts
         i0 = len(w.tp.moves)

@@ -8,6 +8,8 @@ midpoint like the passes, holder clearance included); otherwise the tool retract
 cut may stand anywhere below it, so no rapid goes lower), and feeds down at
 ``plunge_feed`` - by a helix (millpath.plan.entry) where that start lies below
 ``approach_z`` (material may stand there) and a helix clear of the surface fits.
+``approach_z`` may also be a function of the start point (x, y, z): the highest
+material near it (rest machining on the in-process stock).
 """
 
 from __future__ import annotations
@@ -43,7 +45,9 @@ def _descend(tp: Toolpath, start, safe_z: float, clearance: float, approach_z: f
     """From ``safe_z`` above ``start``: rapid to the approach height, then feed to
     ``start``: down a helix (else a zigzag ramp) whose every point stays ``allowance``
     above the surface when ``start`` is below ``approach_z``, else straight. True if a
-    helix or ramp was used."""
+    helix or ramp was used. ``approach_z`` may be a function of ``start``."""
+    if callable(approach_z):
+        approach_z = approach_z(start)
     z = min(safe_z, max(start[2], approach_z) + clearance)
     if z < safe_z - 1e-9:
         tp.rapid(start[0], start[1], z)

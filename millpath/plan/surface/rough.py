@@ -17,7 +17,10 @@ Keys (job units; feeds in units per minute): ``surface`` (as for surface-finish)
 ``divisions``, ``tool``, ``stepdown``, ``step_over`` (length; default 0.6 x the tool
 diameter), ``allowance`` (default 0.3 mm / 0.012 in), ``angle``, ``feed``,
 ``plunge_feed``, ``spindle``, ``safe_z``, ``region`` (tool-tip box, default: the
-surface grown by the tool radius), ``name``.
+surface grown by the tool radius), ``name``; ``rest``: keep only the stretches of the
+passes where the tool meets the in-process stock left by earlier operations more than
+the operation's tolerance above its surface, Z included
+(:func:`millpath.plan.surface.rest.rest_passes`; report ``surface_rough.rest``).
 """
 
 from __future__ import annotations
@@ -51,6 +54,7 @@ PARAMS = {
     "safe_z": Param("float", None),
     "region": Param("floats", None, length=4),
     "name": Param("str", "surface rough"),
+    "rest": Param("bool", False, doc="cut only where earlier operations left material"),
 }
 
 
@@ -188,6 +192,32 @@ def _refine_floor(sampler: Sampler, P: np.ndarray, level: float, allowance: floa
     return P
 
 
+def _stock_top_near(remaining, tool, tol: float):
+    """For a tip point p (x, y, z): the highest the in-process stock stands under the
+    tool's surface (cells within the radius, less the cutter's profile height there),
+    ``p``'s own Z when that is within ``tol`` of it (the column above p is clear)."""
+    h = float(remaining.resolution) / 2.0
+    R = tool.radius
+    n = int(math.ceil(R / h))
+    ox, oy = np.meshgrid(np.arange(-n, n + 1) * h, np.arange(-n, n + 1) * h)
+    r = np.hypot(ox, oy)
+    inside = r <= R
+    ox, oy, r = ox[inside], oy[inside], r[inside]
+    if tool.type == "ball":
+        prof = R - np.sqrt(np.maximum(R * R - r * r, 0.0))
+    elif tool.type == "bull":
+        rc = tool.corner_radius
+        d = np.maximum(r - (R - rc), 0.0)
+        prof = rc - np.sqrt(np.maximum(rc * rc - d * d, 0.0))
+    else:
+        prof = np.zeros_like(r)
+
+    def top(p) -> float:
+        t = float(np.max(remaining.height(p[0] + ox, p[1] + oy) - prof))
+        return float(p[2]) if t <= p[2] + tol else t
+    return top
+
+
 def plan(ctx: PlanContext, params: dict) -> PlanResult:
     inch = ctx.units == "inch"
     file = ctx.job_file
@@ -227,7 +257,14 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     tol = 0.25 * allowance if allowance > 0 else (0.0004 if inch else 0.01)
     passes, levels = rough_passes(sampler, region, ctx.stock.zmax, stepdown, step_over,
                                   allowance, tol)
-    if not passes:
+    rest_info = None
+    approach = ctx.stock.zmax
+    if params["rest"] and ctx.remaining is not None and passes:
+        from millpath.plan.surface.rest import rest_passes
+        passes, rest_info = rest_passes(passes, ctx.remaining, tool, tol)
+        rest_info["threshold"] = tol
+        approach = _stock_top_near(ctx.remaining, tool, tol)
+    if not passes and rest_info is None:
         raise PlanningError("surface-rough: the stock top is already below the surface "
                             "plus allowance; nothing to rough", file)
     clear = 0.2 if inch else 5.0
@@ -238,9 +275,11 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     tp = Toolpath(units=ctx.units)
     tp.begin(Operation("surface-rough", params["name"], tool.number, params["spindle"],
                        info={"stepdown": stepdown, "allowance": allowance}, tolerance=tol))
-    links = add_passes(tp, sampler, passes, feed=feed, plunge_feed=plunge, safe_z=safe_z,
-                       clearance=0.04 if inch else 1.0, link_max=0.0, tolerance=tol,
-                       approach_z=ctx.stock.zmax, allowance=allowance)
+    links = {"retract": 0}
+    if passes:
+        links = add_passes(tp, sampler, passes, feed=feed, plunge_feed=plunge, safe_z=safe_z,
+                           clearance=0.04 if inch else 1.0, link_max=0.0, tolerance=tol,
+                           approach_z=approach, allowance=allowance)
     design = MeshHeight(index)
     section = {
         "operation": params["name"], "tool": tool.number,
@@ -249,4 +288,6 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         "step_over": step_over, "allowance": allowance, "pieces": len(passes),
         "retracts": links["retract"],
     }
+    if rest_info is not None:
+        section["rest"] = rest_info
     return PlanResult(tp, design, {"surface_rough": [section]})

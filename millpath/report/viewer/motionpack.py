@@ -23,7 +23,7 @@ import numpy as np
 from millpath.interpret.motion import Motion
 from millpath.simulate.path import motion_points
 
-KIND_CODES = {"traverse": 0, "feed": 1, "arc": 2, "cubic": 3, "dwell": 4}
+KIND_CODES = {"traverse": 0, "feed": 1, "arc": 2, "cubic": 3, "dwell": 4, "nurbs": 5}
 MAX_POINTS = 3_000_000
 
 
@@ -114,7 +114,7 @@ def _pack(motions: list[Motion], chord_tol: float) -> tuple[np.ndarray, np.ndarr
             n += 1
         first[k] = n - 1
         kind = mo.kind
-        if kind == "arc" or kind == "cubic":
+        if kind == "arc" or kind == "cubic" or kind == "nurbs":
             pts = motion_points(mo, chord_tol)[1:]
             extend(pts.ravel().tolist())
             n += len(pts)
@@ -147,7 +147,7 @@ def pack_motions(motions: list[Motion], operations: list[ViewOperation], *,
     return PackedMotion(
         points=points, first=first, last=last,
         kind=np.fromiter((KIND_CODES[mo.kind] for mo in motions), np.uint8, len(motions)),
-        feed=np.fromiter((mo.feed if mo.kind in ("feed", "arc", "cubic") else 0.0
+        feed=np.fromiter((mo.feed if mo.kind in ("feed", "arc", "cubic", "nurbs") else 0.0
                           for mo in motions), np.float32, len(motions)),
         line=lines.astype(np.int32), op=op.astype(np.uint16),
         tool=np.fromiter((mo.tool for mo in motions), np.uint32, len(motions)),

@@ -58,7 +58,7 @@ const M = mFirst.length;
 mark('decoded');
 const programLines = D.program.split(/\r?\n/);
 const ops = D.operations;
-const KIND = ['rapid', 'feed', 'arc', 'cubic', 'dwell'];
+const KIND = ['rapid', 'feed', 'arc', 'cubic', 'dwell', 'nurbs'];
 const OP_COLOURS = ['#1f77b4', '#ff7f0e', '#2ca02c', '#d62728', '#9467bd', '#8c564b', '#e377c2',
   '#7f7f7f', '#bcbd22', '#17becf'].map(srgb);
 const FEED_STOPS = ['#30123b', '#4686fb', '#1ae4b6', '#a2fc3c', '#fabb39', '#e4460a', '#7a0403'].map(srgb);
