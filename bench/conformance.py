@@ -21,6 +21,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "tests"))          # support.difftest
 
 # (reason, pattern on the lowercased text without comments)
 SKIP_RULES = [
@@ -63,7 +64,7 @@ def skip_reason(path: Path, text: str) -> str | None:
 
 def check_one(path_str: str) -> tuple[str, str, str]:
     """Return (path, outcome, detail): outcome identical|errors matched|different|skipped."""
-    from millpath.interpret.difftest import compare_results
+    from support.difftest import compare_results
     from millpath.interpret import run
     from millpath.verify.rs274 import run_rs274
 

@@ -190,10 +190,11 @@ def run_one(name: str, text: str, work: Path) -> dict:
         return row
     rep = json.loads((out / "report.json").read_text())
     ops = []
-    for s in rep.get("surface_rough", []):
+    plans = rep.get("plans", [])                # one section per job operation
+    for s in [s for p in plans for s in p.get("surface_rough", [])]:
         ops.append(f"rough {s['layers']} layers {s['pieces']} pieces "
                    f"{s.get('cl_points', '?')} pts")
-    for s in rep.get("surface_finish", []):
+    for s in [s for p in plans for s in p.get("surface_finish", [])]:
         wl = s.get("waterline") or {}
         ops.append(f"{s['strategy']} {s['pass_lines']} lines {wl.get('levels', 0)} levels "
                    f"{s['pieces']} pieces {s['cl_points']} pts")

@@ -9,7 +9,6 @@ after an error nothing in the output folder has changed.
 from __future__ import annotations
 
 import bisect
-import json
 import math
 import time
 from dataclasses import dataclass, field
@@ -18,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from millpath.errors import MillpathError, PlanningError
+from millpath.errors import MillpathError, PlanningError, warn
 from millpath.io.atomic import staged_dir
 from millpath.io.tooltable import parse_tool_table, tool_table_text
 from millpath.job.jobfile import Job, load_job
@@ -26,6 +25,7 @@ from millpath.model import Stock, Toolpath
 from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.registry import strategy
 from millpath.progress import QUIET, Progress
+from millpath.model.units import default
 
 
 class MinDesign:
@@ -64,22 +64,13 @@ def plan_job(job: Job, progress: Progress = QUIET) -> tuple[Toolpath, list[PlanR
         check = getattr(strategy(op_type, f"operations[{i}]", job.path), "preflight", None)
         if check is not None:          # refuse an impossible request before any work
             check(ctx, params)
-    for i, (op_type, params) in enumerate(job.operations):
-        mod = strategy(op_type, f"operations[{i}]", job.path)
-        res = mod.plan(ctx, params)
-        if res.toolpath.units != job.units:
-            raise PlanningError(f"operations[{i}]: strategy returned {res.toolpath.units} "
-                                f"moves for a {job.units} job", job.path)
-        if ctx.stock is None and res.stock is not None:
-            ctx.stock = res.stock
-        try:
-            res.toolpath.check_finite()
-        except ValueError as e:
-            raise PlanningError(f"operations[{i}]: {e}", job.path) from None
-        if carry and ctx.stock is not None:
-            ctx.remaining = advance_stock(job, ctx.stock, ctx.remaining, res.toolpath)
-        total.extend(res.toolpath)
-        results.append(res)
+    with progress.task("planning operations", total=len(job.operations)) as bar:
+        for i, (op_type, params) in enumerate(job.operations):
+            bar.update(info=f"{i + 1}: {op_type}")
+            res = _plan_one(job, ctx, i, op_type, params, carry)
+            total.extend(res.toolpath)
+            results.append(res)
+            bar.advance()
     stock = job.stock or ctx.stock
     if stock is None:
         raise MillpathError("stock: the job gives no [stock] box and no operation implies one",
@@ -90,6 +81,27 @@ def plan_job(job: Job, progress: Progress = QUIET) -> tuple[Toolpath, list[PlanR
     if not total.moves:
         raise PlanningError("the job's operations produced no moves", job.path)
     return total, results, stock
+
+
+def _plan_one(job: Job, ctx: PlanContext, i: int, op_type: str, params: dict,
+              carry: bool) -> PlanResult:
+    """Plan operation ``i`` (and sweep it into the in-process stock when ``carry``)."""
+    if params.get("rest") and ctx.remaining is None:
+        warn(f"operations[{i}]: rest = true, but no earlier operation has cut the stock; "
+             "the whole operation is planned", job.path)
+    res = strategy(op_type, f"operations[{i}]", job.path).plan(ctx, params)
+    if res.toolpath.units != job.units:
+        raise PlanningError(f"operations[{i}]: strategy returned {res.toolpath.units} "
+                            f"moves for a {job.units} job", job.path)
+    if ctx.stock is None and res.stock is not None:
+        ctx.stock = res.stock
+    try:
+        res.toolpath.check_finite()
+    except ValueError as e:
+        raise PlanningError(f"operations[{i}]: {e}", job.path) from None
+    if carry and ctx.stock is not None:
+        ctx.remaining = advance_stock(job, ctx.stock, ctx.remaining, res.toolpath)
+    return res
 
 
 def advance_stock(job: Job, stock: Stock, remaining, tp: Toolpath):
@@ -127,9 +139,11 @@ def advance_stock(job: Job, stock: Stock, remaining, tp: Toolpath):
 
 
 def fit_job(job: Job, tp: Toolpath) -> Toolpath:
-    """The tool path with arcs/cubics fitted as the job asks (unchanged for fit = none)."""
+    """The tool path with arcs/cubics fitted as the job asks; for fit = none, collinear
+    points merged within the fit tolerance."""
     if job.fit == "none":
-        return tp
+        from millpath.fit.collinear import merge_collinear
+        return merge_collinear(tp, job.fit_tolerance)
     from millpath.fit import fit_toolpath
     radius = max((job.tools[o.tool].radius for o in tp.ops if o.tool in job.tools), default=0.0)
     return fit_toolpath(tp, job.fit_tolerance, job.fit, min_radius=radius)
@@ -163,23 +177,36 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False,
     When the simulation finds a problem (see :mod:`millpath.verify.gate`) the report,
     pictures and viewer are written without the program and UnsafeProgramError is
     raised; with ``force`` the program is written as ``program.unsafe.ngc`` headed by
-    the list of problems."""
-    t0 = time.perf_counter()
-    job = load_job(job_path)
-    tp, results, stock = plan_job(job, Progress(progress))
-    tp = fit_job(job, tp)
+    the list of problems. ``progress``: bars on stderr for every stage."""
+    prog = Progress(progress)
+    with prog.session():
+        return _run(job_path, outdir, prog, force)
 
-    program, move_lines = post_job(job, tp, stock)
+
+def _run(job_path: str | Path, outdir: str | Path, prog: Progress, force: bool) -> RunResult:
+    t0 = time.perf_counter()
+    with prog.task("reading the job", total=1) as bar:
+        job = load_job(job_path)
+        bar.advance()
+    tp, results, stock = plan_job(job, prog)
+    with prog.task("fitting and posting", total=2) as bar:
+        tp = fit_job(job, tp)
+        bar.advance()
+        program, move_lines = post_job(job, tp, stock)
+        bar.advance()
 
     from millpath.interpret import InterpreterError, interpret
     table = tool_table_text(job.tools, job.units, job.table_units)
     try:        # the program as the machine will run it: with tools.tbl as written
-        motions = interpret(program, parse_tool_table(table), machine_units=job.table_units)
+        with prog.task("interpreting the program", total=1) as bar:
+            motions = interpret(program, parse_tool_table(table),
+                                machine_units=job.table_units)
+            bar.advance()
     except InterpreterError as e:
         raise MillpathError(f"the generated program does not interpret: line {e.line}: "
                             f"{e.message}", job.path) from None
     from millpath.verify.roundtrip import compare_toolpath
-    tol = 2e-4 if job.units == "mm" else 2e-5
+    tol = default("roundtrip", job.units)
     diffs = compare_toolpath(tp, move_lines, motions, tol)
     if diffs:
         raise MillpathError("interpreted program differs from the planned tool path: "
@@ -188,20 +215,13 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False,
 
     designs = [r.design for r in results if r.design is not None]
     design = MinDesign(designs) if designs else None
-    report: dict[str, Any] = {
-        "job": str(job.path) if job.path else None,
-        "name": job.name,
-        "units": job.units,
-        "tool_table_units": job.table_units,
-        "program": "program.ngc",
-        "lines": program.count("\n"),
-        "bytes": len(program.encode()),
-        "moves": tp.counts(),
-        "stock": list(stock.box),
-        "fit": {"mode": job.fit, "tolerance": job.fit_tolerance},
-    }
-    if job.reference:
-        report["reference"] = job.reference
+    from millpath.report.document import OperationSection, PlanSection, RunReport
+    report = RunReport(job=str(job.path) if job.path else None, name=job.name, units=job.units,
+                       tool_table_units=job.table_units, program="program.ngc",
+                       lines=program.count("\n"), bytes=len(program.encode()),
+                       moves=tp.counts(), stock=list(stock.box),
+                       fit={"mode": job.fit, "tolerance": job.fit_tolerance},
+                       reference=job.reference or None)
     from millpath.simulate import motion_times
     from millpath.verify.approach import approach_from_above
     motions = approach_from_above(motions, stock.zmax)
@@ -216,73 +236,75 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False,
         if user:
             from millpath.simulate import MeshDesign
             design = MeshDesign(refs[0].triangles)
+        # chords of arcs within a tenth of the tightest tolerance: the measured gouge
+        # must not carry the measurement's own chord error (issue 14)
+        tols = [o.tolerance for o in tp.ops if o.tolerance]
+        chord = min([res / 20.0] + [0.1 * t for t in tols])
         sim = simulate_motions(motions, job.tools, stock, resolution=res, design=design,
-                               machine=job.machine, progress=progress, references=refs,
+                               machine=job.machine, progress=prog, chord_tol=chord,
+                               references=refs,
                                motion_op=_motion_ops(tp, move_lines, motions),
                                accuracy=_accuracy(job.units))
-        report["verification"] = sim.to_json()
+        report.verification = sim.to_json()
     else:
-        report["verification"] = {"skipped": "simulation disabled in the job"}
-    report["cycle_time_s"] = round(float(np.sum(times)), 3)
+        report.verification = {"skipped": "simulation disabled in the job"}
+    report.cycle_time_s = float(np.sum(times))
     counts_by_op: dict[int, dict[str, int]] = {}
     for m in tp.moves:
         c = counts_by_op.setdefault(m.op, {"rapid": 0, "line": 0, "arc": 0, "cubic": 0,
                                           "drill": 0})
         if m.kind in c:
             c[m.kind] += 1
-    report["operations"] = [
-        {"type": o.type, "name": o.name, "tool": o.tool, "spindle": o.spindle,
-         "moves": counts_by_op.get(i, {}), "cycle_time_s": round(op_secs[i], 3),
-         **({"in_process": o.info["in_process"]} if "in_process" in o.info else {})}
+    report.operations = [
+        OperationSection(o.type, o.name, o.tool, o.spindle, counts_by_op.get(i, {}),
+                         op_secs[i], o.info.get("in_process"))
         for i, o in enumerate(tp.ops)]
-    for r in results:
-        for k, v in r.report.items():
-            if k in report and isinstance(report[k], dict) and isinstance(v, dict):
-                report[k].update(v)
-            elif k in report and isinstance(report[k], list) and isinstance(v, list):
-                report[k].extend(v)
-            else:
-                report[k] = v
+    report.plans = [PlanSection(i, op_type, r.report)
+                    for i, ((op_type, _), r) in enumerate(zip(job.operations, results))]
 
-    problems = _safety_gate(report, job, tp, move_lines, motions, sim)
+    problems = _safety_gate(report.to_json(), job, tp, move_lines, motions, sim)
     program_name = "program.ngc"
     posted = program                  # as interpreted: the viewer's lines refer to it
     if problems:
         program, program_name = _unsafe_program(program, problems, force)
-    report["program"] = program_name if (force or not problems) else None
-    report["safety"] = {"status": "ok" if not problems else ("forced" if force else "refused"),
-                        "problems": [p.to_json() for p in problems]}
+    report.program = program_name if (force or not problems) else None
+    report.safety = {"status": "ok" if not problems else ("forced" if force else "refused"),
+                     "problems": [p.to_json() for p in problems]}
 
     from millpath.report.preview import render_preview
     out = Path(outdir)
     files = []
-    with staged_dir(out) as tmp:
+    with staged_dir(out) as tmp, prog.task("rendering pictures and viewer", total=4) as bar:
         if force or not problems:
             (tmp / program_name).write_text(program)
             (tmp / "tools.tbl").write_text(table)
         render_preview(tp, tmp / "preview.png", title=job.name, stock=stock)
+        bar.advance()
         if sim is not None:
             from millpath.simulate import render_deviation, render_stock
-            render_stock(sim.zmap, tmp / "stock.png")
+            render_stock(sim.zmap, tmp / "stock.png", units=job.units)
             if design is not None:
                 ex = sim.exact
-                render_deviation(sim.zmap, design, tmp / "deviation.png",
+                render_deviation(sim.zmap, design, tmp / "deviation.png", units=job.units,
                                  gouge_at=sim.gouge_at, left_at=sim.left_at,
                                  gouge=ex.max_gouge if ex else None,
                                  left=ex.max_left if ex else None)
+        bar.advance(2)
         from millpath.report.viewer import write_view
         write_view(tmp / "view.html", program=posted, motions=motions, tools=job.tools,
                    stock=stock, units=job.units, sim=sim, design=design, title=job.name,
                    toolpath=tp, move_lines=move_lines)
-        report["seconds"] = round(time.perf_counter() - t0, 3)
-        (tmp / "report.json").write_text(json.dumps(report, indent=2, default=_json_default))
+        bar.advance()
+        from millpath.report.document import write_report
+        report.seconds = time.perf_counter() - t0
+        written = write_report(tmp / "report.json", report)
         files = [out / f.name for f in sorted(tmp.iterdir()) if not f.name.startswith(".")]
     if problems and not force:
         from millpath.verify.gate import UnsafeProgramError, summary
         raise UnsafeProgramError(f"program refused: {summary(problems)}; no program.ngc "
                                  f"written (report and pictures in {out}; --force writes "
-                                 f"program.unsafe.ngc)", job.path, report, problems)
-    return RunResult(job, tp, program, report, files, time.perf_counter() - t0)
+                                 f"program.unsafe.ngc)", job.path, written, problems)
+    return RunResult(job, tp, program, written, files, time.perf_counter() - t0)
 
 
 def _references(job: Job, results: list[PlanResult], stock: Stock, tp: Toolpath):
@@ -367,13 +389,3 @@ def _seconds_per_operation(tp: Toolpath, move_lines: list[int | None], motions,
         k = bisect.bisect_right(keys, mo.line) - 1
         secs[starts[max(k, 0)][1]] += float(t)
     return secs
-
-
-def _json_default(o: Any) -> Any:
-    if isinstance(o, (np.floating, np.integer)):
-        return o.item()
-    if isinstance(o, np.ndarray):
-        return o.tolist()
-    if isinstance(o, Path):
-        return str(o)
-    raise TypeError(f"cannot write {type(o).__name__} to JSON")

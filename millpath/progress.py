@@ -1,18 +1,26 @@
 """Progress of long steps on stderr (rich), or nothing.
 
 A :class:`Progress` is handed down to the steps that can take more than a second
-(through :class:`millpath.plan.base.PlanContext` for planning). Each step opens a task::
+(through :class:`millpath.plan.base.PlanContext` for planning, to the simulator for the
+sweep). Each step opens a task::
 
     with progress.task("zigzag passes", total=estimate) as t:
         t.advance()                      # one unit done
         t.update(total=new_estimate, info="12,345 points")
 
+All tasks open at the same time share one display (one line each, with counts, elapsed
+time and a time estimate); :meth:`Progress.session` keeps the display open across
+several steps (``millpath run`` holds one for the whole run).
+
 Disabled (``Progress(False)``, or stderr not a terminal) every call does nothing, so
-tests and pipes see no output.
+tests and pipes see no output; ``MILLPATH_PROGRESS=always`` in the environment shows
+the bars on a non-terminal stderr too (their final state, printed when the display
+closes).
 """
 
 from __future__ import annotations
 
+import os
 import sys
 from contextlib import contextmanager
 from typing import Iterator
@@ -43,11 +51,26 @@ class _Task:
 
 
 class Progress:
-    """Progress bars on stderr when ``enabled`` and stderr is a terminal."""
+    """Progress bars on stderr when ``enabled`` and stderr is a terminal (or
+    ``MILLPATH_PROGRESS=always``)."""
 
     def __init__(self, enabled: bool = True):
-        self.enabled = bool(enabled) and sys.stderr.isatty()
+        forced = os.environ.get("MILLPATH_PROGRESS", "") == "always"
+        self.enabled = bool(enabled) and (forced or sys.stderr.isatty())
         self._bar = None
+        self._depth = 0
+
+    @contextmanager
+    def session(self) -> Iterator["Progress"]:
+        """Keep one display open for every task started inside."""
+        if not self.enabled:
+            yield self
+            return
+        self._open()
+        try:
+            yield self
+        finally:
+            self._close()
 
     @contextmanager
     def task(self, label: str, total: float | None = None) -> Iterator[_Task]:
@@ -55,21 +78,40 @@ class Progress:
         if not self.enabled:
             yield _Task(None, None, label)
             return
-        from rich.console import Console
-        from rich.progress import (BarColumn, MofNCompleteColumn, Progress as Bar,
-                                   TextColumn, TimeElapsedColumn, TimeRemainingColumn)
-        bar = Bar(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
-                  TimeElapsedColumn(), TimeRemainingColumn(),
-                  console=Console(stderr=True), transient=False)
-        with bar:
-            tid = bar.add_task(label, total=total)
+        bar = self._open()
+        tid = bar.add_task(label, total=total)
+        try:
             yield _Task(bar, tid, label)
+        finally:
+            self._close()
 
     def note(self, text: str) -> None:
-        """One line (an estimate, a stage done)."""
-        if self.enabled:
+        """One line (an estimate, a stage done), above the bars when they are shown."""
+        if not self.enabled:
+            return
+        if self._bar is not None:
+            self._bar.console.print(text)
+        else:
             from rich.console import Console
             Console(stderr=True).print(text)
+
+    def _open(self):
+        if self._bar is None:
+            from rich.console import Console
+            from rich.progress import (BarColumn, MofNCompleteColumn, Progress as Bar,
+                                       TextColumn, TimeElapsedColumn, TimeRemainingColumn)
+            self._bar = Bar(TextColumn("{task.description}"), BarColumn(),
+                            MofNCompleteColumn(), TimeElapsedColumn(), TimeRemainingColumn(),
+                            console=Console(stderr=True), transient=False)
+            self._bar.start()
+        self._depth += 1
+        return self._bar
+
+    def _close(self) -> None:
+        self._depth -= 1
+        if self._depth == 0 and self._bar is not None:
+            bar, self._bar = self._bar, None
+            bar.stop()
 
 
 #: the silent instance (default of :class:`millpath.plan.base.PlanContext`)

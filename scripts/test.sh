@@ -41,4 +41,7 @@ here=$(pwd)
   || { echo "== error: .venv imports a broken millpath from outside the checkout"; exit 1; }
 
 echo "== running the test suite"
-exec .venv/bin/python -m pytest -q "$@"
+# two workers (CI has 2 cores); a module's tests stay on one worker, so its fixtures
+# (planned examples) are built once; the slowest tests are listed at the end
+exec .venv/bin/python -m pytest -q -n "${MILLPATH_TEST_WORKERS:-2}" --dist loadscope \
+    --durations=15 "$@"

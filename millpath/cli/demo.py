@@ -11,6 +11,7 @@ from pathlib import Path
 
 import click
 from rich.console import Console
+from rich.markup import escape
 from rich.table import Table
 
 
@@ -59,18 +60,18 @@ def command(outdir: Path, only: str | None) -> None:
         except UnsafeProgramError as e:
             # the proof doing its job: the program is not written, the report is
             refused.append(name)
-            console.print(f"[red]{name}: {e}[/]")
+            console.print(f"[red]{name}: {escape(str(e))}[/]")
             table.add_row(name, "", "", "", "", "", "",
                           f"[red]refused: {e.problems[0].kind}[/]", "", "")
             continue
         except MillpathError as e:
             from millpath.part.brep.reader import STEP_BREP_EXTRA
             if STEP_BREP_EXTRA in str(e):          # a STEP solid without OpenCASCADE
-                console.print(f"[yellow]{name}: skipped: {e.message}[/]")
+                console.print(f"[yellow]{name}: skipped: {escape(e.message)}[/]")
                 table.add_row(name, "", "", "", "", "", "", "[yellow]skipped[/]", "", "")
                 continue
             failures += 1
-            console.print(f"[red]{name}: {e}[/]")
+            console.print(f"[red]{name}: {escape(str(e))}[/]")
             table.add_row(name, "", "", "", "", "", "", "[red]failed[/]", "", "")
             continue
         r = res.report

@@ -28,13 +28,16 @@ def command(program: Path, tolerance: float, mode: str, min_radius: float,
     """Rewrite runs of G1 moves in PROGRAM as G2/G3 arcs (and G5 cubics) within
     --tolerance; every other line stays as written."""
     from millpath.fit import fit_program
+    from millpath.fit.program import FitStats
+    stats = FitStats()
     try:
         text = program.read_text()
     except UnicodeDecodeError:
         raise MillpathError("not a text file", program) from None
     t0 = time.perf_counter()
     try:
-        out = fit_program(text, tolerance, mode, min_radius=min_radius, file=str(program))
+        out = fit_program(text, tolerance, mode, min_radius=min_radius, file=str(program),
+                          stats=stats)
     except ValueError as e:                    # --tolerance / --min-radius out of range
         raise MillpathError(str(e), program) from None
     dt = time.perf_counter() - t0
@@ -46,3 +49,19 @@ def command(program: Path, tolerance: float, mode: str, min_radius: float,
     after = sum(1 for l in out.splitlines() if l.strip())
     click.echo(f"{target}: {before} -> {after} blocks, {len(text.encode())} -> "
                f"{len(out.encode())} bytes ({dt:.2f} s)")
+    if stats.rewritten == 0:
+        click.echo(why_unchanged(stats, tolerance))
+
+
+def why_unchanged(s, tolerance: float) -> str:
+    """Why ``millpath fit`` rewrote nothing, from its :class:`FitStats`."""
+    if s.moves == 0:
+        return "nothing to fit: the program has no G1 moves with coordinates"
+    parts = [f"nothing fitted: of {s.moves} G1 moves"]
+    if s.kept:
+        parts.append(f"{s.kept} could not be fitted within --tolerance {tolerance:g} "
+                     f"(merging two neighbouring moves into one line needs a deviation "
+                     f"of {s.merge_min:.4g}; {s.merge_max:.4g} to change every run)")
+    for why, n in sorted(s.skipped.items(), key=lambda kv: -kv[1]):
+        parts.append(f"{n} {why}")
+    return parts[0] + ", " + "; ".join(parts[1:])

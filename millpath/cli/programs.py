@@ -20,6 +20,37 @@ import click
 from millpath.errors import MillpathError
 
 
+def program_options(design_help: str):
+    """The options ``millpath simulate`` and ``millpath view`` share: the PROGRAM
+    argument, ``--tools``, ``--stock``, ``--design`` (help text ``design_help``),
+    ``--resolution``, ``--machine-units`` and ``--tool``, applied in that order."""
+    options = [
+        click.argument("program", type=click.Path(path_type=Path)),
+        click.option("--tools", "tools_path", type=click.Path(path_type=Path), default=None,
+                     help="LinuxCNC tool table (flat end mills) or TOML tool library."),
+        click.option("--stock", "stock_text", required=True,
+                     help="Stock box XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX in program units."),
+        click.option("--design", "design_path", type=click.Path(path_type=Path),
+                     default=None, help=design_help),
+        click.option("--resolution", type=float, default=None,
+                     help="Z-map cell size (default: stock size / 1000, at most D/10 of "
+                          "the smallest tool the program cuts with)."),
+        click.option("--machine-units", type=click.Choice(["inch", "mm"]), default=None,
+                     help="Units of a tool table whose header does not state them "
+                          "(default inch, as LinuxCNC's rs274)."),
+        click.option("--tool", "spindle_tool", type=click.IntRange(min=0), default=0,
+                     help="The tool already in the spindle when the program starts "
+                          "(LinuxCNC's sample programs assume one; no length offset "
+                          "until G43)."),
+    ]
+
+    def apply(func):
+        for option in reversed(options):
+            func = option(func)
+        return func
+    return apply
+
+
 def parse_stock(text: str):
     """The stock box of ``--stock XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX``."""
     from millpath.model.stock import Stock

@@ -12,6 +12,8 @@ from pathlib import Path
 import click
 from rich.console import Console
 
+from millpath.report.document import plan_sections
+
 
 def print_verification(console: Console, report: dict) -> None:
     """The safety figures of a run, green when clean and red when not."""
@@ -24,8 +26,11 @@ def print_verification(console: Console, report: dict) -> None:
         return f"[{'red' if n else 'green'}]{label} {n}[/]"
     holder = int(ver.get("holder_contacts") or 0)
     rapids = int(ver.get("rapids_through_material") or 0)
-    feats = report.get("features") or {}
-    unmachined = len(feats.get("unmachinable") or []) if isinstance(feats, dict) else 0
+    sections = [f for f in plan_sections(report, "features") if isinstance(f, dict)]
+    unmachined = sum(len(f.get("unmachinable") or []) for f in sections
+                     if f.get("unmachinable_policy", "refuse") == "refuse")
+    left = sum(len(f.get("unmachinable") or []) for f in sections
+               if f.get("unmachinable_policy") == "list")
     problems = (report.get("safety") or {}).get("problems", [])
     gouge_bad = any(p["kind"] == "gouge" for p in problems)
     tols = sorted({p["detail"] for p in problems if p["kind"] == "gouge"})
@@ -34,7 +39,8 @@ def print_verification(console: Console, report: dict) -> None:
              + (f" ({'; '.join(tols)})" if tols else " (within tolerance)"))
     console.print(", ".join([fig("holder contacts", holder),
                              fig("rapids through material", rapids),
-                             fig("features not machined", unmachined),
+                             fig("features not machined", unmachined)
+                             + (f" [yellow](+{left} left on purpose)[/]" if left else ""),
                              f"[{'red' if gouge_bad else 'green'}]{gouge}[/]"])
                   + (f", max left {ver['max_left']:.4g}" if ver.get("max_left") is not None
                      else ""))

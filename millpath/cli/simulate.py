@@ -15,27 +15,12 @@ from pathlib import Path
 
 import click
 
-from millpath.cli.programs import simulate_program
+from millpath.cli.programs import program_options, simulate_program
 
 
 @click.command()
-@click.argument("program", type=click.Path(path_type=Path))
-@click.option("--tools", "tools_path", type=click.Path(path_type=Path), default=None,
-              help="LinuxCNC tool table (flat end mills) or TOML tool library.")
-@click.option("--stock", "stock_text", required=True,
-              help="Stock box XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX in program units.")
-@click.option("--design", "design_path", type=click.Path(path_type=Path), default=None,
-              help="Designed part (STL, or any surface millpath drop reads) for the "
-                   "exact gouge and material-left checks (normal to the design).")
-@click.option("--resolution", type=float, default=None,
-              help="Z-map cell size (default: stock size / 1000, at most D/10 of the "
-                   "smallest tool the program cuts with).")
-@click.option("--machine-units", type=click.Choice(["inch", "mm"]), default=None,
-              help="Units of a tool table whose header does not state them (default "
-              "inch, as LinuxCNC's rs274).")
-@click.option("--tool", "spindle_tool", type=click.IntRange(min=0), default=0,
-              help="The tool already in the spindle when the program starts (LinuxCNC's "
-                   "sample programs assume one; no length offset until G43).")
+@program_options("Designed part (STL, or any surface millpath drop reads) for the exact "
+                 "gouge and material-left checks (normal to the design).")
 @click.option("--max-feed", type=float, default=None,
               help="Machine's feed limit for the cycle time, program units/min (default "
                    "3000 mm/min, 120 in/min); faster feeds are capped with a warning.")

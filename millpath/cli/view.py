@@ -13,31 +13,21 @@ from pathlib import Path
 
 import click
 
-from millpath.cli.programs import simulate_program
+from millpath.cli.programs import program_options, simulate_program
 from millpath.errors import MillpathError
 
 
 @click.command()
-@click.argument("program", type=click.Path(path_type=Path))
-@click.option("--tools", "tools_path", type=click.Path(path_type=Path), default=None,
-              help="LinuxCNC tool table (flat end mills) or TOML tool library.")
-@click.option("--stock", "stock_text", required=True,
-              help="Stock box XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX in program units.")
-@click.option("--design", "design_path", type=click.Path(path_type=Path), default=None,
-              help="Designed part (STL, or any surface millpath drop reads): the stock "
-                   "is coloured by deviation from it.")
-@click.option("--resolution", type=float, default=None,
-              help="Z-map cell size (default: stock size / 1000, at most D/10 of the "
-                   "smallest tool the program cuts with).")
-@click.option("--tool", "spindle_tool", type=click.IntRange(min=0), default=0,
-              help="The tool already in the spindle when the program starts.")
+@program_options("Designed part (STL, or any surface millpath drop reads): the stock "
+                 "is coloured by deviation from it.")
 @click.option("--tolerance", type=float, default=None,
               help="Deviation drawn as neutral (default 0.01 mm / 0.0005 inch); the page "
                    "can change it.")
 @click.option("-o", "--output", "output", type=click.Path(path_type=Path),
               default=Path("view.html"), show_default=True, help="HTML file to write.")
 def command(program: Path, tools_path: Path | None, stock_text: str,
-            design_path: Path | None, resolution: float | None, spindle_tool: int,
+            design_path: Path | None, resolution: float | None, machine_units: str | None,
+            spindle_tool: int,
             tolerance: float | None, output: Path) -> None:
     """Write an interactive 3D view of PROGRAM: tool path, stock, simulated stock
     coloured by deviation from the design, and a player that runs it move by move."""
@@ -47,7 +37,8 @@ def command(program: Path, tools_path: Path | None, stock_text: str,
     if tolerance is not None and not tolerance >= 0:
         raise MillpathError(f"--tolerance must be a length >= 0, not {tolerance}")
     sp = simulate_program(program, tools_path, stock_text, design_path, resolution,
-                          progress=sys.stderr.isatty(), spindle_tool=spindle_tool)
+                          progress=sys.stderr.isatty(), machine_units=machine_units,
+                          spindle_tool=spindle_tool)
     motions = approach_from_above(sp.motions, sp.stock.zmax)
     if not motions:
         raise MillpathError("the program has no motion to show", program)

@@ -28,6 +28,7 @@ import numpy as np
 from millpath.fit.arcs import LINUXCNC_ARC_ABS_INCH, LINUXCNC_ARC_ABS_MM
 from millpath.fit.segment import PLANE_NAMES, PLANES, segment
 from millpath.model.toolpath import Move, Toolpath
+from millpath.model.units import default
 
 __all__ = ["fit_toolpath", "fit_program", "fit_points", "FitSettings", "MODES"]
 
@@ -55,7 +56,7 @@ class FitSettings:
         inch = units == "inch"
         self.units = units
         self.mode = mode
-        self.decimals = decimals if decimals is not None else (5 if inch else 4)
+        self.decimals = decimals if decimals is not None else int(default("decimals", units))
         self.q = 10.0 ** -self.decimals
         # rounding every point to the grid moves it by up to sqrt(3)/2 grid steps
         self.tol = float(tolerance) - 0.8661 * self.q
@@ -141,37 +142,13 @@ def fit_toolpath(toolpath: Toolpath, tolerance: float, mode: str = "arcs", *,
     if mode == "none":
         out.moves = list(moves)
         return out
-    comp_on = False
-    start = None            # where the tool is, if a fitted arc may start there
-    i = 0
-    n = len(moves)
-    while i < n:
-        m = moves[i]
-        if m.kind == "line" and not comp_on and start is not None:
-            j = i
-            while (j < n and moves[j].kind == "line" and moves[j].op == m.op
-                   and moves[j].feed == m.feed):
-                j += 1
-            run = moves[i:j]
-            out.moves.extend(_moves_for_run(start, run, s) if len(run) >= 2 else run)
-            start = moves[j - 1].end if j < n and moves[j].op == m.op else None
-            i = j
-            continue
-        out.moves.append(m)
-        if m.kind == "comp":
-            comp_on = m.comp != "off"
-            start = None
-        elif m.kind == "drill" or comp_on or (i + 1 < n and moves[i + 1].op != m.op):
-            start = None
-        else:
-            start = m.end
-        i += 1
-    return out
+    from millpath.fit.collinear import rebuild_line_runs
+    return rebuild_line_runs(toolpath, lambda start, run: _moves_for_run(start, run, s))
 
 
 def fit_program(text: str, tolerance: float, mode: str = "arcs", *,
-                min_radius: float = 0.0, file: str | None = None) -> str:
+                min_radius: float = 0.0, file: str | None = None, stats=None) -> str:
     """Rewrite the runs of ``G1`` moves of an RS274NGC program within ``tolerance``
-    (program units); see :mod:`millpath.fit.program`."""
+    (program units); see :mod:`millpath.fit.program` (``stats``: a ``FitStats``)."""
     from millpath.fit.program import fit_program as _fp
-    return _fp(text, tolerance, mode, min_radius=min_radius, file=file)
+    return _fp(text, tolerance, mode, min_radius=min_radius, file=file, stats=stats)

@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import math
 import re
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -34,6 +35,7 @@ from millpath.gcode.errors import GCodeError
 from millpath.gcode.lexer import MAX_PARAM, normalize, read_block
 from millpath.fit import FitSettings, fit_points
 from millpath.fit.segment import PLANE_NAMES, PLANES
+from millpath.model.units import default
 
 _OWORD = re.compile(r"(?:/)?(?:n[\d.]*)?o")     # normalized text of an O-word line
 _PLANE_CODE = {"XY": "G17", "XZ": "G18", "YZ": "G19"}
@@ -56,6 +58,59 @@ def _fmt(v: float, d: int) -> str:
 
 def _decimals(s: str) -> int:
     return len(s.split(".", 1)[1]) if "." in s else 0
+
+
+@dataclass
+class FitStats:
+    """What :func:`fit_program` did, to say why it changed nothing.
+
+    ``moves``: G1 moves with a coordinate; ``rewritten``/``kept``: moves in runs it
+    rewrote / could not fit within the tolerance; ``skipped``: moves it may not touch,
+    by reason; ``merge_min``/``merge_max`` (program units): over the runs kept, the
+    smallest and the largest of each run's smallest deviation that would merge two of
+    its neighbouring moves into one line (a tolerance above ``merge_min`` changes some
+    run, above ``merge_max`` every run; 0 when no run was kept)."""
+
+    moves: int = 0
+    rewritten: int = 0
+    kept: int = 0
+    skipped: dict[str, int] = field(default_factory=dict)
+    merge_min: float = 0.0
+    merge_max: float = 0.0
+    _sags: list[float] = field(default_factory=list, repr=False)
+
+    def skip(self, why: str, n: int = 1) -> None:
+        self.skipped[why] = self.skipped.get(why, 0) + n
+
+
+def _merge_sag(points: list[list[float]]) -> float:
+    """The smallest distance of an inner point of ``points`` from the segment joining
+    its neighbours: the least deviation that merges two neighbouring moves."""
+    P = np.asarray(points, dtype=float)
+    a, b, c = P[:-2], P[1:-1], P[2:]
+    d = c - a
+    l2 = np.einsum("ij,ij->i", d, d)
+    t = np.clip(np.einsum("ij,ij->i", b - a, d) / np.where(l2 > 0, l2, 1.0), 0.0, 1.0)
+    dist = np.linalg.norm(b - (a + t[:, None] * d), axis=1)
+    return float(dist.min()) if len(dist) else 0.0
+
+
+def _why_not(st: "_State", b: "_Block") -> str | None:
+    """Why the G1 move ``b`` cannot join a run (None: it is not a G1 move)."""
+    motion = 1.0 if 1.0 in b.g else (st.motion if not b.g else None)
+    if motion != 1.0 or b.opaque or not any(a in b.words for a in "XYZ"):
+        return None
+    if not st.known():
+        return "before the position is known"
+    if st.comp or st.comp_exit:
+        return "under cutter radius compensation"
+    if not st.absolute:
+        return "in incremental distance mode (G91)"
+    if st.feed_mode != 94.0:
+        return "not in units-per-minute feed mode (G94)"
+    if st.diameter:
+        return "in diameter mode (G7)"
+    return "with other words or G codes on the line"
 
 
 class _State:
@@ -310,7 +365,7 @@ def _fit_run(st: _State, run: list[_Block], tol: float, mode: str,
              min_radius: float) -> "_Emitter | None":
     """The emitter holding a run's rewritten blocks (None: keep the run as written).
     ``st``: the state before the run, its motion mode the one the output is in."""
-    base = 5 if st.units != "mm" else 4
+    base = int(default("decimals", "inch" if st.units != "mm" else "mm"))
     d = base
     for b in run:
         for a in "XYZ":
@@ -348,14 +403,17 @@ def _fit_run(st: _State, run: list[_Block], tol: float, mode: str,
 
 
 def fit_program(text: str, tolerance: float, mode: str = "arcs", *,
-                min_radius: float = 0.0, file: str | None = None) -> str:
+                min_radius: float = 0.0, file: str | None = None,
+                stats: FitStats | None = None) -> str:
     """Return ``text`` with its runs of ``G1`` moves replaced by arcs (and ``G5``
     cubics with ``mode="arcs+cubics"``) within ``tolerance`` (program units).
 
     No arc gets a radius at or below ``min_radius`` (program units; give the largest
     tool radius so that concave arcs stay larger than the tool). Lines that are not
-    rewritten are copied exactly. ``file`` names the program in error messages.
+    rewritten are copied exactly. ``file`` names the program in error messages;
+    ``stats``, when given, is filled with what was and was not fitted (:class:`FitStats`).
     """
+    fs = stats if stats is not None else FitStats()
     try:
         if not (min_radius >= 0.0 and math.isfinite(min_radius)):
             raise ValueError(f"min radius must be a length >= 0, not {min_radius!r}")
@@ -385,6 +443,21 @@ def fit_program(text: str, tolerance: float, mode: str = "arcs", *,
                 start_state.motion = out_motion
             em = (_fit_run(start_state, run, tolerance, mode, min_radius) if len(run) >= 2
                   else None)
+            fs.moves += len(run)
+            if len(run) < 2:
+                fs.skip("single moves between other blocks")
+            elif em is None:
+                fs.kept += len(run)
+                pts = [list(start_state.pos)]
+                for rb in run:
+                    p = list(pts[-1])
+                    for a in "XYZ":
+                        if a in rb.words:
+                            p["XYZ".index(a)] = rb.words[a]
+                    pts.append(p)
+                fs._sags.append(_merge_sag(pts))
+            else:
+                fs.rewritten += len(run)
             if em is None:
                 if out_motion is not None and not run[0].g:
                     out.append("G1 " + run[0].raw.strip())
@@ -399,6 +472,10 @@ def fit_program(text: str, tolerance: float, mode: str = "arcs", *,
                 out_motion = em.motion if em.motion != st.motion else None
             i = j
             continue
+        why = _why_not(st, b)
+        if why is not None:
+            fs.moves += 1
+            fs.skip(why)
         if out_motion is not None:
             # the output is still in the G2/G3/G5 mode of the last rewritten run
             if any(g in _MOTION_G for g in b.g):
@@ -415,6 +492,8 @@ def fit_program(text: str, tolerance: float, mode: str = "arcs", *,
         out.append(b.raw)
         _apply(st, b)
         i += 1
+    if fs._sags:
+        fs.merge_min, fs.merge_max = min(fs._sags), max(fs._sags)
     nl = "\r\n" if "\r\n" in text else "\n"
     return nl.join(out) + (nl if text.endswith("\n") else "")
 

@@ -172,38 +172,78 @@ class CompMixin:
         self.queue = []
 
     def move_endpoint_and_flush(self, x: float, y: float) -> None:
+        """Give the queued moves the end ``x, y`` (plane coordinates), check for gouges,
+        emit them, and make ``x, y`` the new end point."""
         queue = self.queue
         if not queue:
             return
         e0, e1 = self.endpoint
         valid = self.endpoint_valid
         dx, dy = x - e0, y - e1
+        if len(queue) == 1 and self.axes[0] == 0:
+            # the usual case in XY: one queued move, moved and packed in one step
+            q = queue[0]
+            t = q[0]
+            o0, o1, o2 = self.out
+            if t == "S":
+                if valid and q[3] * dx + q[4] * dy < 0:
+                    self._gouge_straight(q[1])
+                self.store.buf += PACK(o0, o1, o2, x, y, q[8], q[9], 0.0, 0.0, 0.0,
+                                       q[1], q[2], 0, PLANE_CODE[self.plane], q[10])
+                self.out = [x, y, q[8]]
+                self.queue = []
+                self.endpoint = [x, y]
+                self.endpoint_valid = True
+                return
+            if t == "A":
+                c1, c2 = q[5], q[6]
+                r1 = _hypot(q[3] - c1, q[4] - c2)
+                r2 = _hypot(x - c1, y - c2)
+                if abs(r1 - r2) > 0.01 or (q[2] and valid):
+                    self._check_arc(q, e0, e1, x, y, valid)     # raises if invalid
+                self.store.buf += PACK(o0, o1, o2, x, y, q[8], q[9], q[5], q[6], o2,
+                                       T_ARC, q[1], q[7], PLANE_CODE[self.plane], q[10])
+                self.out = [x, y, q[8]]
+                self.queue = []
+                self.endpoint = [x, y]
+                self.endpoint_valid = True
+                return
         for q in queue:
             if q[0] == "S":
                 if valid and q[3] * dx + q[4] * dy < 0:
-                    if q[1] == 0:
-                        raise GCodeError("Straight traverse in concave corner cannot be "
-                                         "reached by the tool without gouging")
-                    raise GCodeError("Straight feed in concave corner cannot be reached by "
-                                     "the tool without gouging")
+                    self._gouge_straight(q[1])
                 q[6], q[7] = x, y
             elif q[0] == "A":
-                r1 = math.hypot(q[3] - q[5], q[4] - q[6])
-                l1 = q[2]
-                r2 = math.hypot(x - q[5], y - q[6])
-                l2 = find_turn(e0, e1, q[5], q[6], q[7], x, y)
-                if abs(r1 - r2) > 0.01:
-                    raise GCodeError("BUG: cutter compensation has generated an invalid arc "
-                                     f"with mismatched radii r1 {r1:f} r2 {r2:f}\n")
-                # rs274 2.9 allows 0.001 rad in inch programs, 0.0254 in mm programs
-                slack = 0.0254 if self.units == "mm" else 0.001
-                if l1 and valid and abs(l2) > abs(l1) + slack:
-                    raise GCodeError("Arc move in concave corner cannot be reached by the "
-                                     "tool without gouging")
+                self._check_arc(q, e0, e1, x, y, valid)
                 q[3], q[4] = x, y
         self.dequeue()
         self.endpoint = [x, y]
         self.endpoint_valid = True
+
+    @staticmethod
+    def _gouge_straight(kind: int) -> None:
+        if kind == 0:
+            raise GCodeError("Straight traverse in concave corner cannot be reached by the "
+                             "tool without gouging")
+        raise GCodeError("Straight feed in concave corner cannot be reached by the tool "
+                         "without gouging")
+
+    def _check_arc(self, q: list, e0: float, e1: float, x: float, y: float,
+                   valid: bool) -> None:
+        """Raise if moving queued arc ``q``'s end to ``x, y`` is invalid (LinuxCNC's
+        checks in move_endpoint_and_flush)."""
+        r1 = math.hypot(q[3] - q[5], q[4] - q[6])
+        l1 = q[2]
+        r2 = math.hypot(x - q[5], y - q[6])
+        l2 = find_turn(e0, e1, q[5], q[6], q[7], x, y)
+        if abs(r1 - r2) > 0.01:
+            raise GCodeError("BUG: cutter compensation has generated an invalid arc "
+                             f"with mismatched radii r1 {r1:f} r2 {r2:f}\n")
+        # rs274 2.9 allows 0.001 rad in inch programs, 0.0254 in mm programs
+        slack = 0.0254 if self.units == "mm" else 0.001
+        if l1 and valid and abs(l2) > abs(l1) + slack:
+            raise GCodeError("Arc move in concave corner cannot be reached by the "
+                             "tool without gouging")
 
     def flush_comp(self, line: int) -> None:
         """M0/M1/M2/M30: emit what is queued."""
@@ -287,13 +327,27 @@ class CompMixin:
                 concave = False
             if not concave and beta > SMALL:
                 self.move_endpoint_and_flush(cx, cy)
-                if move == 10:
-                    self.queue.append(["A", line, 0.0, mid_x, mid_y, opx, opy,
-                                       -1 if side == LEFT else 1, cz, feed, self._state_idx])
+                if a1 == 0:
+                    # XY, queue now empty: emit the corner move at once
+                    o0, o1, o2 = self.out
+                    if move == 10:
+                        self.store.buf += PACK(o0, o1, o2, mid_x, mid_y, cz, feed, opx, opy,
+                                               o2, T_ARC, line, -1 if side == LEFT else 1,
+                                               PLANE_CODE[self.plane], self._state_idx)
+                    else:
+                        self.store.buf += PACK(o0, o1, o2, mid_x, mid_y, cz, 0.0, 0.0, 0.0,
+                                               0.0, 0, line, 0, PLANE_CODE[self.plane],
+                                               self._state_idx)
+                    self.out = [mid_x, mid_y, cz]
                 else:
-                    self.queue.append(["S", 0, line, 0.0, 0.0, 0.0, mid_x, mid_y, cz, 0.0,
-                                       self._state_idx])
-                self.dequeue()
+                    if move == 10:
+                        self.queue.append(["A", line, 0.0, mid_x, mid_y, opx, opy,
+                                           -1 if side == LEFT else 1, cz, feed,
+                                           self._state_idx])
+                    else:
+                        self.queue.append(["S", 0, line, 0.0, 0.0, 0.0, mid_x, mid_y, cz, 0.0,
+                                           self._state_idx])
+                    self.dequeue()
                 self.endpoint = [mid_x, mid_y]
                 self.endpoint_valid = True
             elif concave:
@@ -483,9 +537,17 @@ class CompMixin:
             midx = opx + tool_radius * _cos(delta)
             midy = opy + tool_radius * _sin(delta)
             self.dequeue()
-            self.queue.append(["A", line, 0.0, midx, midy, opx, opy, -1 if side == LEFT else 1,
-                               cz, feed, self._state_idx])
-            self.dequeue()
+            if a1 == 0:
+                # XY, queue now empty: emit the corner arc at once
+                o0, o1, o2 = self.out
+                self.store.buf += PACK(o0, o1, o2, midx, midy, cz, feed, opx, opy, o2, T_ARC,
+                                       line, -1 if side == LEFT else 1,
+                                       PLANE_CODE[self.plane], self._state_idx)
+                self.out = [midx, midy, cz]
+            else:
+                self.queue.append(["A", line, 0.0, midx, midy, opx, opy,
+                                   -1 if side == LEFT else 1, cz, feed, self._state_idx])
+                self.dequeue()
             self.endpoint = [midx, midy]
             self.endpoint_valid = True
             self.queue.append(["A", line, find_turn(opx, opy, centerx, centery, turn, end_x,

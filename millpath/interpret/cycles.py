@@ -16,6 +16,12 @@ from millpath.interpret.errors import GCodeError
 
 CYCLES = frozenset((730, 810, 820, 830, 840, 850, 860, 870, 880, 890))
 _SUPPORTED = frozenset((730, 810, 820, 830, 850, 890))
+#: the moves of the cycles without pecks at each hole, once the tool is at the R plane:
+#: (1 feed | 0 rapid, to "bottom" / "r" / "clear" height) or ("dwell", None) for P
+CYCLE_STEPS = {810: ((1, "bottom"), (0, "clear")),
+               820: ((1, "bottom"), ("dwell", None), (0, "clear")),
+               850: ((1, "bottom"), (1, "r"), (0, "clear")),
+               890: ((1, "bottom"), ("dwell", None), (1, "clear"))}
 #: most (repeats x pecks) one cycle block may expand into (a few moves each)
 MAX_CYCLE_STEPS = 1_000_000
 _NORMAL_LETTER = {"XY": "z", "XZ": "y", "YZ": "x"}
@@ -144,13 +150,13 @@ class CycleMixin:
                 self._cyc_move(0, line, aa, bb, clear_cc)
                 if clear_cc > r:
                     self._cyc_move(0, line, aa, bb, r)
-            if motion == 810:
-                self._cyc_move(1, line, aa, bb, cc)
-                self._cyc_move(0, line, aa, bb, clear_cc)
-            elif motion == 820:
-                self._cyc_move(1, line, aa, bb, cc)
-                self.emit_dwell(line, p)
-                self._cyc_move(0, line, aa, bb, clear_cc)
+            if motion in CYCLE_STEPS:
+                at = {"bottom": cc, "r": r, "clear": clear_cc}
+                for kind, where in CYCLE_STEPS[motion]:
+                    if kind == "dwell":
+                        self.emit_dwell(line, p)
+                    else:
+                        self._cyc_move(kind, line, aa, bb, at[where])
             elif motion in (730, 830):
                 if q <= 0.0:
                     raise GCodeError("Negative or zero q value used")
@@ -165,14 +171,6 @@ class CycleMixin:
                     depth -= q
                 self._cyc_move(1, line, aa, bb, cc)
                 self._cyc_move(0, line, aa, bb, clear_cc)
-            elif motion == 850:
-                self._cyc_move(1, line, aa, bb, cc)
-                self._cyc_move(1, line, aa, bb, r)
-                self._cyc_move(0, line, aa, bb, clear_cc)
-            elif motion == 890:
-                self._cyc_move(1, line, aa, bb, cc)
-                self.emit_dwell(line, p)
-                self._cyc_move(1, line, aa, bb, clear_cc)
         if motion in (820, 890):
             self.cycle_p = p
         if motion in (730, 830):

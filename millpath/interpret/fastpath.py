@@ -84,6 +84,31 @@ class FastPath:
             e.line = base + self.k + 1
             raise
 
+    def comp_end(self, f, x, y, z) -> list:
+        """Before a compensated move (the machine's position and feed are current): set
+        the line's F word, if any; return the programmed end point (X Y Z words, the
+        others from the programmed position)."""
+        m = self.m
+        if f is not None:
+            m.feed_rate = float(f)
+        prog = m.prog
+        return [prog[0] if x is None else float(x), prog[1] if y is None else float(y),
+                prog[2] if z is None else float(z)]
+
+    def comp_move(self, buf: list, k: int, move, *args) -> tuple:
+        """Call the machine's compensated ``move(*args)`` for line index ``k``; on an
+        error drop what it stored and re-raise. Returns the new (current, output)
+        position as six numbers."""
+        self.k = k
+        mark = len(buf)
+        try:
+            move(*args)
+        except GCodeError:
+            del buf[mark:]
+            raise
+        c, o = self.m.cur, self.m.out
+        return c[0], c[1], c[2], o[0], o[1], o[2]
+
     def _loop(self, lines, k, end_k, match, m, one, base) -> int:
         buf = m.store.buf
         pack = PACK
@@ -104,7 +129,7 @@ class FastPath:
             comp_arcs = (comp_line and m.plane == "XY" and not m.ijk_abs
                          and not m.arc_not_allowed)
             return (c[0], c[1], c[2], o[0], o[1], o[2], m.feed_rate, m.motion_mode, simple,
-                    arcs_ok, PLANE_CODE[m.plane], m._state_idx, RADIUS_TOLERANCE[units],
+                    arcs_ok, PLANE_CODE[m.plane], m.state_index, RADIUS_TOLERANCE[units],
                     SPIRAL_TOLERANCE[units], units)
 
         (cx, cy, cz, ox, oy, oz, feed, mode, simple, arcs_ok, pcode, state, rtol,
@@ -127,30 +152,19 @@ class FastPath:
                     code = (ord(g) - 48) * 10
                 if (comp_line and code in (0, 10) and i is None and j is None and kk is None
                         and r is None and (f is None or f[0] != "-")):
-                    # G0/G1 with compensation on (not the entry move): straight_comp2
-                    m.out, m.feed_rate = [ox, oy, oz], feed
-                    if f is not None:
-                        m.feed_rate = float(f)
+                    # G0/G1 with compensation on (not the entry move): straight_comp2.
+                    # With compensation on, every line goes through the machine, so its
+                    # position and feed are the locals' already.
+                    end = self.comp_end(f, x, y, z)
                     if code == 10 and m.feed_rate == 0.0:
                         return k
-                    prog = m.prog
-                    end = [prog[0] if x is None else float(x),
-                           prog[1] if y is None else float(y),
-                           prog[2] if z is None else float(z)]
                     m.motion_mode = code
                     m.arc_not_allowed = False
                     m.cycle_il_flag = False
-                    self.k = k
-                    mark = len(buf)
-                    try:
-                        m.straight_comp2(code, base + k + 1, end,
-                                         m.feed_rate if code == 10 else 0.0)
-                    except GCodeError:
-                        del buf[mark:]
-                        raise
                     # straight_comp2 changes only the position (and the feed set above)
-                    c, o = m.cur, m.out
-                    cx, cy, cz, ox, oy, oz = c[0], c[1], c[2], o[0], o[1], o[2]
+                    cx, cy, cz, ox, oy, oz = self.comp_move(
+                        buf, k, m.straight_comp2, code, base + k + 1, end,
+                        m.feed_rate if code == 10 else 0.0)
                     feed, mode = m.feed_rate, code
                     k += 1
                     continue
@@ -158,29 +172,16 @@ class FastPath:
                         and ((r is None) != (i is None and j is None))
                         and (r is None or x is not None or y is not None)):
                     # G2/G3 in G17 with compensation on (not the entry move): arc_comp2
-                    m.out, m.feed_rate = [ox, oy, oz], feed
-                    if f is not None:
-                        m.feed_rate = float(f)
+                    end = self.comp_end(f, x, y, z)
                     if m.feed_rate == 0.0:
                         return k
-                    prog = m.prog
-                    end = [prog[0] if x is None else float(x),
-                           prog[1] if y is None else float(y),
-                           prog[2] if z is None else float(z)]
                     m.motion_mode = code
                     m.cycle_il_flag = False
-                    self.k = k
-                    mark = len(buf)
-                    try:
-                        m.arc_comp2(code, base + k + 1, None if r is None else float(r), end,
-                                    0.0 if i is None else float(i),
-                                    0.0 if j is None else float(j),
-                                    -1 if code == 20 else 1, m.feed_rate)
-                    except GCodeError:
-                        del buf[mark:]
-                        raise
-                    c, o = m.cur, m.out
-                    cx, cy, cz, ox, oy, oz = c[0], c[1], c[2], o[0], o[1], o[2]
+                    cx, cy, cz, ox, oy, oz = self.comp_move(
+                        buf, k, m.arc_comp2, code, base + k + 1,
+                        None if r is None else float(r), end,
+                        0.0 if i is None else float(i), 0.0 if j is None else float(j),
+                        -1 if code == 20 else 1, m.feed_rate)
                     feed, mode = m.feed_rate, code
                     k += 1
                     continue
@@ -303,7 +304,7 @@ class FastPath:
             store = m.store
             feed = m.feed_rate if code == 10 else 0.0
             store.buf += PACK(o[0], o[1], o[2], end[0], end[1], end[2], feed, 0.0, 0.0, 0.0,
-                              1 if code == 10 else 0, n, 0, PLANE_CODE[m.plane], m._state_idx)
+                              1 if code == 10 else 0, n, 0, PLANE_CODE[m.plane], m.state_index)
             m.out = end
             m.cur = end
             m.motion_mode = code
@@ -347,28 +348,15 @@ class FastPath:
             store = m.store
             store.buf += PACK(o[0], o[1], o[2], end[0], end[1], end[2], m.feed_rate,
                               center[0], center[1], center[2], 2, n, -1 if code == 20 else 1,
-                              PLANE_CODE[plane], m._state_idx)
+                              PLANE_CODE[plane], m.state_index)
             m.out = end
             m.cur = end
             m.motion_mode = code
             m.cycle_il_flag = False
             return True
-        w = {}
-        if x is not None:
-            w["x"] = float(x)
-        if y is not None:
-            w["y"] = float(y)
-        if z is not None:
-            w["z"] = float(z)
-        if code >= 20:
-            if i is not None:
-                w["i"] = float(i)
-            if j is not None:
-                w["j"] = float(j)
-            if k is not None:
-                w["k"] = float(k)
-            if r is not None:
-                w["r"] = float(r)
+        # the words the motion reads: X Y Z, and I J K R for arcs
+        values = (x, y, z, i, j, k, r) if code >= 20 else (x, y, z)
+        w = {c: float(v) for c, v in zip("xyzijkr", values) if v is not None}
         if f is not None:
             fv = float(f)
             w["f"] = fv

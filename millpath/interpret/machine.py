@@ -33,6 +33,22 @@ MM_PER_INCH = 25.4
 class Machine(OffsetsMixin, CompMixin, CycleMixin):
     """RS274NGC interpreter state; see the module docstring."""
 
+    #: All :mod:`millpath.interpret.fastpath` may touch on a Machine (a test holds it
+    #: to this): the modal state it checks before taking a line (read), the position,
+    #: output point, feed and motion flags it keeps in locals and writes back before
+    #: any call into the machine, the motion store it appends to, and the motion entry
+    #: points it calls.
+    FAST_PATH_INTERFACE = frozenset({
+        # read: modal state deciding whether a line may take the fast path
+        "units", "plane", "axes", "dist_abs", "ijk_abs", "feed_mode", "comp_side",
+        "comp_radius", "comp_first", "prog", "state_index",
+        # read and written back: position, output point, feed and motion flags
+        "cur", "out", "feed_rate", "motion_mode", "arc_not_allowed", "cycle_il_flag",
+        # appended to: the recorded motion
+        "store",
+        # called: the motion executors
+        "motion", "straight_comp2", "arc_comp2"})
+
     def __init__(self, tools: dict, machine_units: str = "inch"):
         if machine_units not in ("inch", "mm"):
             raise ValueError("machine_units must be 'inch' or 'mm'")
@@ -88,6 +104,12 @@ class Machine(OffsetsMixin, CompMixin, CycleMixin):
         if self.units == self.machine_units:
             return v
         return v / MM_PER_INCH if self.units == "mm" else v * MM_PER_INCH
+
+    @property
+    def state_index(self) -> int:
+        """Index in ``store.states`` of the modal state (tool length offset, tool,
+        spindle, feed mode) the next motion is recorded with."""
+        return self._state_idx
 
     def touch_state(self) -> None:
         key = ((self.tlo[0], self.tlo[1], self.tlo[2]), self.spindle_tool,

@@ -17,6 +17,7 @@ import tomli_w
 
 from millpath.errors import JobError
 from millpath.io.schema import Param, parse_toml, validate
+from millpath.io.text import MAX_COORDINATE
 from millpath.model.tool import TOOL_TYPES, Tool
 
 TOOL = {
@@ -55,9 +56,10 @@ def tools_from_tables(tables: Any, file: str | Path | None = None,
         holder = []
         for j, h in enumerate(v["holder"]):
             if (not isinstance(h, list) or len(h) != 2
-                    or not all(isinstance(x, (int, float)) and not isinstance(x, bool) and x > 0
-                               for x in h)):
-                raise JobError(f"{where}.holder[{j}]: expected [diameter, length] > 0", file)
+                    or not all(isinstance(x, (int, float)) and not isinstance(x, bool)
+                               and 0 < x <= MAX_COORDINATE for x in h)):
+                raise JobError(f"{where}.holder[{j}]: expected [diameter, length], each > 0 "
+                               f"and at most {MAX_COORDINATE:g}", file)
             holder.append((float(h[0]), float(h[1])))
         if v["number"] in out:
             raise JobError(f"{where}.number: tool {v['number']} is defined twice", file)

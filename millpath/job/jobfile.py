@@ -34,7 +34,9 @@ from millpath.io.schema import Param, parse_toml, validate
 from millpath.model import Machine, Stock, Tool
 from millpath.model.limits import Limits, count_needed
 from millpath.plan.registry import strategy
+from millpath.job.vocabulary import renamed
 from millpath.io.text import read_text
+from millpath.model.units import default
 
 TOP = {
     "units": Param("str", choices=("mm", "inch"), doc="units of every length in the job"),
@@ -56,8 +58,11 @@ TOP = {
     "operations": Param("list"),
 }
 
-STOCK = {"box": Param("floats", length=6, unit="length",
-                      doc="[xmin, ymin, zmin, xmax, ymax, zmax] of the raw block")}
+STOCK = {"box": Param("floats", None, length=6, unit="length",
+                      doc="[xmin, ymin, zmin, xmax, ymax, zmax] of the raw block"),
+         "cylinder": Param("floats", None, length=5, unit="length",
+                           doc="[cx, cy, diameter, zmin, zmax]: a bar with a vertical axis "
+                               "instead of a block (simulated as the bar)")}
 MACHINE = {
     "rapid": Param("float", None, positive=True, unit="feed",
                    doc="rapid rate (default 5000 mm/min, 200 in/min)"),
@@ -95,8 +100,8 @@ LIMITS = {
                             "stepover (default 20000)"),
 }
 #: operation keys that set a depth per layer / a distance between side-by-side passes
-LAYER_KEYS = ("stepdown", "step_down", "stepdown_max", "step")
-PASS_KEYS = ("stepover", "step_over")
+LAYER_KEYS = ("stepdown", "stepdown_max")
+PASS_KEYS = ("stepover",)
 SIMULATION = {
     "resolution": Param("float", None, positive=True, unit="length",
                         doc="Z-map cell size (default: a tenth of the smallest tool "
@@ -154,13 +159,20 @@ def job_from_dict(data: dict, path: Path | None = None) -> Job:
     stock = None
     if top["stock"] is not None:
         st = validate(top["stock"], STOCK, "stock", path)
+        if (st["box"] is None) == (st["cylinder"] is None):
+            raise JobError("stock: give either box = [...] or cylinder = [...]", path)
+        key = "box" if st["box"] is not None else "cylinder"
         try:
-            stock = Stock.from_box(st["box"])
+            if key == "box":
+                stock = Stock.from_box(st["box"])
+            else:
+                cx, cy, d, z0, z1 = st["cylinder"]
+                stock = Stock.from_cylinder(cx, cy, d / 2.0, z0, z1)
         except ValueError as e:
-            raise JobError(f"stock.box: {e}", path) from None
+            raise JobError(f"stock.{key}: {e}", path) from None
         side = max(stock.size)
         if side > limits.max_extent:
-            raise JobError(f"stock.box: a side of {side:g} {units} is larger than the "
+            raise JobError(f"stock.{key}: a side of {side:g} {units} is larger than the "
                            f"{limits.max_extent:g} {units} limit (wrong units? raise "
                            f"[limits] max_extent if the machine is that big)", path)
     machine = Machine.default_for(units)
@@ -184,14 +196,14 @@ def job_from_dict(data: dict, path: Path | None = None) -> Job:
         if "type" not in op:
             raise JobError(f"{where}.type: missing required key", path)
         mod = strategy(op["type"], where, path)
-        body = {k: v for k, v in op.items() if k != "type"}
+        body = renamed(op["type"], {k: v for k, v in op.items() if k != "type"}, i, path)
         params = validate(body, mod.PARAMS, where, path, base)
         if "tool" in params and isinstance(params["tool"], int) and params["tool"] not in tools:
             raise JobError(f"{where}.tool: tool {params['tool']} is not in the job's [[tools]]",
                            path)
         _check_work(params, stock, limits, units, where, path)
         ops.append((op["type"], params))
-    default_tol = 0.0002 if units == "inch" else 0.005
+    default_tol = default("path_tolerance", units)
     return Job(path=path, units=units, name=top["name"] or (path.stem if path else "job"),
                stock=stock, machine=machine, tools=tools, operations=ops, fit=top["fit"],
                fit_tolerance=top["fit_tolerance"] or default_tol, simulation=sim,

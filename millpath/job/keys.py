@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from millpath.io.schema import REQUIRED, UNITS, Param
+from millpath.job.vocabulary import RENAMED
 
 
 @dataclass(frozen=True)
@@ -72,7 +73,7 @@ def sections(op_type: str | None = None) -> list[Section]:
         out += [section("top level", "Keys at the top of the job file.", jobfile.TOP,
                         skip=("stock", "machine", "post", "simulation", "limits", "tools",
                               "operations")),
-                section("[stock]", "The raw block, in the part frame.", jobfile.STOCK),
+                section("[stock]", "The raw block (or bar), in the part frame.", jobfile.STOCK),
                 section("[machine]", "Machine limits, for the cycle time, and the machine's "
                         "units.", jobfile.MACHINE),
                 section("[post]", "Program conventions of the LinuxCNC post.", jobfile.POST),
@@ -99,4 +100,11 @@ def markdown() -> str:
             cells = [f"`{k.name}`", k.kind, k.default, k.unit, k.doc]
             lines.append("| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |")
         lines.append("")
+    lines += ["## Renamed keys", "",
+              "Old names still accepted, with a deprecation warning naming the new key "
+              "(giving both is an error).", "",
+              "| operation | old key | new key |", "|---|---|---|"]
+    for op, table in sorted(RENAMED.items()):
+        lines += [f"| {op} | `{old}` | `{new}` |" for old, new in table.items()]
+    lines.append("")
     return "\n".join(lines)

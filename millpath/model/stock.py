@@ -4,10 +4,14 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numpy as np
+
 
 @dataclass(frozen=True)
 class Stock:
-    """An axis-aligned block: ``xmin ymin zmin xmax ymax zmax`` in the part frame."""
+    """An axis-aligned block: ``xmin ymin zmin xmax ymax zmax`` in the part frame; or a
+    bar with a vertical axis, ``cylinder = (cx, cy, radius)`` from ``zmin`` to ``zmax``,
+    whose bounding box the six numbers then are."""
 
     xmin: float
     ymin: float
@@ -15,6 +19,25 @@ class Stock:
     xmax: float
     ymax: float
     zmax: float
+    cylinder: tuple[float, float, float] | None = None
+
+    @classmethod
+    def from_cylinder(cls, cx: float, cy: float, radius: float, zmin: float,
+                      zmax: float) -> "Stock":
+        """A vertical bar of ``radius`` centred on (cx, cy) from ``zmin`` to ``zmax``."""
+        if not (radius > 0 and zmin < zmax):
+            raise ValueError("a cylinder needs a positive radius and zmin below zmax")
+        r = float(radius)
+        return cls(cx - r, cy - r, float(zmin), cx + r, cy + r, float(zmax),
+                   (float(cx), float(cy), r))
+
+    def inside_xy(self, x, y):
+        """True where (x, y) is over the stock (inside the box, or the bar's circle)."""
+        x, y = np.asarray(x, float), np.asarray(y, float)
+        if self.cylinder is None:
+            return (x >= self.xmin) & (x <= self.xmax) & (y >= self.ymin) & (y <= self.ymax)
+        cx, cy, r = self.cylinder
+        return (x - cx) ** 2 + (y - cy) ** 2 <= r * r
 
     @classmethod
     def from_box(cls, box) -> "Stock":

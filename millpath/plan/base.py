@@ -16,6 +16,7 @@ from typing import Any, Protocol
 import numpy as np
 
 from millpath.model import Machine, Stock, Tool, Toolpath
+from millpath.part.cache import PartCache
 from millpath.progress import QUIET, Progress
 
 
@@ -54,6 +55,7 @@ class PlanContext:
     job_file: Path | None = None
     remaining: Remaining | None = None   # in-process stock; None: the full stock block
     progress: Progress = QUIET     # bars on stderr for long steps (millpath.progress)
+    parts: PartCache = field(default_factory=PartCache)   # inputs loaded once per job
 
     def tool(self, number: int, where: str = "tool") -> Tool:
         from millpath.errors import JobError

@@ -108,3 +108,24 @@ def ramp_entry(target, z_from: float, tool_radius: float, *,
             if np.all(z_last >= np.asarray(floor(xs, ys)) - 1e-9):
                 return Ramp((fx, fy), legs, (tx, ty, tz))
     return None
+
+
+def ring_segments(ring: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
+    """The closed ring ``(n, 2)`` as ``(closed points (n + 1, 2), segment lengths (n,),
+    perimeter)``."""
+    closed = np.vstack([ring, ring[:1]])
+    seg = np.hypot(*np.diff(closed, axis=0).T)
+    return closed, seg, float(seg.sum())
+
+
+def ramp_laps(tp, closed: np.ndarray, seg: np.ndarray, laps: int, z_from: float,
+              z_to: float, feed: float) -> None:
+    """Append to the toolpath ``tp`` a descent from ``z_from`` to ``z_to`` along
+    ``laps`` laps of a ring (``closed``, ``seg`` from :func:`ring_segments`), Z falling
+    in proportion to the length walked, ending at the ring's first point."""
+    total = laps * float(seg.sum())
+    walked = 0.0
+    for _ in range(laps):
+        for p, L in zip(closed[1:], seg):
+            walked += L
+            tp.line(p[0], p[1], z_from - (z_from - z_to) * walked / total, feed)

@@ -30,15 +30,25 @@ import math
 import numpy as np
 from numba import njit
 
+from millpath.io.schema import Param
 from millpath.model.toolpath import Move, Toolpath, sample_move
 
 FLAT, BALL, BULL = 0, 1, 2
 
+#: the keys of an operation that can cut only what earlier operations left
+REST_PARAMS = {
+    "rest": Param("bool", False, doc="cut only where earlier operations left material"),
+    "rest_allowance": Param("float", None, nonneg=True, unit="length",
+                            doc="rest: stock thinner than this is left (default: the "
+                                "in-process stock's cell)"),
+}
+
 
 @njit(cache=True)
-def _meets(P, H, gx, gy, h, R, kind, rc, thr, rin):
-    """For each tip point of ``P`` (n, 3): a cell within ``R - rin`` stands more than
-    ``thr`` above the cutter's surface."""
+def meets_stock(P, H, gx, gy, h, R, kind, rc, thr, rin):
+    """For each tip point of ``P`` (n, 3): a cell of the height raster ``H`` (origin
+    ``gx, gy``, cell ``h``) within ``R - rin`` of it stands more than ``thr`` above the
+    cutter's surface (``kind`` FLAT, BALL or BULL with corner radius ``rc``)."""
     n = P.shape[0]
     ny, nx = H.shape
     out = np.zeros(n, np.bool_)
@@ -88,7 +98,7 @@ class StockRaster:
 
     def meets(self, P: np.ndarray, tool, thr: float, rin: float) -> np.ndarray:
         kind = {"ball": BALL, "bull": BULL}.get(tool.type, FLAT)
-        return _meets(np.ascontiguousarray(P, dtype=float), self.H, self.gx, self.gy,
+        return meets_stock(np.ascontiguousarray(P, dtype=float), self.H, self.gx, self.gy,
                       self.h, float(tool.radius), kind, float(tool.corner_radius or 0.0),
                       float(thr), float(rin))
 

@@ -28,6 +28,7 @@ from dataclasses import dataclass
 
 from millpath.model import Tool, Toolpath
 from millpath.model.toolpath import PLANE_AXES, Move
+from millpath.model.units import default
 
 _PLANE_CODE = {"XY": "G17", "XZ": "G18", "YZ": "G19"}
 _IJK = "IJK"
@@ -35,7 +36,7 @@ _IJK = "IJK"
 
 class _Fmt:
     def __init__(self, units: str):
-        self.decimals = 5 if units == "inch" else 4
+        self.decimals = int(default("decimals", units))
         self.q = 10.0 ** -self.decimals
 
     def r(self, v: float) -> float:
@@ -97,6 +98,13 @@ def _num(v: float, digits: int = 3) -> str:
     return "0" if t in ("-0", "") else t
 
 
+def round_feed(feed: float, units: str) -> float:
+    """The feed as written: a whole number in mm/min, one decimal in in/min
+    (``feed_step`` of :mod:`millpath.model.units`), never rounded down to zero."""
+    q = default("feed_step", units)
+    return max(q, round(round(feed / q) * q, 4))
+
+
 def _comment(text: str) -> str:
     clean = text.replace("(", "[").replace(")", "]").replace("\n", " ")
     return f"({clean})"
@@ -130,6 +138,7 @@ class _Writer:
     def _feed_word(self, feed: float) -> str:
         if feed <= 0 or not math.isfinite(feed):
             raise ValueError(f"feed move with feed rate {feed!r}")
+        feed = round_feed(feed, self.tp.units)
         if self.feed is None or abs(feed - self.feed) > 1e-9:
             self.feed = feed
             return " F" + _num(feed)

@@ -4,15 +4,14 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import matplotlib
+import numpy as np
+from matplotlib import colormaps
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from matplotlib.lines import Line2D  # noqa: E402
-
-from millpath.model import Toolpath  # noqa: E402
-from millpath.model.toolpath import sample_move  # noqa: E402
+from millpath.model import Toolpath
+from millpath.model.toolpath import sample_move
 
 
 def _polylines(tp: Toolpath, step: float):
@@ -49,7 +48,6 @@ def render_preview(tp: Toolpath, path: str | Path, title: str = "", stock=None) 
     """Write :func:`preview_figure` as a PNG to ``path``."""
     fig = preview_figure(tp, title, stock)
     fig.savefig(path)
-    plt.close(fig)
 
 
 def preview_figure(tp: Toolpath, title: str = "", stock=None):
@@ -66,9 +64,10 @@ def preview_figure(tp: Toolpath, title: str = "", stock=None):
         extent = np.vstack([extent, b[:3], b[3:]])
     span = float(np.ptp(extent, axis=0).max()) or 1.0
     step = max(span / 400.0, 1e-6)
-    fig = plt.figure(figsize=(8, 6.5), dpi=110)
+    fig = Figure(figsize=(8, 6.5), dpi=110)         # on an Agg canvas, without pyplot
+    FigureCanvasAgg(fig)
     ax = fig.add_subplot(111, projection="3d")
-    colours = plt.get_cmap("tab10")
+    colours = colormaps["tab10"]
     seen_ops: set[int] = set()
     for op, rapid, pts in _polylines(tp, step):
         if rapid:
@@ -84,7 +83,18 @@ def preview_figure(tp: Toolpath, title: str = "", stock=None):
     ax.set_xlabel(f"X [{tp.units}]")
     ax.set_ylabel(f"Y [{tp.units}]")
     ax.set_zlabel(f"Z [{tp.units}]")
-    if stock is not None:
+    if stock is not None and stock.cylinder is not None:       # a bar: end circles
+        cx, cy, r = stock.cylinder
+        a = np.linspace(0.0, 2.0 * np.pi, 97)
+        for z in (stock.zmin, stock.zmax):
+            ax.plot(cx + r * np.cos(a), cy + r * np.sin(a), np.full_like(a, z),
+                    color="0.35", lw=0.6)
+        for t in a[:-1:24]:
+            ax.plot([cx + r * np.cos(t)] * 2, [cy + r * np.sin(t)] * 2,
+                    [stock.zmin, stock.zmax], color="0.35", lw=0.6)
+        handles.append(Line2D([], [], color="0.35", label="stock"))
+        ax.legend(handles=handles, loc="upper left", fontsize=7)
+    elif stock is not None:
         x0, y0, z0, x1, y1, z1 = stock.box
         for (xa, ya), (xb, yb) in (((x0, y0), (x1, y0)), ((x1, y0), (x1, y1)),
                                    ((x1, y1), (x0, y1)), ((x0, y1), (x0, y0))):

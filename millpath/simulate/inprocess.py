@@ -106,7 +106,8 @@ class InProcessStock:
             return 0.0, 0
         before = np.ascontiguousarray(z.heights[j0:j1, i0:i1])
         sub = ZMap(z.x0 + i0 * z.dx, z.y0 + j0 * z.dy, z.dx, z.dy, z.zmin, z.ztop,
-                   before.copy())
+                   before.copy(),
+                   None if z.initial is None else z.initial[j0:j1, i0:i1].copy())
         threads = numba.get_num_threads()
         numba.set_num_threads(1)          # small maps: a parallel launch costs more
         try:

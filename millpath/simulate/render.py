@@ -17,35 +17,46 @@ from millpath.simulate.zmap import ZMap
 
 
 def _figure(zmap: ZMap):
-    import matplotlib
-    matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
+    """A figure on an Agg canvas (no pyplot: cheaper to import, no global state), one
+    axes, and the largest image (columns, rows) in pixels the axes can show."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
     ny, nx = zmap.heights.shape
     w = nx * zmap.dx
     h = ny * zmap.dy
     aspect = h / w if w > 0 else 1.0
     fw = 8.0
     fh = min(12.0, max(3.5, fw * aspect * 0.85 + 1.2))
-    fig, ax = plt.subplots(figsize=(fw, fh), dpi=120)
-    return plt, fig, ax
+    dpi = 120
+    fig = Figure(figsize=(fw, fh), dpi=dpi)
+    FigureCanvasAgg(fig)
+    ax = fig.add_subplot()
+    return fig, ax, (int(fw * dpi), int(fh * dpi))
 
 
-def _decimate(a: np.ndarray, max_px: int = 1600) -> tuple[np.ndarray, int]:
-    step = max(1, int(np.ceil(max(a.shape) / max_px)))
+def _step(a: np.ndarray, shown: tuple[int, int]) -> int:
+    """Stride that brings ``a`` (rows, columns) within ``shown`` (columns, rows) pixels:
+    the image is drawn at about the size it is shown, not resampled down by Agg."""
+    ny, nx = a.shape
+    return max(1, int(np.ceil(nx / shown[0])), int(np.ceil(ny / shown[1])))
+
+
+def _decimate(a: np.ndarray, shown: tuple[int, int]) -> tuple[np.ndarray, int]:
+    step = _step(a, shown)
     return a[::step, ::step], step
 
 
 def render_stock(zmap: ZMap, path: str | Path, *, title: str = "", units: str = "") -> Path:
     """Write a shaded top view of ``zmap`` to ``path`` (PNG); returns the path."""
+    from matplotlib import cm, colormaps
     from matplotlib.colors import LightSource, Normalize
-    from matplotlib import cm
-    plt, fig, ax = _figure(zmap)
-    h, step = _decimate(zmap.heights)
+    fig, ax, shown = _figure(zmap)
+    h, step = _decimate(zmap.heights, shown)
     lo, hi = float(zmap.heights.min()), float(zmap.ztop)
     if hi - lo <= 1e-12:
         lo = float(zmap.zmin) if zmap.zmin < hi else hi - 1.0
     norm = Normalize(vmin=lo, vmax=hi)
-    cmap = plt.get_cmap("viridis")
+    cmap = colormaps["viridis"]
     ls = LightSource(azdeg=315, altdeg=40)
     rgb = ls.shade(h, cmap=cmap, norm=norm, blend_mode="soft",
                    vert_exag=1.0, dx=zmap.dx * step, dy=zmap.dy * step)
@@ -53,14 +64,19 @@ def render_stock(zmap: ZMap, path: str | Path, *, title: str = "", units: str = 
     sm = cm.ScalarMappable(norm=norm, cmap=cmap)
     cb = fig.colorbar(sm, ax=ax, shrink=0.85)
     cb.set_label(f"stock top Z{f' ({units})' if units else ''}")
+    return _save_plan_view(fig, ax, path, title or "simulated stock")
+
+
+def _save_plan_view(fig, ax, path, title: str) -> Path:
+    """Label the plan view ``ax`` (X, Y, equal scale, ``title``), write ``fig`` to
+    ``path``."""
     ax.set_xlabel("X")
     ax.set_ylabel("Y")
-    ax.set_title(title or "simulated stock")
+    ax.set_title(title)
     ax.set_aspect("equal")
     fig.tight_layout()
     p = Path(path)
-    fig.savefig(p)
-    plt.close(fig)
+    fig.savefig(p, bbox_inches="tight", pad_inches=0.15)   # labels never clipped
     return p
 
 
@@ -98,7 +114,7 @@ def render_deviation(zmap: ZMap, design, path: str | Path, *, title: str = "",
     path."""
     from matplotlib.colors import LinearSegmentedColormap, Normalize, TwoSlopeNorm
     from millpath.simulate.simulator import deviation
-    plt, fig, ax = _figure(zmap)
+    fig, ax, shown = _figure(zmap)
     dev = deviation(zmap, design)
     if tolerance > 0:
         dev = np.where(np.abs(dev) <= tolerance, 0.0, dev)
@@ -119,10 +135,10 @@ def render_deviation(zmap: ZMap, design, path: str | Path, *, title: str = "",
         norm = Normalize(vmin=0.0, vmax=top)
         cmap = LinearSegmentedColormap.from_list("dev", blue)
         ticks = [0.0, top / 2, top]
-    d, _ = _decimate(dev)
-    # keep the extremes visible when decimating: take the block extremes instead
-    if d.shape != dev.shape:
-        step = int(np.ceil(max(dev.shape) / 1600))
+    # keep the extremes visible when decimating: take the block extremes
+    step = _step(dev, shown)
+    d = dev
+    if step > 1:
         ny, nx = dev.shape
         pad = np.pad(dev, ((0, (-ny) % step), (0, (-nx) % step)))
         blk = pad.reshape(pad.shape[0] // step, step, pad.shape[1] // step, step)
@@ -152,16 +168,8 @@ def render_deviation(zmap: ZMap, design, path: str | Path, *, title: str = "",
         ax.legend(loc="upper right", fontsize=8, framealpha=0.85)
     cb = fig.colorbar(im, ax=ax, shrink=0.85)
     u = f" ({units})" if units else ""
-    cb.set_label(f"deviation{u}: red = gouge (below design), blue = material left")
+    cb.set_label(f"deviation{u}\nred: gouge (below design), blue: material left")
     cb.set_ticks(ticks)
     cb.set_ticklabels([f"{t:.3g}" for t in ticks])
-    ax.set_xlabel("X")
-    ax.set_ylabel("Y")
-    ax.set_title(title or f"deviation from design: max gouge {gmax:.4g}, "
-                          f"max left {lmax:.4g}{u}")
-    ax.set_aspect("equal")
-    fig.tight_layout()
-    p = Path(path)
-    fig.savefig(p)
-    plt.close(fig)
-    return p
+    return _save_plan_view(fig, ax, path, title or f"deviation from design: max gouge "
+                                              f"{gmax:.4g}, max left {lmax:.4g}{u}")

@@ -27,6 +27,7 @@ from millpath.model.motion import Motion
 from millpath.model.stock import Machine, Stock
 from millpath.model.tool import Tool
 from millpath.model.toolpath import Toolpath
+from millpath.progress import QUIET, Progress
 from millpath.simulate.cycletime import motion_times, times_by_operation
 from millpath.simulate.exact import ExactResult, Reference, design_triangles, verify_exact
 from millpath.simulate.kernel import BALL, BULL, DRILL, FLAT, sweep_chunk
@@ -36,6 +37,7 @@ from millpath.simulate.zmap import ZMap
 _TYPE = {"flat": FLAT, "ball": BALL, "bull": BULL, "drill": DRILL}
 BAND = 32                     # rows per band (and block width of the skip test)
 CHUNK = 20_000                # chords per kernel call (progress granularity)
+MOTION_BLOCK = 100_000        # motions turned into chords at a time (bounds memory)
 
 
 @dataclass
@@ -133,7 +135,8 @@ def _tool_arrays(numbers: list[int], tools: dict[int, Tool]):
 
 
 def sweep(zmap: ZMap, segs: Segments, tools: dict[int, Tool], n_motions: int, *,
-          progress: bool = False, lines: list[int] | None = None) -> tuple[np.ndarray, np.ndarray]:
+          progress: "bool | Progress" = False, lines: list[int] | None = None
+          ) -> tuple[np.ndarray, np.ndarray]:
     """Cut ``segs`` into ``zmap`` in place. Returns per-motion flags (rapid through
     material, holder contact) as int8 arrays of length ``n_motions``. Chords of tool 0
     (no tool in the spindle) cut nothing; other tools missing from ``tools`` are a
@@ -163,25 +166,17 @@ def sweep(zmap: ZMap, segs: Segments, tools: dict[int, Tool], n_motions: int, *,
     nthreads = numba.get_num_threads()
     H = zmap.heights
     n = len(segs)
-    bar = None
-    if progress and n > CHUNK:
-        from rich.console import Console
-        from rich.progress import Progress
-        bar = Progress(transient=True, console=Console(stderr=True))
-        bar.start()
-        task = bar.add_task("simulating", total=n)
-    try:
+    bars = progress if isinstance(progress, Progress) else Progress(bool(progress))
+    if not isinstance(progress, Progress) and n <= CHUNK:
+        bars = QUIET
+    with bars.task("simulating: chords swept", total=n) as bar:
         for a in range(0, n, CHUNK):
             b = min(n, a + CHUNK)
             sweep_chunk(H, zmap.zmin, zmap.x0, zmap.y0, zmap.dx, zmap.dy, BAND,
                         segs.start[a:b], segs.end[a:b], seg_tool[a:b],
                         segs.rapid[a:b], segs.motion[a:b], *arrays, eps,
                         rapid_hit, holder_hit, nthreads)
-            if bar is not None:
-                bar.update(task, completed=b)
-    finally:
-        if bar is not None:
-            bar.stop()
+            bar.update(completed=b)
     return rapid_hit[:n_motions], holder_hit[:n_motions]
 
 
@@ -216,8 +211,12 @@ def _row_blocks(zmap: ZMap, rows: int = 256):
         yield j0, min(ny, j0 + rows)
 
 
-def _cut_mask(zmap: ZMap, h: np.ndarray) -> np.ndarray:
-    return h < zmap.ztop - 1e-9 * max(1.0, abs(zmap.ztop))
+def _cut_mask(zmap: ZMap, h: np.ndarray, j0: int = 0) -> np.ndarray:
+    """Cells of rows ``j0 ..`` (``h``) that a tool lowered (never the air around a bar)."""
+    eps = 1e-9 * max(1.0, abs(zmap.ztop))
+    if zmap.initial is None:
+        return h < zmap.ztop - eps
+    return h < zmap.initial[j0:j0 + len(h)] - eps
 
 
 @dataclass
@@ -239,7 +238,7 @@ def compare_design(zmap: ZMap, design) -> Comparison:
     for j0, j1 in _row_blocks(zmap):
         dc, lo, hi = _design_rows(zmap, design, j0, j1)
         h = zmap.heights[j0:j1]
-        g = np.where(_cut_mask(zmap, h), lo - h, 0.0)
+        g = np.where(_cut_mask(zmap, h, j0), lo - h, 0.0)
         k = int(np.argmax(g))
         if g.flat[k] > gouge:
             gouge = float(g.flat[k])
@@ -274,7 +273,7 @@ def deviation(zmap: ZMap, design) -> np.ndarray:
         o = out[j0:j1]
         above = h > hi
         o[above] = (h - hi)[above]
-        below = (h < lo) & _cut_mask(zmap, h)
+        below = (h < lo) & _cut_mask(zmap, h, j0)
         o[below] = (h - lo)[below]
     return out
 
@@ -326,7 +325,8 @@ def _exact(res: SimResult, motions, tools, stock, design, references, motion_op,
 
 def simulate_motions(motions: list[Motion], tools: dict[int, Tool], stock: Stock, *,
                      resolution: float, design=None, machine: Machine | None = None,
-                     progress: bool = False, corner_angle: float = 10.0,
+                     progress: "bool | Progress" = False, corner_angle: float = 10.0,
+                     chord_tol: float | None = None,
                      references: list[Reference] | None = None,
                      motion_op=None, accuracy: float | None = 0.001) -> SimResult:
     """Simulate interpreted motion (tool tip = motion coordinates, program units).
@@ -336,7 +336,9 @@ def simulate_motions(motions: list[Motion], tools: dict[int, Tool], stock: Stock
     ``tools`` maps tool numbers (``Motion.tool``) to shapes; ``machine`` defaults to
     ``Machine()`` (mm rates: pass ``Machine.default_for("inch")`` for inch programs).
     Counts are per motion: ``rapids_through_material`` traverses that removed material,
-    ``holder_contacts`` motions where the shank or holder met material.
+    ``holder_contacts`` motions where the shank or holder met material. ``chord_tol``:
+    how far the chords of arcs and cubics may stray from them in the Z-map sweep
+    (default ``resolution / 20``).
 
     Gouge and material left are grid-free (:mod:`millpath.simulate.exact`) against
     ``references`` (triangle meshes with the operations they apply to; ``motion_op``
@@ -346,18 +348,44 @@ def simulate_motions(motions: list[Motion], tools: dict[int, Tool], stock: Stock
     machine = machine or Machine()
     motions = _lift_start(list(motions), stock)
     zmap = ZMap.from_stock(stock, resolution)
-    segs = motion_segments(motions, resolution / 20.0)
     lines = [m.line for m in motions]
-    flags = sweep(zmap, segs, tools, len(motions), progress=progress, lines=lines)
+    flags, nseg = sweep_motions(zmap, motions, tools, chord_tol or resolution / 20.0,
+                                progress=progress, lines=lines)
     times = motion_times(motions, machine, corner_angle=corner_angle)
-    res = _finish(zmap, design, motions, flags, times, resolution, lines, len(segs))
+    res = _finish(zmap, design, motions, flags, times, resolution, lines, nseg)
     res.rapid_hit, res.holder_hit = flags
     return _exact(res, motions, tools, stock, design, references, motion_op, accuracy)
 
 
+def sweep_motions(zmap: ZMap, motions: list[Motion], tools: dict[int, Tool],
+                  chord_tol: float, *, progress: "bool | Progress" = False,
+                  lines: list[int] | None = None, block: int = MOTION_BLOCK
+                  ) -> tuple[tuple[np.ndarray, np.ndarray], int]:
+    """Cut ``motions`` into ``zmap`` in order, ``block`` motions at a time (their chords
+    are made and swept one block after another, so memory does not grow with the
+    program's length). Returns the per-motion flags of :func:`sweep` and the number of
+    chords swept."""
+    n = len(motions)
+    rapid_hit = np.zeros(max(n, 1), np.int8)
+    holder_hit = np.zeros(max(n, 1), np.int8)
+    nseg = 0
+    bars = progress if isinstance(progress, Progress) else Progress(bool(progress))
+    with bars.task("simulating: motions swept", total=n) as bar:
+        for a in range(0, n, block):
+            b = min(n, a + block)
+            segs = motion_segments(motions[a:b], chord_tol)
+            segs.motion += a                      # indices into the whole program
+            r, h = sweep(zmap, segs, tools, b, lines=lines)
+            np.maximum(rapid_hit[:b], r, out=rapid_hit[:b])
+            np.maximum(holder_hit[:b], h, out=holder_hit[:b])
+            nseg += len(segs)
+            bar.update(completed=b)
+    return (rapid_hit[:n], holder_hit[:n]), nseg
+
+
 def simulate_toolpath(toolpath: Toolpath, tools: dict[int, Tool], stock: Stock, *,
                       resolution: float, design=None, machine: Machine | None = None,
-                      progress: bool = False, corner_angle: float = 10.0,
+                      progress: "bool | Progress" = False, corner_angle: float = 10.0,
                       accuracy: float | None = 0.001) -> SimResult:
     """Simulate a Toolpath directly (units: the toolpath's).
 
@@ -372,9 +400,8 @@ def simulate_toolpath(toolpath: Toolpath, tools: dict[int, Tool], stock: Stock, 
     motions, src = toolpath_motions(toolpath)
     motions = _lift_start(motions, stock)
     zmap = ZMap.from_stock(stock, resolution)
-    segs = motion_segments(motions, resolution / 20.0)
-    rapid_hit, holder_hit = sweep(zmap, segs, tools, len(motions), progress=progress,
-                                  lines=src)
+    (rapid_hit, holder_hit), nseg = sweep_motions(zmap, motions, tools, resolution / 20.0,
+                                                  progress=progress, lines=src)
     # fold motion flags onto source moves
     nm = len(toolpath.moves)
     srca = np.asarray(src, np.int64)
@@ -385,7 +412,7 @@ def simulate_toolpath(toolpath: Toolpath, tools: dict[int, Tool], stock: Stock, 
         np.maximum.at(hm, srca, holder_hit)
     times = motion_times(motions, machine, corner_angle=corner_angle)
     res = _finish(zmap, design, motions, (rm[:nm], hm[:nm]), times, resolution,
-                  list(range(nm)), len(segs))
+                  list(range(nm)), nseg)
     res.per_operation = times_by_operation(toolpath, src, times)
     res.rapid_hit, res.holder_hit = rapid_hit, holder_hit
     _exact(res, motions, tools, stock, design, None,

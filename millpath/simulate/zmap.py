@@ -4,7 +4,9 @@ Cells tile the stock box exactly: ``nx = ceil(width / resolution)`` columns of w
 ``dx = width / nx`` (so ``dx <= resolution``), likewise rows. ``heights[j, i]`` is the
 top of the material at the cell centre ``(x0 + (i + 0.5) dx, y0 + (j + 0.5) dy)``;
 material fills each cell's column from the stock bottom ``zmin`` up to that height.
-A height equal to ``zmin`` means no material is left. Lengths in job units.
+A height equal to ``zmin`` means no material is left. A cylindrical stock (a bar with a
+vertical axis) starts with material only in the cells whose centres are inside its
+circle (``initial``: the starting height of every cell). Lengths in job units.
 
 A height field cannot represent undercuts; for 3-axis milling with the tool axis along
 Z the tool's swept volume never makes one, so the model is exact at the cell centres.
@@ -29,10 +31,12 @@ class ZMap:
     zmin: float
     ztop: float
     heights: np.ndarray            # (ny, nx) float64
+    initial: np.ndarray | None = None   # (ny, nx) starting heights; None: ztop everywhere
 
     @classmethod
     def from_stock(cls, stock: Stock, resolution: float) -> "ZMap":
-        """A full block of ``stock`` with cells at most ``resolution`` wide."""
+        """The stock (a full block, or a bar's circle in its box) with cells at most
+        ``resolution`` wide."""
         if not (resolution > 0 and math.isfinite(resolution)):
             raise ValueError(f"resolution must be a positive length, not {resolution!r}")
         w, h, _ = stock.size
@@ -40,8 +44,17 @@ class ZMap:
         ny = max(1, int(math.ceil(h / resolution - 1e-9)))
         if nx * ny > 400_000_000:
             raise ValueError(f"resolution {resolution} gives {nx} x {ny} cells: too many")
-        return cls(stock.xmin, stock.ymin, w / nx, h / ny, stock.zmin, stock.zmax,
-                   np.full((ny, nx), float(stock.zmax)))
+        z = cls(stock.xmin, stock.ymin, w / nx, h / ny, stock.zmin, stock.zmax,
+                np.full((ny, nx), float(stock.zmax)))
+        if stock.cylinder is not None:
+            X, Y = np.meshgrid(z.xs(), z.ys())
+            z.heights[~stock.inside_xy(X, Y)] = stock.zmin
+            z.initial = z.heights.copy()
+        return z
+
+    def start_heights(self) -> np.ndarray | float:
+        """The heights the stock started with (an array, or ``ztop`` for a block)."""
+        return self.ztop if self.initial is None else self.initial
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -69,7 +82,8 @@ class ZMap:
 
     def removed_volume(self) -> float:
         """Volume removed from the full block (job units cubed)."""
-        return float(np.sum(self.ztop - self.heights, dtype=np.float64) * self.cell_area)
+        return float(np.sum(self.start_heights() - self.heights, dtype=np.float64)
+                     * self.cell_area)
 
     def height_at(self, x: float, y: float) -> float:
         """Height of the cell containing (x, y); ValueError outside the grid."""

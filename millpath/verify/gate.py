@@ -7,7 +7,8 @@ found any of:
 - a rapid through material,
 - a gouge deeper than the tolerance of the operation that cut it (plus the job's fit
   tolerance when arcs/cubics were fitted),
-- a feature that was asked for and is not machined (``features.unmachinable``).
+- a feature that was asked for and is not machined (``features.unmachinable``), unless
+  the operation lists them on purpose (``unmachinable = "list"``).
 
 Inputs are the report dict the pipeline builds (``verification`` keys of the
 simulator; when present the exact keys ``by_operation`` and ``max_gouge_at``) plus,
@@ -153,10 +154,11 @@ def _gouges(ver: dict, g: GateInput) -> list[Problem]:
 
 
 def _unmachined(report: dict) -> list[Problem]:
-    feats = report.get("features")
-    if not isinstance(feats, dict):
-        return []
-    left = feats.get("unmachinable") or []
+    """The features no operation of the run could machine (each plan's ``features``
+    section of report.json)."""
+    left = [f for p in report.get("plans", []) if isinstance(p.get("features"), dict)
+            and p["features"].get("unmachinable_policy", "refuse") == "refuse"
+            for f in p["features"].get("unmachinable") or []]
     if not left:
         return []
     first = left[0]

@@ -15,6 +15,7 @@ from millpath.errors import GeometryError, JobError
 from millpath.job.jobfile import load_job
 from millpath.plan.base import PlanContext
 from millpath.plan.diecavity import operation as op
+from millpath.report.document import plan_sections
 
 EXAMPLES = Path(millpath.__file__).parent / "examples"
 
@@ -49,7 +50,7 @@ def _finish_xy(motions, z):
 
 def test_params_keys_are_the_issue_keys():
     assert set(op.PARAMS) == {"tool", "points", "points_file", "close", "tolerance", "depth",
-                              "step_down", "allowance", "stepover", "compensation", "entry", "feed",
+                              "stepdown", "allowance", "stepover", "compensation", "entry", "feed",
                               "plunge_feed", "spindle", "safe_z", "breakthrough"}
 
 
@@ -195,7 +196,7 @@ type = "die-cavity"
 tool = 1
 tolerance = 0.01
 depth = 5.0
-step_down = 2.5
+stepdown = 2.5
 feed = 500.0
 {extra}
 """
@@ -249,7 +250,7 @@ def test_inch_job_control_and_cam_interpret_alike(rs274):
     got = {}
     for comp in ("cam", "control"):
         params = validate({"tool": 3, "points": pts.tolist(), "tolerance": 0.0001,
-                           "depth": 0.25, "step_down": 0.125, "allowance": 0.01, "feed": 20.0,
+                           "depth": 0.25, "stepdown": 0.125, "allowance": 0.01, "feed": 20.0,
                            "compensation": comp}, op.PARAMS, "op", None)
         res = op.plan(ctx, params)
         prog = post(res.toolpath, tools)
@@ -268,7 +269,7 @@ def test_millpath_run_writes_the_curve_analysis(tmp_path, rs274):
     from millpath.pipeline import run_job
     run_job(EXAMPLES / "die-blanking" / "job.toml", tmp_path / "out")
     rep = json.loads((tmp_path / "out" / "report.json").read_text())
-    curve = rep["curve"]
+    (curve,) = plan_sections(rep, "curve")
     assert {"segments", "chords", "uniform_chords", "unreachable_corners"} <= set(curve)
     assert all({"chords", "steps", "deviations", "uniform_chords"} <= set(s)
                for s in curve["segments"])

@@ -12,6 +12,7 @@ import pytest
 from click.testing import CliRunner
 
 from millpath.cli.main import cli
+from millpath.report.document import plan_sections
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "millpath" / "examples" / "features-example-2"
 
@@ -62,7 +63,8 @@ def test_pipeline_machines_the_papers_volume(tmp_path, rs274):
     res = run_job(EXAMPLE / "job.toml", tmp_path)
     rep = res.report
     assert rep["reference"]["stock"] == list(STOCK)
-    assert rep["features"]["unmachinable"] == []
+    (feats,) = plan_sections(rep, "features")
+    assert feats["unmachinable"] == []
     v = rep["verification"]
     volume = SLOT_W * SLOT_DEPTH * SLOT_LEN + 2 * math.pi * (HOLE_D / 2) ** 2 * HOLE_DEPTH
     assert v["removed_volume"] == pytest.approx(volume, rel=0.01)   # 0.5 mm Z-map cells

@@ -11,6 +11,7 @@ import pytest
 from millpath.job.jobfile import load_job
 from millpath.plan.base import PlanContext
 from millpath.plan.registry import strategy
+from millpath.report.document import plan_sections
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "millpath" / "examples"
 NAMES = sorted(p.name for p in EXAMPLES.glob("features-*") if (p / "job.toml").exists())
@@ -58,7 +59,8 @@ def test_pipeline_runs_an_example_and_merges_the_features_report(tmp_path, rs274
     run_job(EXAMPLES / "features-plate" / "job.toml", tmp_path)
     rep = json.loads((tmp_path / "report.json").read_text())
     assert rep["stock"] == [0.0, 0.0, 0.0, 225.0, 100.0, 12.5]     # from the STEP file
-    assert [p["strategy"] for p in rep["features"]["planned"]] == ["helical"] * 3
+    (feats,) = plan_sections(rep, "features")           # namespaced per operation
+    assert [p["strategy"] for p in feats["planned"]] == ["helical"] * 3
     v = rep["verification"]
     assert v["max_gouge"] <= 1e-6 and v["rapids_through_material"] == 0
     assert (tmp_path / "program.ngc").read_text().rstrip().endswith("M2")

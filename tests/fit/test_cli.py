@@ -62,3 +62,23 @@ def test_fit_min_radius_keeps_arcs_larger_than_it(tmp_path):
     assert len(text.splitlines()) > 100            # a 10 mm circle stays mostly lines
     r = CliRunner().invoke(cli, ["fit", str(src), "-t", "0.005", "--min-radius", "nan"])
     assert r.exit_code == 1 and "min radius" in r.output
+
+
+def test_fit_says_why_it_changed_nothing(tmp_path):
+    """Truth: a zigzag whose inner corners stand 0.5 mm off the segments joining their
+    neighbours (computed by hand), and two moves in G91 that the fitter must not touch."""
+    src = tmp_path / "zig.ngc"
+    src.write_text("G21 G90 G17\nG0 X0 Y0 Z2\nG1 Z-1 F200\nX1 Y0.5\nX2 Y0\nX3 Y0.5\nX4 Y0\n"
+                   "G91\nG1 X1\nX1\nG90\nG0 Z5\nM2\n")
+    out = tmp_path / "fitted.ngc"
+    r = CliRunner().invoke(cli, ["fit", str(src), "-t", "0.01", "-o", str(out)])
+    assert r.exit_code == 0, r.output
+    assert out.read_text() == src.read_text()
+    why = r.output.splitlines()[-1]
+    assert why.startswith("nothing fitted: of 7 G1 moves, 5 could not be fitted within "
+                          "--tolerance 0.01")
+    assert "one line needs a deviation of 0.5;" in why
+    assert "2 in incremental distance mode (G91)" in why
+    r = CliRunner().invoke(cli, ["fit", str(src), "-t", "0.6", "-o", str(out)])
+    assert r.exit_code == 0 and "nothing fitted" not in r.output
+    assert out.read_text() != src.read_text()

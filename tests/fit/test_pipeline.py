@@ -19,11 +19,17 @@ def test_run_with_fitting_writes_a_shorter_verified_program(tmp_path):
     for f in EXAMPLE.iterdir():
         shutil.copy(f, tmp_path / f.name)
     job = (tmp_path / "job.toml").read_text()
-    plain = run_job(tmp_path / "job.toml", tmp_path / "plain")
+    from millpath.job.jobfile import load_job
+    from millpath.pipeline import plan_job, post_job
+    planned = load_job(tmp_path / "job.toml")
+    tp, _, stock = plan_job(planned)
+    as_planned = post_job(planned, tp, stock)[0].count("\n")     # every planned point
+    plain = run_job(tmp_path / "job.toml", tmp_path / "plain")     # collinear points merged
     (tmp_path / "job.toml").write_text(re.sub(r'(?m)^name = (.*)$',
                                               r'name = \1\nfit = "arcs+cubics"', job, count=1))
     fitted = run_job(tmp_path / "job.toml", tmp_path / "fitted")
     assert fitted.report["fit"]["mode"] == "arcs+cubics"
     assert fitted.report["verification"]["max_gouge"] <= 0.005
-    assert fitted.report["lines"] < plain.report["lines"] * 0.6
+    assert fitted.report["lines"] < as_planned * 0.6
+    assert fitted.report["lines"] < plain.report["lines"] < as_planned
     assert re.search(r"(?m)^(G1[789] )?G[235] ", fitted.program)

@@ -24,7 +24,7 @@ def test_run_writes_program_tools_report_and_pictures(tmp_path, job_file):
     assert rep["operations"][0]["type"] == "test-square"
     assert rep["operations"][0]["cycle_time_s"] > 0
     assert rep["cycle_time_s"] == pytest.approx(rep["operations"][0]["cycle_time_s"])
-    assert rep["test"] == {"planned": 8}
+    assert rep["plans"] == [{"operation": 0, "type": "test-square", "test": {"planned": 8}}]
     v = rep["verification"]
     for key in ("removed_volume", "max_gouge", "max_left", "left_volume",
                 "rapids_through_material", "holder_contacts", "cycle_time_s", "resolution"):

@@ -27,7 +27,7 @@ type = "die-cavity"
 tool = 1
 points = [[0, 0], [40, 0], [40, 30], [0, 30]]
 depth = 5
-step_down = {step}
+stepdown = {step}
 tolerance = 0.01
 feed = 600
 spindle = 7000
@@ -126,3 +126,18 @@ def test_library_warnings_are_silenced_and_ours_are_one_line(monkeypatch, tmp_pa
     assert r.exit_code == 1
     assert r.output.strip().splitlines() == ["millpath: warning: p.ngc:3: something to know",
                                              "millpath: error: p.ngc:4: the real problem"]
+
+
+@pytest.mark.parametrize("value", ["1" + "0" * 400, "1e999", "0", "-2"])
+def test_holder_numbers_too_large_or_not_positive_name_the_key(tmp_path, value):
+    """Found by ``bench/fuzz.py --reader toollib``: a holder length of 10**400 raised
+    OverflowError (a traceback through the CLI)."""
+    from millpath.errors import MillpathError
+    from millpath.io.toollib import read_tool_library
+    p = tmp_path / "tools.toml"
+    p.write_text(f'[[tools]]\nnumber = 1\ntype = "ball"\ndiameter = 6\nstickout = 30\n'
+                 f'holder = [[20, {value}]]\n')
+    with pytest.raises(MillpathError) as e:
+        read_tool_library(p)
+    assert Path(e.value.file) == p and "tools[0].holder[0]" in str(e.value)
+    assert "\n" not in str(e.value)

@@ -116,7 +116,7 @@ def test_random_concave_pockets_are_cleared_without_touching_the_walls(tmp_path,
     pts = np.column_stack([1.5 + 1.4 * rad * np.cos(ang), 1.0 + 0.95 * rad * np.sin(ang)])
     poly = "polygon = [" + ", ".join(f"[{x:.4f}, {y:.4f}]" for x, y in pts) + "]\n"
     p = gp.write_job(tmp_path, "tool = 1\n" + poly + 'bottom = { bezier = [[-0.25, -0.25], '
-                     '[-0.25, -0.25]] }\nfeed = 10\nstep = 0.15\nzigzag = false\n'
+                     '[-0.25, -0.25]] }\nfeed = 10\nstepdown = 0.15\nzigzag = false\n'
                      'grid = [0.15, 0.15]\nmotion = "arc"\n')
     job, res = gp.plan_file(p)
     sim = simulate_toolpath(res.toolpath, job.tools, job.stock, resolution=0.01,

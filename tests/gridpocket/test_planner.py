@@ -19,11 +19,11 @@ STEEP = 'bottom = { bezier = [[-0.2, -0.5, -0.2], [-0.3, -0.6, -0.3], [-0.2, -0.
 
 def test_params_are_exactly_the_keys_of_the_issue():
     assert set(operation.PARAMS) == {
-        "tool", "polygon", "bottom", "grid", "depths", "step", "motion", "tolerance",
+        "tool", "polygon", "bottom", "grid", "depths", "stepdown", "motion", "tolerance",
         "zigzag", "feed", "finish_feed", "plunge_feed", "spindle", "safe_z", "z_mode",
         "force_grid",
         "navigation", "grid_centre", "bezier_parameters",        # issue 17
-        "rest", "allowance"}                                     # issue 21
+        "rest", "rest_allowance"}                                     # issue 21
 
 
 def test_force_grid_accepts_cells_larger_than_d_over_sqrt2(tmp_path, gp):
@@ -67,7 +67,7 @@ def test_planning_errors_name_the_job_file(tmp_path, gp):
         (L_POCKET + STEEP + "feed = 10\nsafe_z = -0.1\n", JobError, "safe_z"),
         (L_POCKET + 'bottom = { points = "missing.csv" }\nfeed = 10\n', GeometryError,
          "missing.csv"),
-        (L_POCKET + STEEP + "feed = 10\ndepths = [-0.1]\nstep = 0.1\n", JobError, "either"),
+        (L_POCKET + STEEP + "feed = 10\ndepths = [-0.1]\nstepdown = 0.1\n", JobError, "either"),
         (L_POCKET + 'bottom = { bezier = [[0, 0], [0, 0]], box = [0, 0, 2, 2] }\nfeed = 10\n',
          GeometryError, "does not reach the pocket outline at (2.0625, 0)"),
     ]
@@ -95,7 +95,7 @@ def _ops(res):
 
 def test_layers_and_phase_order(tmp_path, gp):
     p = gp.write_job(tmp_path, "tool = 1\n" + L_POCKET + STEEP + "feed = 10\nfinish_feed = 7\n"
-                  "plunge_feed = 3\nstep = 0.12\ngrid = [0.125, 0.125]\n")
+                  "plunge_feed = 3\nstepdown = 0.12\ngrid = [0.125, 0.125]\n")
     job, res = gp.plan_file(p)
     phases = [op.info["phase"] for op in res.toolpath.ops]
     assert phases == ["rough", "rough", "rough", "finish", "wall", "zigzag_x", "zigzag_y"]
@@ -239,7 +239,7 @@ polygon = [[0, 0], [80, 0], [80, 50], [0, 50]]
 bottom = { bezier = [[-8, -12, -8], [-10, -14, -10], [-8, -12, -8]] }
 feed = 600
 spindle = 8000
-step = 5
+stepdown = 5
 motion = "arc"
 """)
     job, res = gp.plan_file(p)

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from millpath.interpret.difftest import differential
+from support.difftest import differential
 from millpath.io.tooltable import parse_tool_table
 
 BENCH = Path(__file__).resolve().parents[2] / "bench"

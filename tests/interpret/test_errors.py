@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from millpath.interpret.difftest import differential
+from support.difftest import differential
 from millpath.io.tooltable import ToolEntry
 
 TOOLS = [ToolEntry(1, 1, 0.25, {"Z": 1.0}), ToolEntry(2, 2, -0.1, {"Z": 0.5, "X": 0.1})]

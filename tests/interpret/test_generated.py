@@ -13,7 +13,7 @@ import random
 
 import pytest
 
-from millpath.interpret.difftest import differential
+from support.difftest import differential
 from millpath.io.tooltable import ToolEntry
 
 N_CONTOURS = 160

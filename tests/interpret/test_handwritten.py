@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from millpath.interpret.difftest import differential
+from support.difftest import differential
 from millpath.io.tooltable import ToolEntry
 
 # tool table in inches (rs274's machine units): T1 D0.25, T2 negative diameter (other

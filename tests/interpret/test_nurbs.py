@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from millpath.interpret import run
-from millpath.interpret.difftest import differential
+from support.difftest import differential
 from millpath.model.nurbs import Nurbs
 
 QUARTER = """G21 G17 G90 F300

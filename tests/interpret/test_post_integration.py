@@ -7,7 +7,7 @@ import math
 import pytest
 
 from millpath.interpret import interpret
-from millpath.interpret.difftest import differential
+from support.difftest import differential
 from millpath.model import Tool, Toolpath
 from millpath.model.toolpath import Operation
 from millpath.post.linuxcnc import post

@@ -66,7 +66,7 @@ def test_floor_cleared_walls_and_island_untouched_no_plunge(strategy, sweep_meas
 
 
 def test_finish_allowance_leaves_stock_then_finish_cuts_to_size(sweep_measure):
-    res, tools, stock = _plan(SQUARE, [ISLAND], "offset", finish_allowance=0.5)
+    res, tools, stock = _plan(SQUARE, [ISLAND], "offset", allowance=0.5)
     ops = res.toolpath.ops
     assert [o.name for o in ops] == ["pocket offset", "pocket finish"]
     tp_rough = type(res.toolpath)("mm")

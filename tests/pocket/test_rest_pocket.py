@@ -67,3 +67,22 @@ def test_half_depth_is_not_cleared_and_cleared_level_is_skipped(tmp_path):
     inside = shapely.contains_xy(part.buffer(-3).buffer(3 - d), X, Y)
     assert np.abs(zm.heights[inside] + 8.0).max() <= 1e-9
     assert np.all(zm.heights[~shapely.contains_xy(part.buffer(d), X, Y)] == 0.0)
+
+
+def test_rest_without_an_earlier_operation_warns_and_plans_it_all(tmp_path):
+    """``rest = true`` on the first operation: nothing has cut the stock yet, so the whole
+    pocket is planned, and the user is told so in one warning line naming the job."""
+    import warnings
+
+    from millpath.errors import MillpathWarning
+    first_only = JOB.split("[[operations]]")
+    text = first_only[0] + "[[operations]]" + first_only[2]        # the rest operation alone
+    (tmp_path / "job.toml").write_text(text)
+    job = load_job(tmp_path / "job.toml")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        tp, _, _ = plan_job(job)
+    ours = [str(w.message) for w in caught if issubclass(w.category, MillpathWarning)]
+    assert len(ours) == 1 and "operations[0]: rest = true" in ours[0]
+    assert str(tmp_path / "job.toml") in ours[0]
+    assert min(m.end[2] for m in tp.moves) <= -8.0 + 1e-9       # cut to the full depth

@@ -42,7 +42,7 @@ type = "surface-rough"
 surface = "cavity.stl"
 tool = 1
 stepdown = 3.0
-step_over = 5.0
+stepover = 5.0
 allowance = {first}
 feed = 1500.0
 [[operations]]
@@ -50,7 +50,7 @@ type = "surface-rough"
 surface = "cavity.stl"
 tool = 2
 stepdown = 3.0
-step_over = 2.4
+stepover = 2.4
 allowance = 0.3
 feed = 1500.0
 rest = {rest}

@@ -41,7 +41,7 @@ type = "surface-rough"
 surface = "cavity.stl"
 tool = 1
 stepdown = 3.0
-step_over = 5.0
+stepover = 5.0
 allowance = 0.0
 feed = 1500.0
 [[operations]]

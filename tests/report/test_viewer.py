@@ -322,3 +322,36 @@ def test_clicking_a_move_selects_it_and_shows_line_and_feed(demo_run, browser):
         assert not log["errors"] and not [m for m in log["console"] if m[0] == "error"]
     finally:
         page.close()
+
+
+def test_a_bar_stock_is_drawn_as_its_circles(browser, tmp_path):
+    """Cylindrical stock (issue 14): the stock outline is the bar (two circles), drawn
+    without errors; seen from above it is round: the outline's pixels lie on a ring."""
+    from millpath.interpret import interpret
+    from millpath.model import Stock
+    from millpath.model.tool import Tool
+    from millpath.report.viewer.scene import write_view
+    from millpath.simulate import simulate_motions
+    program = ("G21 G90 G17\nT1 M6\nG43 H1\nS1000 M3\nG0 X-5 Y10 Z5\nG1 Z-1 F100\n"
+               "G1 X25 F300\nG0 Z5\nM2\n")
+    tools = {1: Tool(1, "flat", 4.0, flute_length=20, stickout=30)}
+    stock = Stock.from_cylinder(10.0, 10.0, 8.0, -5.0, 0.0)
+    motions = interpret(program, tools, machine_units="mm")
+    sim = simulate_motions(motions, tools, stock, resolution=0.1)
+    html = write_view(tmp_path / "bar.html", program=program, motions=motions, tools=tools,
+                      stock=stock, units="mm", sim=sim)
+    page, log = open_page(browser, html, size=(800, 800))
+    try:
+        page.add_style_tag(content=HIDE_OVERLAYS)
+        page.evaluate("""() => { for (const id of ['show-surface', 'show-feeds', 'show-rapids',
+                              'show-tool', 'show-markers']) document.getElementById(id).click(); }""")
+        page.evaluate("() => document.getElementById('view-top').click()")
+        rgb = screenshot(page, tmp_path / "bar.png")
+        img = rgb.max(axis=2) < 150          # the stock's dark grey lines, not the axes
+        assert not log["errors"] and not [m for m in log["console"] if m[0] == "error"]
+    finally:
+        page.close()
+    assert img.sum() > 200
+    ys, xs = np.nonzero(img)
+    d = np.hypot(xs - xs.mean(), ys - ys.mean())
+    assert d.max() / d.min() < 1.15           # rings (a square outline gives 1.41)

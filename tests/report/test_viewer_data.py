@@ -233,3 +233,29 @@ def test_program_text_cannot_break_out_of_the_page(tmp_path):
     assert json.loads(block)["program"] == program
     assert "<title>&lt;b&gt;t&lt;/b&gt;</title>" in text
     assert text.count("</script>") == 3            # import map, data, viewer script
+
+
+def test_a_bar_stock_is_shown_as_a_cylinder():
+    """Cylindrical stock (issue 14): the page carries the bar's circle, and the simulated
+    surface has material only over it (the analytic circle at every display vertex)."""
+    from millpath.interpret import interpret
+    from millpath.model import Stock
+    from millpath.report.viewer.scene import scene_data
+    from millpath.simulate import simulate_motions
+    tools = {1: Tool(1, "flat", 4.0, flute_length=20, stickout=30)}
+    stock = Stock.from_cylinder(10.0, 10.0, 8.0, -5.0, 0.0)
+    motions = interpret(SLOT, tools, machine_units="mm")
+    sim = simulate_motions(motions, tools, stock, resolution=0.1)
+    data = scene_data(program=SLOT, motions=motions, tools=tools, stock=stock, units="mm",
+                      sim=sim)
+    assert data["stock_cylinder"] == [10.0, 10.0, 8.0]
+    assert data["stock"] == [2.0, 2.0, -5.0, 18.0, 18.0, 0.0]
+    s = data["surface"]
+    xs, ys = _arr(s["xs"], "<f4"), _arr(s["ys"], "<f4")
+    h = _arr(s["heights"], "<f4").reshape(len(ys), len(xs))
+    X, Y = np.meshgrid(xs.astype(float), ys.astype(float))
+    rho = np.hypot(X - 10.0, Y - 10.0)
+    slot = np.abs(Y - 10.0) <= 2.0 + 1e-6
+    assert np.all(h[rho > 8.0 + 1e-4] == -5.0)                 # air around the bar
+    assert np.all(h[(rho < 8.0 - 1e-4) & ~slot] == 0.0)        # the uncut top
+    assert np.all(h[(rho < 8.0 - 1e-4) & (np.abs(Y - 10.0) < 2.0 - 1e-4)] == -1.0)

@@ -13,7 +13,7 @@ from pathlib import Path
 import pytest
 
 from millpath.interpret import interpret
-from millpath.interpret.difftest import compare_motions
+from support.difftest import compare_motions
 from millpath.io.tooltable import parse_tool_table, table_units, tool_table_text
 from millpath.job.jobfile import load_job
 from millpath.pipeline import fit_job, plan_job, post_job
@@ -50,22 +50,9 @@ def test_rs274_runs_the_program_with_the_table_as_written(example, machine_units
     assert compare_motions(ours, theirs.motions, tol) == [], name
 
 
-#: known open defects (issue 14.5), strict so that a fix makes this list fail: the thesis
-#: examples' wall pass starts with a straight descent 0.004 in into the band of material
-#: the main path left along the wall, which the grid-pocket planner does not model; the
-#: features planner enters the general pockets it recognises in a solid by plunging
-THESIS = "the wall pass descends 0.004 in into the wall band left by the main path"
-KNOWN_PLUNGES = {"pocket-thesis": THESIS, "pocket-thesis-arc": THESIS,
-                 "pocket-thesis-bezier": THESIS,
-                 "solid-hole-model": "recognised general pockets are entered by plunging"}
-
-
 @pytest.mark.slow
-def test_safe_approach_and_no_straight_plunge_into_material(example, request):
+def test_safe_approach_and_no_straight_plunge_into_material(example):
     name, job, stock, program = example
-    if name in KNOWN_PLUNGES:
-        request.applymarker(pytest.mark.xfail(strict=True, reason=(
-            f"open (issue 14.5): {KNOWN_PLUNGES[name]}")))
     text = tool_table_text(job.tools, job.units, job.table_units)
     motions = interpret(program, parse_tool_table(text), machine_units=job.table_units)
     assert approach_violations(program, motions, stock.zmax) == []

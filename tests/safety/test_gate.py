@@ -49,10 +49,12 @@ def _plan(ctx, params):
         tp.rapid(50, 50, -3)        # rapid down into the solid corner of the block
         tp.rapid(50, 50, 5)
     report = {}
-    if case == "feature":
+    if case in ("feature", "feature-listed"):
         report = {"features": {"unmachinable": [
             {"id": 77, "type": "HOLE", "reason": "needs 85 mm of reach, the longest tool "
                                                  "reaches 45", "kind": "reach"}]}}
+    if case == "feature-listed":
+        report["features"]["unmachinable_policy"] = "list"
     return PlanResult(tp, design=Floor(floor), report=report)
 
 
@@ -171,3 +173,19 @@ def test_the_same_job_with_a_long_tool_is_clean(tmp_path, gate_strategy):
     assert rep["safety"] == {"status": "ok", "problems": []}
     assert "holder contacts 0" in r.stdout and "rapids through material 0" in r.stdout
     assert "features not machined 0" in r.stdout and "max gouge" in r.stdout
+
+
+def test_features_left_on_purpose_are_listed_not_refused(tmp_path, gate_strategy):
+    """``unmachinable = "list"`` (features operation): the user leaves the features it
+    cannot machine for another setup; the program is written, the report keeps the list
+    and the console says how many were left on purpose."""
+    job = _job(tmp_path, "feature-listed")
+    out = tmp_path / "out"
+    r = _run(job, out, quiet=False)
+    assert r.exit_code == 0, r.output
+    assert (out / "program.ngc").exists()
+    rep = json.loads((out / "report.json").read_text())
+    assert rep["safety"]["status"] == "ok"
+    assert rep["plans"][0]["features"]["unmachinable"][0]["id"] == 77
+    text = " ".join(r.output.split())             # rich wraps at the terminal width
+    assert "features not machined 0" in text and "1 left on purpose" in text

@@ -30,7 +30,7 @@ def _jobs(tmp_path):
     a.write_text(text.replace('name = "features-holes-slot"', 'name = "run-a"'))
     b = tmp_path / "b.toml"
     b.write_text(text.replace('name = "features-holes-slot"', 'name = "run-b"')
-                 .replace("finish_allowance = 0.2", "finish_allowance = 0.2\nclearance = 9"))
+                 .replace("allowance = 0.2", "allowance = 0.2\nclearance = 9"))
     return a, b
 
 

@@ -4,7 +4,7 @@ and millpath's interpreter; the safe approach after each tool change (item 5).""
 import pytest
 
 from millpath.interpret import interpret
-from millpath.interpret.difftest import compare_motions
+from support.difftest import compare_motions
 from millpath.io.schema import validate
 from millpath.job.jobfile import POST
 from millpath.model import Operation, Tool, Toolpath

@@ -257,3 +257,34 @@ def test_height_field_design_uses_nearest_sample_next_to_a_hole():
     h = d.height(np.array([0.5, 1.2, 1.8]), np.array([0.5, 0.5, 0.5]))
     assert h[0] == pytest.approx(1.5)
     assert h[1] == 2.0 and np.isneginf(h[2])
+
+
+def test_motions_swept_in_blocks_cut_exactly_as_in_one_go():
+    """``sweep_motions`` makes chords a block of motions at a time (memory bounded by the
+    block, not the program): the stock, the flags and the chord count are those of one
+    block holding the whole program (a program with arcs, helices, plunges and a rapid
+    through material, random but seeded)."""
+    from millpath.interpret import interpret
+    from millpath.io.tooltable import parse_tool_table
+    from millpath.simulate.simulator import sweep_motions
+    from millpath.simulate.zmap import ZMap
+    rng = np.random.default_rng(12)
+    lines = ["G21 G17 G90", "T1 M6", "G0 X5 Y5 Z5", "G1 Z-2 F200"]
+    for _ in range(60):
+        x, y = rng.uniform(5, 35, 2)
+        if rng.random() < 0.3:
+            lines.append(f"G2 X{x:.3f} Y{y:.3f} R{rng.uniform(16, 30):.3f} Z{-rng.uniform(0, 4):.3f}")
+        else:
+            lines.append(f"G1 X{x:.3f} Y{y:.3f} Z{-rng.uniform(0, 4):.3f}")
+    lines += ["G0 Z-1", "G0 X38 Y38", "G0 Z5", "M2"]
+    motions = interpret("\n".join(lines) + "\n", parse_tool_table("T1 P1 D6 Z50\n"),
+                        machine_units="mm")
+    assert len(motions) >= 64 and motions[-1].end[2] == 5.0     # interpreted to the end
+    tools = {1: TOOL}
+    whole, blocks = ZMap.from_stock(STOCK, 0.25), ZMap.from_stock(STOCK, 0.25)
+    f1, n1 = sweep_motions(whole, motions, tools, 0.01, block=10**9)
+    f2, n2 = sweep_motions(blocks, motions, tools, 0.01, block=7)
+    assert n1 == n2 and n1 > len(motions)
+    assert np.array_equal(whole.heights, blocks.heights)
+    assert np.array_equal(f1[0], f2[0]) and np.array_equal(f1[1], f2[1])
+    assert f1[0].sum() >= 1                      # the rapid at Z-1 is seen in both

@@ -41,6 +41,11 @@ def cavity():
     return _run("surface-cavity")
 
 
+@pytest.fixture(scope="module")
+def sideways():
+    return _run("surface-sideways")
+
+
 def _left_inside(sim, design, box, margin):
     zm = sim.zmap
     X, Y = np.meshgrid(zm.xs(), zm.ys())
@@ -81,7 +86,35 @@ def test_cavity_short_tool_is_lifted_and_the_chosen_tool_reaches_the_floor(cavit
     assert floor.max() <= chosen["scallop"] and floor.min() >= -chosen["tolerance"]
 
 
-@pytest.mark.parametrize("example", ["mould", "cavity"])
+def test_sideways_cavity_is_turned_up_placed_and_finished_without_gouge(sideways):
+    """Issue 23: a mould cavity STL that opens towards -Y, turned up with ``rotate`` and
+    put on the stock top with ``place``; finished within its tolerance."""
+    from millpath.part.surface.mesh import read_stl
+    job, tp, results, sim, program, lines = sideways
+    raw = read_stl(EXAMPLES / "surface-sideways" / "cavity-sideways.stl")
+    lo, hi = raw.bounds
+    # as exported: 60 (X) x 20 (Y, the depth) x 40 (Z), the cavity face at Y = 0, and
+    # the cavity bottom 10 mm into the block
+    np.testing.assert_allclose([*lo, *hi], [-30, 0, -20, 30, 20, 20], atol=1e-9)
+    t = raw.triangles.reshape(-1, 3)
+    assert np.all(t[np.abs(t[:, 0]) < 1.0, 1][(np.abs(t[np.abs(t[:, 0]) < 1.0, 2]) < 1.0)]
+                  <= 10.0 + 1e-9)
+    design = results[-1].design
+    # turned and placed: the block fills the stock's XY (60 x 40), its top at Z 0 and
+    # the bowl's centre (the stock's centre) 10 mm down
+    assert design.height(np.array([30.0]), np.array([20.0]))[0] == pytest.approx(-10.0)
+    assert design.height(np.array([1.0, 59.0]), np.array([1.0, 39.0])) == \
+        pytest.approx([0.0, 0.0])
+    finish = results[-1].report["surface_finish"][0]
+    assert finish["strategy"] == "steep-shallow" and finish["waterline"]["levels"] > 1
+    assert sim.max_gouge <= finish["tolerance"] + 0.001
+    assert sim.rapids_through_material == 0 and sim.holder_contacts == 0
+    # the zigzag side of the bowl (slopes under 40 degrees) is finished to the scallop
+    floor = _left_inside(sim, design, (24.0, 17.0, 36.0, 23.0), 0.0)
+    assert floor.max() <= finish["scallop"] and floor.min() >= -finish["tolerance"]
+
+
+@pytest.mark.parametrize("example", ["mould", "cavity", "sideways"])
 def test_program_round_trips_and_rs274_accepts_it(example, request, rs274):
     from millpath.verify.rs274 import run_rs274
     job, tp, results, sim, program, lines = request.getfixturevalue(example)

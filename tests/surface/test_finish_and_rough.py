@@ -139,7 +139,7 @@ def test_flat_end_mill_cannot_drive_a_scallop():
 
 
 def test_roughing_leaves_the_allowance_and_never_rapids_through_material():
-    p = validate({"surface": NET, "tool": 3, "stepdown": 2.0, "step_over": 4.0,
+    p = validate({"surface": NET, "tool": 3, "stepdown": 2.0, "stepover": 4.0,
                   "allowance": 0.3, "divisions": 60}, rough_op.PARAMS, "op", None)
     res = rough_op.plan(_ctx(), p)
     sec = res.report["surface_rough"][0]
@@ -167,7 +167,7 @@ def test_roughing_reaches_the_bottom_of_a_narrow_trench_and_its_walls(tmp_path):
     tools = {4: Tool(4, "flat", 6.0, flute_length=20.0, stickout=30.0, holder=[(20.0, 30.0)])}
     stock = Stock(0.0, 0.0, -14.0, 40.0, 30.0, 0.5)
     ctx = PlanContext("mm", stock, Machine.default_for("mm"), tools, tmp_path, None)
-    p = validate({"surface": "trench.stl", "tool": 4, "stepdown": 3.0, "step_over": 6.0,
+    p = validate({"surface": "trench.stl", "tool": 4, "stepdown": 3.0, "stepover": 6.0,
                   "allowance": 0.2}, rough_op.PARAMS, "op", None)
     res = rough_op.plan(ctx, p)
     # the rows (6 mm apart) all miss the trench's 8 mm: the bottom layer comes from

@@ -271,3 +271,83 @@ def test_progress_reports_pass_lines_and_levels_through_the_planning_context():
     assert lines[0] == sec["estimate"]["pass_lines"] and lines[-1] == sec["pass_lines"]
     assert levels[-1] == sec["waterline"]["levels"]
     assert any("estimate" in n for n in prog.notes)
+
+
+@pytest.mark.parametrize("strategy", ["zigzag", "steep-shallow"])
+def test_finish_region_is_the_silhouette_the_ball_never_rides_down_outside(tmp_path,
+                                                                          strategy):
+    """Issue 23.3: two cylinders (radius 12 mm, top Z 0, bottom -10) 12 mm apart in a
+    larger stock; the default finishing region is their silhouette grown by the ball's
+    radius. Analytic truth: with the tip at a distance d <= r beside a vertical-walled
+    cylinder the ball rests on its top edge, tip Z = -r + sqrt(r^2 - d^2) >= -r; farther
+    out it touches nothing. So no cutting move may end farther than r from the discs or
+    below -r (it would be riding down the outside to the bottom)."""
+    from shapely.geometry import Point
+    from millpath.part.surface.prism import stepped_solid
+    discs = Point(-18.0, 0.0).buffer(12.0, quad_segs=64).union(
+        Point(18.0, 0.0).buffer(12.0, quad_segs=64))
+    write_stl(stepped_solid([(discs, 0.0)], -10.0), tmp_path / "d.stl")
+    r, tol = 3.0, 0.01
+    text = JOB.format(units="mm", stock="[-45.0, -25.0, -10.0, 45.0, 25.0, 0.5]",
+                      tools=TOOLS.format(d1=6.0, d2=2 * r, fl=30.0, so=40.0, h1=20.0, h2=30.0),
+                      surface='"d.stl"', stepdown=3.0, allowance=0.3,
+                      strategy=strategy, scallop=0.3, tol=tol)
+    from millpath.job.jobfile import load_job
+    from millpath.plan.base import PlanContext
+    from millpath.plan.surface import operation
+    (tmp_path / "job.toml").write_text(text)
+    job = load_job(tmp_path / "job.toml")
+    ctx = PlanContext(job.units, job.stock, job.machine, job.tools, job.base_dir, job.path)
+    res = operation.plan(ctx, job.operations[1][1])
+    # cutting moves at the feed (entries go down at the plunge feed, clear of the part)
+    feed = max(m.feed for m in res.toolpath.moves if m.kind == "line")
+    ends = np.array([m.end for m in res.toolpath.moves if m.kind == "line" and m.feed == feed])
+    assert len(ends) > 100
+    cutting = ends[:, 2] < 0.5                        # below the stock top: in the part
+    P = ends[cutting]
+    d = np.minimum(np.hypot(P[:, 0] + 18.0, P[:, 1]), np.hypot(P[:, 0] - 18.0, P[:, 1])) - 12.0
+    assert d.max() <= r + 1e-3
+    assert P[:, 2].min() >= -r - tol - 1e-3
+    # the gap between the discs (|x| < 6 - r) is never cut in
+    assert not np.any((np.abs(P[:, 0]) < 6.0 - r - 1e-3) & (np.abs(P[:, 1]) < 12.0))
+
+
+def test_rough_refuses_a_raster_too_fine_at_once_with_numbers(tmp_path):
+    """surface-rough estimates before planning: a 0.1 mm end mill over the 60 mm block
+    (region 60.1 mm square) samples every 0.0125 mm along the rows (a quarter of its
+    radius): 4,809 stations x (1,003 rows + 4,809 fine rows) = 27,949,908 nodes."""
+    import time
+    from millpath.job.jobfile import load_job
+    from millpath.pipeline import plan_job
+    write_stl(box_and_wheel(size=60.0, height=20.0, segments=64), tmp_path / "w.stl")
+    text = JOB.format(units="mm", stock="[-30.0, -30.0, -20.0, 30.0, 30.0, 0.5]",
+                      tools=TOOLS.format(d1=0.1, d2=3.0, fl=30.0, so=40.0, h1=20.0, h2=30.0),
+                      surface='"w.stl"', stepdown=2.0, allowance=0.3,
+                      strategy="zigzag", scallop=0.2, tol=0.01)
+    (tmp_path / "job.toml").write_text(text)
+    job = load_job(tmp_path / "job.toml")
+    t = time.process_time()
+    with pytest.raises(PlanningError) as e:
+        plan_job(job)
+    assert time.process_time() - t < 5.0          # the issue's bound (not a benchmark)
+    msg = str(e.value)
+    assert "region 60.1 x 60.1 mm needs about 27,949,908 drop-cutter points" in msg
+    assert "a 0.2 mm tool needs about" in msg
+
+
+def test_rough_estimate_bounds_the_planned_layers_and_points(tmp_path):
+    from millpath.job.jobfile import load_job
+    from millpath.pipeline import plan_job
+    write_stl(box_and_wheel(size=60.0, height=20.0, segments=64), tmp_path / "w.stl")
+    text = JOB.format(units="mm", stock="[-30.0, -30.0, -20.0, 30.0, 30.0, 0.5]",
+                      tools=TOOLS.format(d1=6.0, d2=3.0, fl=30.0, so=40.0, h1=20.0, h2=30.0),
+                      surface='"w.stl"', stepdown=4.0, allowance=0.3,
+                      strategy="zigzag", scallop=0.5, tol=0.01)
+    (tmp_path / "job.toml").write_text(text)
+    tp, results, stock = plan_job(load_job(tmp_path / "job.toml"))
+    rough = results[0].report["surface_rough"][0]
+    est = rough["estimate"]
+    # from the stock top to the mesh's bottom plus the allowance: ceil((0.5 - (-20 +
+    # 0.3)) / 4) = 6; the planner stops at the lowest floor it reaches (the pocket's)
+    assert est["levels"] == 6 and 0 < rough["layers"] <= 6
+    assert 0 < rough["cl_points"] <= est["points"]

@@ -251,4 +251,8 @@ compare = false
     top = BOX[2] / 25.4
     assert np.sum(np.abs(z - top) < 1e-4) > 20
     assert not np.any((z > top + 1e-4) & (z < stock.zmax))   # nothing above the top
-    assert max(m.end[0] for m in tp.moves) == pytest.approx(BOX[0] / 25.4 + 0.125, abs=1e-6)
+    # the passes run over the block's edge until the ball leaves it, a radius beyond
+    # (the default region is the silhouette grown by the radius; the last point where
+    # the ball still touches is bracketed by the chord refinement)
+    xmax = max(m.end[0] for m in tp.moves)
+    assert BOX[0] / 25.4 + 0.125 - 0.002 <= xmax <= BOX[0] / 25.4 + 0.125 + 1e-6

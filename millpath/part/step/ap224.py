@@ -312,29 +312,27 @@ class GeometryReader:
         return name, value
 
     # geometry ---------------------------------------------------------------------------
-    def point(self, ref: Any) -> tuple[float, float, float]:
-        inst = self.sf[ref]
-        p = inst.get("CARTESIAN_POINT")
+    def triple(self, inst, entity: str, what: str) -> list[float]:
+        """The three numbers of a CARTESIAN_POINT or DIRECTION instance (missing ones
+        0); Ap224Error naming the instance when it is another entity or ``what`` (its
+        coordinates, ratios) are not numbers."""
+        p = inst.get(entity)
         if p is None or not isinstance(p[1], list):
-            raise self.sf.error(inst, "expected a CARTESIAN_POINT", Ap224Error)
+            raise self.sf.error(inst, f"expected a {entity}", Ap224Error)
         try:
-            c = [float(v) for v in p[1]] + [0.0] * (3 - len(p[1]))
+            return [float(v) for v in p[1]] + [0.0] * (3 - len(p[1]))
         except (TypeError, ValueError):
-            raise self.sf.error(inst, "CARTESIAN_POINT coordinates must be numbers",
-                                Ap224Error) from None
+            raise self.sf.error(inst, f"{entity} {what} must be numbers", Ap224Error) from None
+
+    def point(self, ref: Any) -> tuple[float, float, float]:
+        c = self.triple(self.sf[ref], "CARTESIAN_POINT", "coordinates")
         return tuple(0.0 if abs(v) < 1e-12 else v for v in c[:3])  # type: ignore[return-value]
 
     def direction(self, ref: Any, default: tuple) -> tuple[float, float, float]:
         if not isinstance(ref, Ref):
             return default
         inst = self.sf[ref]
-        p = inst.get("DIRECTION")
-        if p is None or not isinstance(p[1], list):
-            raise self.sf.error(inst, "expected a DIRECTION", Ap224Error)
-        try:
-            v = [float(x) for x in p[1]] + [0.0] * (3 - len(p[1]))
-        except (TypeError, ValueError):
-            raise self.sf.error(inst, "DIRECTION ratios must be numbers", Ap224Error) from None
+        v = self.triple(inst, "DIRECTION", "ratios")
         n = math.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
         if not n > 0:
             raise self.sf.error(inst, "zero-length DIRECTION", Ap224Error)

@@ -208,11 +208,13 @@ class Ap224Builder:
         return f
 
     def slot(self, start, direction, length: float, width: float, depth: float,
-             ends=("open", "open"), name: str = "") -> Ref:
-        """A SLOT with a SQUARE_U_PROFILE: centreline from ``start`` (top face) along
-        ``direction`` (XY) for ``length``; ``ends`` at start and end."""
+             ends=("open", "open"), name: str = "", axis=(0.0, 0.0, -1.0)) -> Ref:
+        """A SLOT with a SQUARE_U_PROFILE: centreline from ``start`` along ``direction``
+        (XY) for ``length``; ``ends`` at start and end. The depth runs from ``start``
+        along ``axis``: -Z (default) with ``start`` on the top face, or +Z with ``start``
+        on the slot's floor (the RAMP files' way, axis out of the material)."""
         d = (float(direction[0]), float(direction[1]), 0.0)
-        pl = self.placement(start, (0.0, 0.0, -1.0), d)
+        pl = self.placement(start, tuple(float(a) for a in axis), d)
         f = self._feature("SLOT", name, pl)
         self._component(f, "SQUARE_U_PROFILE", "sweep", "swept shape occurrence",
                         ("", "profile usage"),
@@ -274,11 +276,13 @@ class Ap224Builder:
         return f
 
     def planar_face(self, start, direction, length: float, width: float, depth: float,
-                    name: str = "") -> Ref:
+                    name: str = "", axis=(0.0, 0.0, -1.0)) -> Ref:
         """A PLANAR_FACE: course of travel ``length`` along ``direction``, removal
-        boundary a LINEAR_PROFILE of ``width``, 'removal depth' ``depth``."""
+        boundary a LINEAR_PROFILE of ``width``, 'removal depth' ``depth`` from ``start``
+        along ``axis`` (-Z: ``start`` on the face before machining; +Z: on the finished
+        face, the axis out of the material)."""
         d = (float(direction[0]), float(direction[1]), 0.0)
-        pl = self.placement(start, (0.0, 0.0, -1.0), d)
+        pl = self.placement(start, tuple(float(a) for a in axis), d)
         f = self._feature("PLANAR_FACE", name, pl, [self.length("removal depth", depth)])
         self._component(f, "PATH_FEATURE_COMPONENT", "linear", "course of travel occurrence",
                         ("course of travel", "path feature component usage"),

@@ -16,7 +16,10 @@ angles in degrees):
   it must lie in the stock and open upward, at the stock top or into the floor of a
   wider feature above it (machined from there); one that opens only at the stock bottom
   or nowhere is listed as unmachinable. A hole reaching the stock bottom is a through
-  hole. Slots and faces need a -Z depth direction (origin on the top face).
+  hole. Slots and planar faces follow the same rule with the placement axis as the
+  depth direction (their path component is the course of travel): axis -Z with the
+  origin on the face they are cut from, or axis +Z with the origin on their floor (the
+  finished face), as RAMP files write features; their span is checked the same way.
 - Hole depth is measured from the entry to the lowest point of the hole (the floor of a
   flat bottom, the tip of a conical one, the lowest point of a spherical one).
 - A slot's course of travel starts at the placement origin and runs ``length`` along
@@ -79,6 +82,21 @@ class SlotShape:
     def end(self) -> tuple[float, float]:
         return (self.start[0] + self.direction[0] * self.length,
                 self.start[1] + self.direction[1] * self.length)
+
+    def outline(self, segments_per_quarter: int = 16):
+        """The slot in plan view (shapely): the centreline widened by half the width,
+        with half circles at radiused ends."""
+        from shapely.geometry import LineString, Point
+        a, b = np.asarray(self.start, float), np.asarray(self.end, float)
+        r = self.width / 2.0
+        if self.length <= 0:
+            poly = Point(*a).buffer(r, quad_segs=segments_per_quarter)
+        else:
+            poly = LineString([a, b]).buffer(r, cap_style="flat")
+        for e, p in zip(self.ends, (a, b)):
+            if e == "radiused":
+                poly = poly.union(Point(*p).buffer(r, quad_segs=segments_per_quarter))
+        return poly
 
 
 @dataclass
@@ -365,7 +383,7 @@ def feature_shapes(part: Part) -> ShapeSet:
         if f.type in ("ROUND_HOLE", "POCKET") and path is not None \
                 and path.direction is not None:
             depth_dir = frame.matrix().T @ np.asarray(path.direction)
-        upward = f.type in ("ROUND_HOLE", "POCKET") and depth_dir[2] > 1 - 1e-6
+        upward = depth_dir[2] > 1 - 1e-6
         if depth_dir[2] > -1 + 1e-6 and not upward:
             out.skipped.append(Unmachinable(
                 f.id, f.type, "depth direction is not along Z (not reachable from the top)"))
@@ -374,9 +392,9 @@ def feature_shapes(part: Part) -> ShapeSet:
             if f.type == "ROUND_HOLE":
                 out.shapes.append(_raised(_hole(f, o, depth_dir), upward))
             elif f.type == "SLOT":
-                out.shapes.append(_slot(f, o, axis, ref))
+                out.shapes.append(_raised(_slot(f, o, axis, ref), upward))
             elif f.type in ("PLANAR_FACE", "FLAT_FACE"):
-                out.shapes.append(_face(f, o, ref))
+                out.shapes.append(_raised(_face(f, o, ref), upward))
             else:
                 out.shapes.append(_raised(_pocket(f, o, ref, frame), upward))
         except _Missing as e:
@@ -401,18 +419,16 @@ def _footprint(shape):
 
 
 def _check_openings(out: "ShapeSet", box) -> None:
-    """Keep the holes and pockets whose span lies in the stock and opens upward (stock
-    top or the floor of a wider feature above); mark holes reaching the stock bottom as
+    """Keep the features whose span lies in the stock and opens upward (stock top or
+    the floor of a wider feature above); mark holes reaching the stock bottom as
     through; move the others to ``skipped`` with the reason."""
     zmin, zmax = box[2], box[5]
     eps = 1e-6 * max(1.0, zmax - zmin)
     keep = []
     for s in out.shapes:
-        if not isinstance(s, (HoleShape, PocketShape)):
-            keep.append(s)
-            continue
         lo, hi = s.z_top - s.depth, s.z_top
-        name = "ROUND_HOLE" if isinstance(s, HoleShape) else "POCKET"
+        name = {"hole": "ROUND_HOLE", "pocket": "POCKET", "slot": "SLOT"}.get(
+            s.kind, "PLANAR_FACE")
         if hi > zmax + eps or lo < zmin - eps:
             out.skipped.append(Unmachinable(s.id, name, f"spans z {lo:g} .. {hi:g}, outside "
                                                         f"the stock's z {zmin:g} .. {zmax:g}"))
@@ -421,7 +437,7 @@ def _check_openings(out: "ShapeSet", box) -> None:
         if not opens:
             fp = _footprint(s)
             for t in out.shapes:
-                if t is s or not isinstance(t, (HoleShape, PocketShape)):
+                if t is s:
                     continue
                 if abs((t.z_top - t.depth) - hi) <= eps and \
                         _footprint(t).buffer(eps).covers(fp):

@@ -33,10 +33,6 @@ where known.
 from __future__ import annotations
 
 import math
-import os
-import re
-import sys
-import tempfile
 import tomllib
 from pathlib import Path
 
@@ -215,69 +211,25 @@ def read_step(path: Path, chord_tolerance: float = 0.01, units: str = "mm") -> M
     if units not in ("mm", "inch"):
         raise JobError(f"units: mm or inch expected, not {units!r}", path)
     try:
-        from OCP.BRep import BRep_Tool
-        from OCP.BRepMesh import BRepMesh_IncrementalMesh
         from OCP.IFSelect import IFSelect_RetDone
         from OCP.STEPControl import STEPControl_Reader
-        from OCP.TopAbs import TopAbs_FACE, TopAbs_REVERSED
-        from OCP.TopExp import TopExp_Explorer
-        from OCP.TopLoc import TopLoc_Location
-        from OCP.TopoDS import TopoDS
     except ImportError:
         raise JobError(STEP_EXTRA, path) from None
+    from millpath.part.brep.mesh import face_triangles
+    from millpath.part.brep.reader import quiet_stdout
     scale = 1.0 / 25.4 if units == "inch" else 1.0
     reader = STEPControl_Reader()
-    with _quiet_stdout() as log:
+    with quiet_stdout() as log:
         status = reader.ReadFile(str(path))
         n = reader.TransferRoots() if status == IFSelect_RetDone else 0
     if status != IFSelect_RetDone or n == 0:
-        detail = next((ln.strip(" *") for ln in log() if "ERR" in ln or "Fail" in ln), "")
+        detail = next((ln.strip(" *") for ln in log.lines if "ERR" in ln or "Fail" in ln),
+                      "")
         raise GeometryError("cannot read STEP" + (f": {detail}" if detail else
                                                   " (no shape in the file)"), path)
     shape = reader.OneShape()
-    BRepMesh_IncrementalMesh(shape, chord_tolerance / scale, False, 0.5, True)
-    to_face = getattr(TopoDS, "Face_s", None) or TopoDS.Face     # OCP 7.x / 8.x
-    tris: list[np.ndarray] = []
-    explorer = TopExp_Explorer(shape, TopAbs_FACE)
-    nfaces = 0
-    while explorer.More():
-        face = to_face(explorer.Current())
-        explorer.Next()
-        nfaces += 1
-        loc = TopLoc_Location()
-        tri = BRep_Tool.Triangulation_s(face, loc)
-        if tri is None or tri.NbTriangles() == 0:
-            raise GeometryError(f"OpenCASCADE could not mesh face {nfaces}", path)
-        trsf = loc.Transformation()
-        nodes = np.empty((tri.NbNodes(), 3))
-        for k in range(tri.NbNodes()):
-            p = tri.Node(k + 1).Transformed(trsf)
-            nodes[k] = (p.X(), p.Y(), p.Z())
-        idx = np.array([tri.Triangle(k + 1).Get() for k in range(tri.NbTriangles())]) - 1
-        if face.Orientation() == TopAbs_REVERSED:
-            idx = idx[:, ::-1]
-        tris.append(nodes[idx])
+    tris = [nodes[idx] for nodes, idx in
+            face_triangles(shape, chord_tolerance / scale, 0.5, file=path)]
     if not tris:
         raise GeometryError("the STEP file has no faces", path)
     return Mesh(np.concatenate(tris) * scale, path.name)
-
-
-class _quiet_stdout:
-    """Send what OpenCASCADE prints on file descriptor 1 to a temporary file; the
-    context value returns its lines, colour codes removed (for error messages)."""
-
-    def __enter__(self):
-        sys.stdout.flush()
-        self._tmp = tempfile.TemporaryFile()
-        self._saved = os.dup(1)
-        os.dup2(self._tmp.fileno(), 1)
-        self._lines: list[str] = []
-        return lambda: self._lines
-
-    def __exit__(self, *exc) -> None:
-        os.dup2(self._saved, 1)
-        os.close(self._saved)
-        self._tmp.seek(0)
-        text = self._tmp.read().decode("utf-8", "replace")
-        self._tmp.close()
-        self._lines = [re.sub(r"\x1b\[[0-9;]*m", "", ln) for ln in text.splitlines()]

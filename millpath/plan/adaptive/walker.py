@@ -90,6 +90,17 @@ def allowed(A, gx, gy, h, x, y):
 
 
 @njit(cache=True)
+def step_cells(M, A, gx, gy, h, R, x, y, ds, ang):
+    """Material cells of ``M`` a step of length ``ds`` from (x, y) in direction ``ang``
+    (radians) would remove, or -1 where the step ends outside ``A``."""
+    qx = x + ds * math.cos(ang)
+    qy = y + ds * math.sin(ang)
+    if not allowed(A, gx, gy, h, qx, qy):
+        return -1
+    return crescent(M, gx, gy, h, R, x, y, qx, qy, False)
+
+
+@njit(cache=True)
 def walk(M, S, A, gx, gy, h, R, x, y, heading, ds, amax, max_steps, idle_max, out):
     """Walk from (x, y) (whose disk is already cleared) with initial ``heading``
     (radians). ``amax``: the most cells of ``M`` a step may remove; ``S`` (the
@@ -117,12 +128,10 @@ def walk(M, S, A, gx, gy, h, R, x, y, heading, ds, amax, max_steps, idle_max, ou
         for k in range(K):
             d = -turn + k * (2.0 * turn / (K - 1))
             ang = heading + d
-            qx = x + ds * math.cos(ang)
-            qy = y + ds * math.sin(ang)
-            if not allowed(A, gx, gy, h, qx, qy):
+            c = step_cells(M, A, gx, gy, h, R, x, y, ds, ang)
+            if c < 0:
                 have_prev = False
                 continue
-            c = crescent(M, gx, gy, h, R, x, y, qx, qy, False)
             if c <= amax:
                 found = True
                 best_a = ang
@@ -132,12 +141,10 @@ def walk(M, S, A, gx, gy, h, R, x, y, heading, ds, amax, max_steps, idle_max, ou
                     hi = prev_d
                     for _it in range(5):
                         mid = 0.5 * (lo + hi)
-                        mx = x + ds * math.cos(heading + mid)
-                        my = y + ds * math.sin(heading + mid)
-                        if not allowed(A, gx, gy, h, mx, my):
+                        cm = step_cells(M, A, gx, gy, h, R, x, y, ds, heading + mid)
+                        if cm < 0:
                             hi = mid
                             continue
-                        cm = crescent(M, gx, gy, h, R, x, y, mx, my, False)
                         if cm <= amax:
                             lo = mid
                             best_a = heading + mid

@@ -52,25 +52,30 @@ from millpath.part.curve.points import points_from_params
 from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.diecavity.design import CavityDesign
 from millpath.plan.diecavity.roughing import rings, roughing_area
+from millpath.plan.entry import ramp_laps, ring_segments
+from millpath.model.units import default
 
 PARAMS = {
     "tool": Param("int", positive=True, doc="flat end mill (tool number)"),
     "points": Param("points", None, doc="outline points [x, y], four per segment"),
     "points_file": Param("path", None, doc="CSV of outline points x, y"),
     "close": Param("bool", True, doc="blend the last segment back to the first"),
-    "tolerance": Param("float", positive=True, doc="chordal tolerance (job units)"),
-    "depth": Param("float", positive=True, doc="cavity depth below the stock top"),
-    "step_down": Param("float", positive=True, doc="depth per layer"),
-    "allowance": Param("float", 0.0, nonneg=True, doc="wall stock left by roughing"),
-    "stepover": Param("float", None, positive=True, doc="roughing stepover (default 0.5 D)"),
-    "compensation": Param("str", "cam", choices=("cam", "control")),
+    "tolerance": Param("float", positive=True, doc="chordal tolerance (job units)", unit="length"),
+    "depth": Param("float", positive=True, doc="cavity depth below the stock top", unit="length"),
+    "stepdown": Param("float", positive=True, doc="depth per layer", unit="length"),
+    "allowance": Param("float", 0.0, nonneg=True, doc="wall stock left by roughing", unit="length"),
+    "stepover": Param("float", None, positive=True, doc="roughing stepover (default 0.5 D)",
+          unit="length"),
+    "compensation": Param("str", "cam", choices=("cam", "control"),
+          doc="'cam': the tool-centre path; 'control': the contour between G41 and G40"),
     "entry": Param("str", "line", choices=("line", "arc"),
                    doc="lead-in/out under G41: line, or line + tangent arc (control only)"),
-    "feed": Param("float", positive=True),
-    "plunge_feed": Param("float", None, positive=True, doc="default: feed / 2"),
-    "spindle": Param("float", 0.0),
-    "safe_z": Param("float", None, doc="default: stock top + 5 mm (0.2 in)"),
-    "breakthrough": Param("float", 0.0, nonneg=True, doc="below the block bottom"),
+    "feed": Param("float", positive=True, unit="feed", doc="cutting feed"),
+    "plunge_feed": Param("float", None, positive=True, doc="default: feed / 2", unit="feed"),
+    "spindle": Param("float", 0.0,
+          unit="rpm", doc="spindle speed, clockwise (M3); 0: spindle left off"),
+    "safe_z": Param("float", None, doc="default: stock top + 5 mm (0.2 in)", unit="length"),
+    "breakthrough": Param("float", 0.0, nonneg=True, doc="below the block bottom", unit="length"),
 }
 
 #: the post-processor writes 4 decimals in mm and 5 in inch; the programmed contour is
@@ -128,11 +133,17 @@ def _curvature_report(curve: Curve, radius: float, samples: int = 400) -> list[d
 def _start_order(q: np.ndarray, r: float) -> np.ndarray:
     """Contour vertices in the order to try them as the start: the straightest
     stretches (least turning within 3 r behind the vertex) first."""
-    m = len(q)
     t = np.roll(q, -1, axis=0) - q
     L = np.hypot(t[:, 0], t[:, 1])
+    return np.argsort(_turn_behind(t, L, r), kind="stable")
+
+
+def _turn_behind(t: np.ndarray, L: np.ndarray, r: float) -> np.ndarray:
+    """At each vertex k of a closed contour (edge directions ``t`` from vertex k, edge
+    lengths ``L``), the signed turning within 3 r of contour behind it (radians)."""
+    m = len(t)
     ang = np.arctan2(t[:, 1], t[:, 0])
-    turn = np.angle(np.exp(1j * (ang - np.roll(ang, 1))))
+    turn = np.angle(np.exp(1j * (ang - np.roll(ang, 1))))        # at vertex k
     score = np.empty(m)
     cs = np.concatenate([[0.0], np.cumsum(np.concatenate([turn, turn, turn]))])
     pos = np.concatenate([[0.0], np.cumsum(np.concatenate([L, L, L]))])
@@ -140,7 +151,26 @@ def _start_order(q: np.ndarray, r: float) -> np.ndarray:
         kk = k + m
         lo = np.searchsorted(pos, pos[kk] - 3 * r)
         score[k] = cs[kk + 1] - cs[lo]
-    return np.argsort(score, kind="stable")
+    return score
+
+
+def _chords(q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Unit directions ``(m, 2)`` and lengths ``(m,)`` of the chords q[k] -> q[k+1] of
+    the closed contour ``q``."""
+    t = np.roll(q, -1, axis=0) - q
+    L = np.hypot(t[:, 0], t[:, 1])
+    return t / L[:, None], L
+
+
+def _overlap(q: np.ndarray, L: np.ndarray, k: int, length: float) -> tuple[list, int]:
+    """The contour vertices after q[k] up to the first at least ``length`` of contour
+    past it, and the (unwrapped) index j of that last one."""
+    m = len(q)
+    acc, j = 0.0, k
+    while acc < length:
+        acc += L[j % m]
+        j += 1
+    return [q[i % m] for i in range(k + 1, j + 1)], j
 
 
 def _quarter(centre, start, end, rad: float, n: int = 24) -> np.ndarray:
@@ -169,9 +199,7 @@ def arc_entry(q: np.ndarray, region_in: Polygon, r: float, grid: float):
     Returns ``(k, S, P, C, overlap, Ce, Pe, X)`` with the points on the program's
     ``grid``; PlanningError when no vertex leaves room."""
     m = len(q)
-    t = np.roll(q, -1, axis=0) - q
-    L = np.hypot(t[:, 0], t[:, 1])
-    t = t / L[:, None]
+    t, L = _chords(q)
     n = np.stack([-t[:, 1], t[:, 0]], axis=1)
     rho = 2.0 * r
 
@@ -188,11 +216,7 @@ def arc_entry(q: np.ndarray, region_in: Polygon, r: float, grid: float):
         tool_in = [S, P + r * t[k]] + list(_quarter(C, P, q[k], rho - r)[1:])
         if not inside(tool_in):
             continue
-        acc, j = 0.0, k
-        while acc < 2 * r:
-            acc += L[j % m]
-            j += 1
-        ov = [q[i % m] for i in range(k + 1, j + 1)]
+        ov, j = _overlap(q, L, k, 2 * r)
         jm = (j - 1) % m
         qe = q[j % m]
         Ce = qe + rho * n[jm]
@@ -216,19 +240,9 @@ def _entry(q: np.ndarray, region_in: Polygon, r: float, grid: float):
     tried from the straightest stretches; the tool centre on the lead-in and lead-out
     must stay inside ``region_in`` (the cavity eroded by r)."""
     m = len(q)
-    t = np.roll(q, -1, axis=0) - q
-    L = np.hypot(t[:, 0], t[:, 1])
-    t = t / L[:, None]
-    ang = np.arctan2(t[:, 1], t[:, 0])
-    turn = np.angle(np.exp(1j * (ang - np.roll(ang, 1))))        # at vertex k
+    t, L = _chords(q)
     # turning within 3 r behind each vertex: prefer stretches bending away
-    score = np.empty(m)
-    cs = np.concatenate([[0.0], np.cumsum(np.concatenate([turn, turn, turn]))])
-    pos = np.concatenate([[0.0], np.cumsum(np.concatenate([L, L, L]))])
-    for k in range(m):
-        kk = k + m
-        lo = np.searchsorted(pos, pos[kk] - 3 * r)
-        score[k] = cs[kk + 1] - cs[lo]
+    score = _turn_behind(t, L, r)
     phi = 0.06
     c, sn = math.cos(-phi), math.sin(-phi)
     d_in = np.stack([c * t[:, 0] - sn * t[:, 1], sn * t[:, 0] + c * t[:, 1]], axis=1)
@@ -246,11 +260,7 @@ def _entry(q: np.ndarray, region_in: Polygon, r: float, grid: float):
         if not region_in.contains(LineString(path)):
             continue
         # lead-out: after overlapping at least 2 r past q[k], straight in by r
-        acc, j = 0.0, k
-        while acc < 2 * r:
-            acc += L[j % m]
-            j += 1
-        ov = [q[i % m] for i in range(k + 1, j + 1)]
+        ov, j = _overlap(q, L, k, 2 * r)
         jm = (j - 1) % m
         nj = np.array([-t[jm, 1], t[jm, 0]])
         exit_point = np.round((q[j % m] + 2.0 * r * nj) / grid) * grid
@@ -258,6 +268,15 @@ def _entry(q: np.ndarray, region_in: Polygon, r: float, grid: float):
             continue
         return int(k), S, A, exit_point, ov
     raise PlanningError("no place on the contour leaves room for a lead-in of the tool")
+
+
+def _hop(tp: Toolpath, cur, to, safe: float, z_down: float) -> None:
+    """Rapid up from ``cur`` (None: already at ``safe``) to ``safe``, across to ``to``
+    and down to ``z_down``."""
+    if cur is not None:
+        tp.rapid(cur[0], cur[1], safe)
+    tp.rapid(to[0], to[1], safe)
+    tp.rapid(to[0], to[1], z_down)
 
 
 #: ramp angle of roughing entries (degrees): the tool descends along the ring
@@ -268,20 +287,13 @@ def _ramp(tp: Toolpath, ring: np.ndarray, z_from: float, z_to: float, feed: floa
     """Descend from ``z_from`` to ``z_to`` at RAMP_DEG while following the closed
     ``ring`` from its first point (as many laps as needed), ending back at its first
     point; a ring too short to ramp on gets a straight plunge."""
-    closed = np.vstack([ring, ring[:1]])
-    seg = np.hypot(*np.diff(closed, axis=0).T)
-    lap = float(seg.sum())
+    closed, seg, lap = ring_segments(ring)
     need = (z_from - z_to) / math.tan(math.radians(RAMP_DEG))
     if lap < 1e-3 or need <= 0:
         tp.line(ring[0][0], ring[0][1], z_to, feed)
         return
     laps = max(1, int(math.ceil(need / lap - 1e-9)))
-    total = laps * lap
-    walked = 0.0
-    for _ in range(laps):
-        for p, L in zip(closed[1:], seg):
-            walked += L
-            tp.line(p[0], p[1], z_from - (z_from - z_to) * walked / total, feed)
+    ramp_laps(tp, closed, seg, laps, z_from, z_to, feed)
 
 
 def _grid_round(pts: np.ndarray, grid: float) -> np.ndarray:
@@ -303,7 +315,9 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
                        "die cavity needs a flat end mill", ctx.job_file)
     if ctx.stock is None:
         raise JobError(f"{where}: the job needs a [stock] box", ctx.job_file)
-    pts = points_from_params(params["points"], params["points_file"], ctx.job_file, where)
+    pts = ctx.parts.get("curve-points", (params["points"], params["points_file"]),
+                        lambda: points_from_params(params["points"], params["points_file"],
+                                                   ctx.job_file, where)).copy()
     src = params["points_file"] or ctx.job_file
     curve = build_curve(pts, close=params["close"], file=src)
     if not curve.closed:
@@ -387,10 +401,10 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     through = depth >= thick - 1e-9
     bottom = (st.zmin - params["breakthrough"]) if through else top - depth
     total = top - bottom
-    n_layers = max(1, int(math.ceil(total / params["step_down"] - 1e-9)))
-    zs = [top - min(total, (i + 1) * params["step_down"]) for i in range(n_layers)]
-    safe = params["safe_z"] if params["safe_z"] is not None else top + (5.0 if ctx.units == "mm" else 0.2)
-    clear = 1.0 if ctx.units == "mm" else 0.04
+    n_layers = max(1, int(math.ceil(total / params["stepdown"] - 1e-9)))
+    zs = [top - min(total, (i + 1) * params["stepdown"]) for i in range(n_layers)]
+    safe = params["safe_z"] if params["safe_z"] is not None else top + default("safe_clearance", ctx.units)
+    clear = default("feed_clearance", ctx.units)
     feed = params["feed"]
     plunge = params["plunge_feed"] or feed / 2.0
     stepover = params["stepover"] or 0.5 * tool.diameter
@@ -424,10 +438,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
             if cur is not None and any(a.contains(LineString([cur, start])) for a in area_ok):
                 tp.line(start[0], start[1], z, feed)
             else:
-                if cur is not None:
-                    tp.rapid(cur[0], cur[1], safe)
-                tp.rapid(start[0], start[1], safe)
-                tp.rapid(start[0], start[1], z_prev + clear)
+                _hop(tp, cur, start, safe, z_prev + clear)
                 tp.line(start[0], start[1], z_prev, plunge)
                 _ramp(tp, ring, z_prev, z, plunge)
             for p in ring[1:]:
@@ -438,10 +449,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         if cur is not None and region_in.contains(LineString([cur, S])):
             tp.line(S[0], S[1], z, feed)
         else:
-            if cur is not None:
-                tp.rapid(cur[0], cur[1], safe)
-            tp.rapid(S[0], S[1], safe)
-            tp.rapid(S[0], S[1], z_prev + clear)
+            _hop(tp, cur, S, safe, z_prev + clear)
             tp.line(S[0], S[1], z, plunge)
         if arc_in is not None:
             tp.compensation("left", d=tool.number)

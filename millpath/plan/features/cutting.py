@@ -18,6 +18,7 @@ import math
 from dataclasses import dataclass
 
 from millpath.model import Tool
+from millpath.model.units import default
 
 
 @dataclass(frozen=True)
@@ -106,5 +107,5 @@ def speeds(tool: Tool, material: str, units: str, *, max_rpm: float = 24000.0,
 
 
 def _round_feed(f: float, units: str) -> float:
-    q = 0.1 if units == "inch" else 1.0
+    q = default("feed_step", units)
     return max(q, round(round(f / q) * q, 4))

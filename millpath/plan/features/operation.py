@@ -8,11 +8,11 @@ Job keys (lengths in job units):
   and the tessellated solid is the design the program is verified against.
 - ``tool``: the only milling cutter to use (drills are still chosen from the library).
 - ``tools``: tool numbers the planner may use (default: all the job's tools).
-- ``finish_allowance``: wall stock left by roughing, removed by the finishing pass
+- ``allowance``: wall stock left by roughing, removed by the finishing pass
   (default 0.2 mm / 0.008 in).
 - ``stepover``: radial distance between roughing rings (default 40 % of each tool's
   diameter; at most 90 % of it).
-- ``step_down``: largest depth per level (default half of each cutter's diameter).
+- ``stepdown``: largest depth per level (default half of each cutter's diameter).
 - ``clearance``: rapid plane above the stock top (default 5 mm / 0.2 in); feeds start
   1 mm / 0.04 in above the top.
 - ``max_rpm``: spindle limit (default 24000); ``speed_scale`` and ``feed_scale``:
@@ -63,6 +63,8 @@ from millpath.plan.features.region import (clear_general, general_regions, inner
                                            region_tool)
 from millpath.plan.features.select import (face_tool, hole_tool, matching_drill, pocket_tool,
                                            slot_tool)
+from millpath.model.units import default
+from millpath.plan.restcut import REST_PARAMS
 
 
 def _tools_check(v: Any) -> str | None:
@@ -78,26 +80,36 @@ PARAMS: dict[str, Param] = {
         "expected a solid's number (1, 2, ...) or name", doc="solid of a multi-body file"),
     "setup": Param("str", "+Z", choices=("+Z", "-Z", "+X", "-X", "+Y", "-Y"),
                    doc="the solid's axis pointing up"),
+    "unmachinable": Param("str", "refuse", choices=("refuse", "list"),
+                          doc="features this operation cannot machine (another setup, a "
+                              "surface operation, no tool): 'refuse' the program (the proof "
+                              "counts them) or 'list' them in the report, left on purpose"),
     "stock_step": Param("path", None, doc="STEP solid whose box is the stock"),
     "tool": Param("int", None, positive=True, doc="only milling cutter to use"),
     "tools": Param("list", None, check=_tools_check, doc="tool numbers allowed"),
-    "finish_allowance": Param("float", None, nonneg=True),
-    "rest": Param("bool", False, doc="cut only where earlier operations left material"),
     "allowance": Param("float", None, nonneg=True, unit="length",
-                       doc="rest: stock thinner than this is left (default: stock cell)"),
+                           doc="wall stock left by roughing, removed by the finishing pass "
+                               "(default 0.2 mm / 0.008 in)"),
+    **REST_PARAMS,
     "taper_cusp": Param("float", None, positive=True, unit="length",
                         doc="largest step left on a 'flat with taper' hole bottom's cone, "
                             "normal to it (default 0.02 mm / 0.0008 in)"),
-    "stepover": Param("float", None, positive=True),
-    "step_down": Param("float", None, positive=True),
-    "clearance": Param("float", None, positive=True),
-    "max_rpm": Param("float", 24000.0, positive=True),
+    "stepover": Param("float", None, positive=True,
+          unit="length", doc="radial distance between roughing rings (default 40 % of each tool's "
+                             "diameter, at most 90 %)"),
+    "stepdown": Param("float", None, positive=True, unit="length",
+                          doc="largest depth per level (default half of each cutter's "
+                              "diameter)"),
+    "clearance": Param("float", None, positive=True,
+          unit="length", doc="rapid plane above the stock top (default 5 mm / 0.2 in)"),
+    "max_rpm": Param("float", 24000.0, positive=True, unit="rpm", doc="spindle speed limit"),
     "speed_scale": Param("float", 1.0, positive=True, doc="factor on table cutting speeds"),
     "feed_scale": Param("float", 1.0, positive=True, doc="factor on table chip loads"),
-    "coolant": Param("str", "flood", choices=("flood", "mist", "off")),
+    "coolant": Param("str", "flood", choices=("flood", "mist", "off"), doc="coolant of every cut"),
     "fewer_tools": Param("bool", False, doc="replace milling tools by ones already in use"),
     "material": Param("str", "", check=lambda v: None if not v or v in MATERIALS else
-                      f"unknown material class (known: {', '.join(MATERIALS)})"),
+                      f"unknown material class (known: {', '.join(MATERIALS)})",
+          doc="material class overriding the file's (cutting data)"),
 }
 
 
@@ -164,17 +176,19 @@ def _order(tasks: list[_Task]) -> list[_Task]:
 
 def plan(ctx: PlanContext, params: dict) -> PlanResult:
     """Plan all machinable features of the AP224 file ``params['step']``."""
-    part = read_part(params["step"])
+    # the file, the solid and its mesh are read once per job (ctx.parts)
+    part = ctx.parts.get("step", params["step"], lambda: read_part(params["step"]))
     solid = None
+    solid_key = (params["step"], params["body"], params["setup"], params["stock_step"],
+                 ctx.stock.box if ctx.stock is not None else None, ctx.units)
     if not part.features:            # a B-rep solid: recognise its features
         from millpath.plan.features.solid import load_solid
-        solid = load_solid(params["step"], body=params["body"], setup=params["setup"],
-                           stock_step=params["stock_step"], job_stock=ctx.stock,
-                           job_units=ctx.units)
+        solid = ctx.parts.get("step-solid", solid_key, lambda: load_solid(
+            params["step"], body=params["body"], setup=params["setup"],
+            stock_step=params["stock_step"], job_stock=ctx.stock, job_units=ctx.units))
         part = solid.part
     job_mm = 25.4 if ctx.units == "inch" else 1.0
     k = part.units.length_mm / job_mm
-    inch = ctx.units == "inch"
     shapes_set = solid.shapes if solid is not None else feature_shapes(part)
     shapes = [_scaled(s, k) for s in shapes_set.shapes]
     notes: list[str] = []
@@ -191,9 +205,13 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
                                     file_stock.zmax))
     elif part.stock is not None:
         b = [v * k for v in part.stock.box()]
-        file_stock = Stock.from_box(b)
         if part.stock.shape == "cylinder":
-            notes.append("cylindrical stock: its bounding box is used")
+            # the bar's axis is its placement's Z, the stock frame's: centre (0, 0)
+            file_stock = Stock.from_cylinder(0.0, 0.0, b[3], b[2], b[5])
+            notes.append("cylindrical stock: simulated as the bar (no material outside "
+                         "its circle); planned within its bounding box")
+        else:
+            file_stock = Stock.from_box(b)
     stock = ctx.stock or file_stock
     if ctx.stock is not None and file_stock is not None and \
             max(abs(a - b) for a, b in zip(ctx.stock.box, file_stock.box)) > 1e-6:
@@ -203,14 +221,14 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         raise PlanningError("the STEP file has no stock and the job gives none",
                             params["step"])
     z_top = stock.zmax
-    allowance = params["finish_allowance"]
+    allowance = params["allowance"]
     if allowance is None:
-        allowance = 0.008 if inch else 0.2
-    clearance = params["clearance"] or (0.2 if inch else 5.0)
-    h = paths.Heights(z_safe=z_top + clearance, r_plane=z_top + (0.04 if inch else 1.0))
-    breakthrough = 0.02 if inch else 0.5
-    tol = 0.0004 if inch else 0.01
-    cusp = params["taper_cusp"] or (0.0008 if inch else 0.02)
+        allowance = default("features_allowance", ctx.units)
+    clearance = params["clearance"] or default("safe_clearance", ctx.units)
+    h = paths.Heights(z_safe=z_top + clearance, r_plane=z_top + default("feed_clearance", ctx.units))
+    breakthrough = default("breakthrough", ctx.units)
+    tol = default("chord_tolerance", ctx.units)
+    cusp = params["taper_cusp"] or default("taper_cusp", ctx.units)
 
     mat = params["material"] or material_class(part.material)
     if not params["material"] and not part.material:
@@ -321,7 +339,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         if stepover > 0.9 * tool.diameter:
             notes.append(f"stepover {stepover:g} limited to 90 % of T{n}'s diameter")
             stepover = 0.9 * tool.diameter
-        step_down = params["step_down"] or 0.5 * tool.diameter
+        step_down = params["stepdown"] or 0.5 * tool.diameter
         kinds = sorted({t.strategy for t in group})
         tp.begin(Operation("features", f"T{n} {tool.type} D{tool.diameter:g}: "
                            f"{len(group)} feature(s) ({', '.join(kinds)})", n,
@@ -353,7 +371,8 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
 
     if solid is not None:
         from millpath.plan.features.solid import SolidDesign
-        design = SolidDesign(solid.solid, tol, ctx.units)
+        design = ctx.parts.get("step-solid-design", (solid_key, tol),
+                               lambda: SolidDesign(solid.solid, tol, ctx.units))
     else:
         design = FeatureDesign(z_top, [t.shape for t in tasks] + unplanned,
                                reach=max(stock.size) * 2 + 100.0)
@@ -369,15 +388,16 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         "tool_changes": len(groups),
         "planned": planned,
         "unmachinable": skipped,
+        "unmachinable_policy": params["unmachinable"],
         "notes": notes,
     }}
     if params["rest"] and ctx.remaining is not None:
         from millpath.plan.restcut import rest_filter
-        allow = params["allowance"]
+        allow = params["rest_allowance"]
         report["features"]["rest"] = rest_filter(
             tp, ctx.remaining, ctx.tools,
             allow if allow is not None else float(ctx.remaining.resolution), h.z_safe,
-            0.04 if inch else 1.0)
+            default("feed_clearance", ctx.units))
     return PlanResult(toolpath=tp, design=design, report=report,
                       stock=file_stock if ctx.stock is None else None)
 
@@ -535,7 +555,8 @@ def _cut(tp: Toolpath, t: _Task, tool: Tool, sp, h: paths.Heights, z_start: floa
     if t.strategy == "region":
         rough, finish = general_regions(s, tool, allowance, stock)
         clear_general(tp, rough, finish, z_start, floor, h, step_down=step_down,
-                      stepover=stepover, feed=sp.feed, plunge_feed=sp.plunge)
+                      stepover=stepover, feed=sp.feed, plunge_feed=sp.plunge,
+                      tool_radius=tool.radius)
         return {"z": floor, "levels": len(paths.levels(z_start, floor, step_down)),
                 "z_start": z_start}
     if t.strategy == "circular":

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from millpath.model import Toolpath
+from millpath.plan.entry import ramp_laps, ring_segments
 
 
 @dataclass(frozen=True)
@@ -154,27 +155,22 @@ RAMP_ANGLE = 5.0
 RAMP_LAPS = 10
 
 
-def _ramp_ring(tp: Toolpath, ring: np.ndarray, z0: float, z1: float, feed: float) -> None:
+def ramp_ring(tp: Toolpath, ring: np.ndarray, z0: float, z1: float, feed: float) -> bool:
     """Descend from ``z0`` to ``z1`` following the closed ``ring`` (starting and ending at
     its first point), no steeper than :data:`RAMP_ANGLE`; a straight plunge when that
-    would take more than :data:`RAMP_LAPS` laps."""
-    closed = np.vstack([ring, ring[:1]])
-    seg = np.hypot(*np.diff(closed, axis=0).T)
-    perim = float(seg.sum())
+    would take more than :data:`RAMP_LAPS` laps. True when it ramped (or had nothing to
+    descend), False after a straight plunge."""
+    closed, seg, perim = ring_segments(ring)
     dz = z0 - z1
     if dz <= 1e-12:
-        return
+        return True
     per_lap = perim * math.tan(math.radians(RAMP_ANGLE))
     if per_lap <= 0 or dz / per_lap > RAMP_LAPS:
         tp.line(ring[0][0], ring[0][1], z1, feed)
-        return
+        return False
     laps = max(1, int(math.ceil(dz / per_lap - 1e-9)))
-    total = laps * perim
-    run = 0.0
-    for _ in range(laps):
-        for p, L in zip(closed[1:], seg):
-            run += L
-            tp.line(p[0], p[1], z0 - dz * run / total, feed)
+    ramp_laps(tp, closed, seg, laps, z0, z1, feed)
+    return True
 
 
 def _start_at(ring: np.ndarray, p: np.ndarray) -> np.ndarray:
@@ -232,7 +228,7 @@ def clear_region(tp: Toolpath, centre_region, finish_region, z_top: float, z_flo
     tp.line(start[0], start[1], z_top, plunge_feed)
     z_prev = z_top
     for z in zs:
-        _ramp_ring(tp, rings[0], z_prev, z, plunge_feed)
+        ramp_ring(tp, rings[0], z_prev, z, plunge_feed)
         z_prev = z
         cur = start
         for ring in rings:

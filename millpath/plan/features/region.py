@@ -8,8 +8,10 @@ near the floor (within a radius of the region), so it runs out past open sides a
 stops at walls, islands and corners. Clearing: contour-parallel rings of that region
 (all boundaries, islands included), innermost first, level by level; a link between
 rings is a feed move only when it stays inside the cleared region, otherwise the tool
-lifts above the stock and plunges back (end mills are centre cutting). A finishing
-pass traces the region's boundary at every level, bottom up.
+lifts above the stock, comes down at feed to the level already cleared and enters the
+new level by a ramp along the ring (or a helix or zigzag ramp where the ring is too
+short, :mod:`millpath.plan.entry`): an end mill never goes straight down into material
+(issue 14). A finishing pass traces the region's boundary at every level, bottom up.
 """
 
 from __future__ import annotations
@@ -21,7 +23,8 @@ from shapely.geometry.polygon import orient
 
 from millpath.model import Stock, Tool, Toolpath
 from millpath.part.step.shapes import PocketShape
-from millpath.plan.features.paths import Heights, levels
+from millpath.plan.entry import helix_entry, ramp_entry
+from millpath.plan.features.paths import RAMP_ANGLE, RAMP_LAPS, Heights, levels, ramp_ring
 
 #: distance a tool as wide as a passage is moved off its exact centre line (mm / inch
 #: jobs scale it): the tool then cuts at most this much into the walls
@@ -132,8 +135,41 @@ def _trace(tp: Toolpath, ring: np.ndarray, z: float, feed: float) -> None:
     tp.line(ring[0][0], ring[0][1], z, feed)
 
 
+def enter(tp: Toolpath, ring: np.ndarray, z_from: float, z_to: float, inside,
+          tool_radius: float, feed: float) -> None:
+    """From straight above ``ring[0]`` at ``z_from`` (material-free) down to ``z_to``
+    into material: a ramp along the closed ring when it is long enough (it returns to
+    ``ring[0]``), else a helix, else a zigzag ramp, with the tool centre in ``inside``
+    (prepared shapely area) and never below ``z_to``; a straight plunge only when none
+    fits."""
+    p = ring[0]
+    closed = np.vstack([ring, ring[:1]])
+    perim = float(np.hypot(*np.diff(closed, axis=0).T).sum())
+    if perim * np.tan(np.radians(RAMP_ANGLE)) * RAMP_LAPS >= z_from - z_to:
+        ramp_ring(tp, ring, z_from, z_to, feed)
+        return
+
+    def centre_ok(xs, ys):
+        return bool(np.all(shapely.covers(inside, shapely.points(xs, ys))))
+
+    def floor(xs, ys):
+        return np.full(np.shape(xs), z_to)
+    target = (float(p[0]), float(p[1]), z_to)
+    hx = helix_entry(target, z_from, tool_radius, centre_ok=centre_ok, floor=floor)
+    if hx is not None:
+        tp.arc(target, (hx.center[0], hx.center[1], z_to), False, feed, turns=hx.turns)
+        return
+    rp = ramp_entry(target, z_from, tool_radius, centre_ok=centre_ok, floor=floor)
+    if rp is not None:
+        for q in rp.points(z_from):
+            tp.line(*q, feed)
+        return
+    tp.line(p[0], p[1], z_to, feed)
+
+
 def clear_general(tp: Toolpath, rough, finish, z_top: float, z_floor: float, h: Heights, *,
-                  step_down: float, stepover: float, feed: float, plunge_feed: float) -> None:
+                  step_down: float, stepover: float, feed: float, plunge_feed: float,
+                  tool_radius: float) -> None:
     """Clear the tool-centre region ``rough`` level by level from ``z_top`` to
     ``z_floor``, then trace ``finish``'s boundaries (see the module docstring)."""
     zs = levels(z_top, z_floor, step_down)
@@ -161,7 +197,7 @@ def clear_general(tp: Toolpath, rough, finish, z_top: float, z_floor: float, h: 
                     tp.rapid(p[0], p[1], h.z_safe)
                     tp.rapid(p[0], p[1], h.r_plane)
                     tp.line(p[0], p[1], z_prev, plunge_feed)
-                    tp.line(p[0], p[1], z, plunge_feed)
+                    enter(tp, ring, z_prev, z, inside, tool_radius, plunge_feed)
                     at_safe = False
                 _trace(tp, ring, z, feed)
                 cur = ring[0]

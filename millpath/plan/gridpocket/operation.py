@@ -16,7 +16,7 @@ Keys (job units: mm or inch; feeds in units per minute; Z absolute, tool tip):
 - ``navigation``: direction priority of the main path, ``wall-first`` (default, the
   thesis's Figs 9-12: the clockwise turn towards the wall first, then
   counter-clockwise) or ``straight-first`` (straight on first); see ``navigate``.
-- ``depths`` (absolute floor Z per roughing layer) or ``step`` (uniform depth of cut);
+- ``depths`` (absolute floor Z per roughing layer) or ``stepdown`` (uniform depth of cut);
   neither: a single finish layer. A roughing layer cuts at ``max(bottom, floor)`` the
   cells whose bottom is below its floor; the last layer is always the finish: every
   cell, down to the bottom, at ``finish_feed``.
@@ -47,6 +47,8 @@ from millpath.part.surface import BezierPatch, MeasuredGrid
 from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.gridpocket.cells import pocket_polygon, polygon_problem
 from millpath.plan.gridpocket.planner import PocketSpec, plan_pocket
+from millpath.model.units import default
+from millpath.plan.restcut import REST_PARAMS
 
 BOTTOM_KEYS = ("bezier", "box", "points", "interpolation")
 
@@ -105,31 +107,37 @@ def _grid_problem(v: list[float]) -> str | None:
 PARAMS: dict[str, Param] = {
     "tool": Param("int", positive=True, doc="tool number"),
     "polygon": Param("points", check=polygon_problem, doc="pocket walls [[x, y], ...]"),
-    "bottom": Param("table", check=_bottom_problem, doc="{bezier = [[...]]} or {points = 'f.csv'}"),
-    "grid": Param("floats", None, length=2, check=_grid_problem, doc="[dx, dy] cell size"),
-    "depths": Param("floats", None, check=_depths_problem, doc="floor Z of each layer"),
-    "step": Param("float", None, positive=True, doc="uniform depth of cut"),
+    "bottom": Param("table", check=_bottom_problem, doc="{bezier = [[...]]} or {points = "
+                                                        "'f.csv'}"),
+    "grid": Param("floats", None, length=2, check=_grid_problem, doc="[dx, dy] cell size",
+          unit="length"),
+    "depths": Param("floats", None, check=_depths_problem, doc="floor Z of each layer",
+          unit="length"),
+    "stepdown": Param("float", None, positive=True, doc="uniform depth of cut", unit="length"),
     "grid_centre": Param("floats", None, length=2, unit="length",
                          doc="[x, y] of one cell centre the grid is anchored to "
                              "(default: cells tile the bounding box from its corner)"),
     "navigation": Param("str", "wall-first", choices=("wall-first", "straight-first"),
                         doc="direction priority of the main path: the thesis's "
                             "(turn towards the wall first) or straight on first"),
-    "motion": Param("str", "line", choices=("line", "arc", "bezier")),
+    "motion": Param("str", "line", choices=("line", "arc", "bezier"),
+          doc="moves written: lines, arcs, or Bezier cubics (G5)"),
     "bezier_parameters": Param("str", "chord", choices=("chord", "uniform"),
                                doc="cubic fit parameters: chord length, or the thesis's "
                                    "uniform u1 = 1/(n-1)"),
-    "tolerance": Param("float", None, positive=True, doc="fitting tolerance"),
+    "tolerance": Param("float", None, positive=True, doc="fitting tolerance", unit="length"),
     "zigzag": Param("bool", True, doc="X and Y zigzag clean-up"),
-    "feed": Param("float", positive=True, doc="roughing feed"),
-    "finish_feed": Param("float", None, positive=True),
-    "plunge_feed": Param("float", None, positive=True),
-    "spindle": Param("float", positive=True, doc="rpm, clockwise (M3); required"),
-    "safe_z": Param("float", None, doc="retract height"),
-    "z_mode": Param("str", "tool", choices=("tool", "surface")),
-    "rest": Param("bool", False, doc="cut only where earlier operations left material"),
-    "allowance": Param("float", None, nonneg=True, unit="length",
-                       doc="rest: stock thinner than this is left (default: stock cell)"),
+    "feed": Param("float", positive=True, doc="roughing feed", unit="feed"),
+    "finish_feed": Param("float", None, positive=True,
+          unit="feed", doc="feed of the finish layer (default: feed)"),
+    "plunge_feed": Param("float", None, positive=True,
+          unit="feed", doc="feed down into material (default: feed / 2)"),
+    "spindle": Param("float", positive=True, doc="rpm, clockwise (M3); required", unit="rpm"),
+    "safe_z": Param("float", None, doc="retract height", unit="length"),
+    "z_mode": Param("str", "tool", choices=("tool", "surface"),
+          doc="'tool': the real tool dropped onto the bottom (no gouge); 'surface': the tip on "
+              "the surface under the centre (the thesis)"),
+    **REST_PARAMS,
     "force_grid": Param("bool", False, doc="accept cells larger than D/sqrt(2) "
                         "(leaves material uncut in plan view)"),
 }
@@ -191,10 +199,11 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     """Plan one grid-pocket operation (see the module docstring for the keys)."""
     f = ctx.job_file
     tool = ctx.tool(params["tool"])
-    inch = ctx.units == "inch"
     poly = pocket_polygon(params["polygon"], f)
     try:
-        surface = load_bottom(params["bottom"], poly, ctx.base_dir, f)
+        surface = ctx.parts.get(     # read once per job
+            "grid-bottom", (params["bottom"], poly.bounds, ctx.base_dir),
+            lambda: load_bottom(params["bottom"], poly, ctx.base_dir, f))
     except GeometryError as e:
         if e.file is None:
             e.file = str(f) if f else None
@@ -205,7 +214,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     top = ctx.stock.zmax if ctx.stock is not None else 0.0
     safe_z = params["safe_z"]
     if safe_z is None:
-        safe_z = top + (0.2 if inch else 5.0)
+        safe_z = top + default("safe_clearance", ctx.units)
     if safe_z <= top:
         raise JobError(f"safe_z: {safe_z:g} must be above the stock top {top:g}", f)
     dx, dy = params["grid"] or (tool.diameter / 2.0, tool.diameter / 2.0)
@@ -214,8 +223,8 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         polygon=poly, surface=surface, tool=tool, units=ctx.units, dx=dx, dy=dy, top=top,
         feed=feed, finish_feed=params["finish_feed"] or feed,
         plunge_feed=params["plunge_feed"] or feed / 2.0, safe_z=safe_z,
-        tolerance=params["tolerance"] or (0.0002 if inch else 0.005),
-        depths=params["depths"], step=params["step"], motion=params["motion"],
+        tolerance=params["tolerance"] or default("path_tolerance", ctx.units),
+        depths=params["depths"], step=params["stepdown"], motion=params["motion"],
         zigzag=params["zigzag"], spindle=params["spindle"], z_mode=params["z_mode"],
         force_grid=params["force_grid"], navigation=params["navigation"],
         grid_anchor=tuple(params["grid_centre"]) if params["grid_centre"] else None,
@@ -223,10 +232,10 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     tp, report = plan_pocket(spec)
     if params["rest"] and ctx.remaining is not None:
         from millpath.plan.restcut import rest_filter
-        allow = params["allowance"]
+        allow = params["rest_allowance"]
         report["rest"] = rest_filter(
             tp, ctx.remaining, ctx.tools,
             allow if allow is not None else float(ctx.remaining.resolution), safe_z,
-            0.04 if inch else 1.0)
+            default("feed_clearance", ctx.units))
     return PlanResult(toolpath=tp, design=PocketDesign(poly, surface, top),
                       report={"pocket": report})

@@ -5,7 +5,9 @@ Job units throughout (mm or inch); feeds in units per minute; Z is the tool tip.
 Order of cutting: the roughing layers, the finish layer (the last layer, at the bottom
 everywhere, with ``finish_feed``), the wall pass (one lap of the offset outline per
 layer floor, ending at the bottom, starting at the outline corner nearest to where the
-finish layer ended), then the X zigzag and the Y zigzag runs at the bottom.
+finish layer ended; each lap is entered straight down at the nearest cell its layer
+cleared and then across to the outline, never by a descent into the band of material
+left along the wall), then the X zigzag and the Y zigzag runs at the bottom.
 
 A layer with floor ``f`` puts each point at ``max(tip Z on the bottom, f)`` and skips
 the cells whose bottom is above ``f``; the finish layer visits every cell, so it takes
@@ -32,6 +34,7 @@ from millpath.plan.gridpocket.fitmotion import Chain, Fitter
 from millpath.plan.gridpocket.navigate import adjacent, joined_edges, main_path, zigzag_runs
 from millpath.plan.gridpocket.zfield import ZField, sample_chain
 from millpath.plan.entry import helix_entry, ramp_entry
+from millpath.model.units import default
 
 
 @dataclass
@@ -73,7 +76,8 @@ def layer_floors(top: float, zmin: float, depths: list[float] | None, step: floa
     ``zmin`` are replaced by the finish layer.
     """
     if depths is not None and step is not None:
-        raise JobError("depths, step: give either a list of depths or a step, not both", file)
+        raise JobError("depths, stepdown: give either a list of depths or a stepdown, "
+                       "not both", file)
     floors: list[float] = []
     eps = 1e-9 * max(1.0, abs(top), abs(zmin))
     if depths is not None:
@@ -88,7 +92,7 @@ def layer_floors(top: float, zmin: float, depths: list[float] | None, step: floa
     elif step is not None:
         n = int(math.ceil((top - zmin) / step - 1e-9))
         if n > 10_000:
-            raise JobError(f"step: {step:g} makes {n} layers", file)
+            raise JobError(f"stepdown: {step:g} makes {n} layers", file)
         floors = [top - k * step for k in range(1, n) if top - k * step > zmin + eps]
     return floors + [-math.inf]
 
@@ -254,7 +258,7 @@ class _Builder:
 
 def _decimals(units: str) -> int:
     """Decimals of coordinates in the posted program (the post's: 5 inch, 4 mm)."""
-    return 5 if units == "inch" else 4
+    return int(default("decimals", units))
 
 
 def _cells_xy(grid: PocketGrid, cells) -> np.ndarray:
@@ -280,6 +284,20 @@ def _path_chunks(grid: PocketGrid, path) -> list[list]:
     return chunks
 
 
+def _wall_entry(grid: PocketGrid, path, start: np.ndarray, tries: int = 24):
+    """The centre (x, y) of the cell of ``path`` nearest to the wall-lap start ``start``
+    from which a straight move to it keeps the tool centre inside the offset outline;
+    None when the layer cut no cell or none qualifies."""
+    if not path:
+        return None
+    xy = _cells_xy(grid, path)
+    d = np.hypot(xy[:, 0] - start[0], xy[:, 1] - start[1])
+    for k in np.argsort(d, kind="stable")[:tries]:
+        if grid.segment_inside(xy[k], start):
+            return xy[k]
+    return None
+
+
 def _ring_from(ring: np.ndarray, pos, spacing: float) -> np.ndarray:
     """The closed ring starting at its vertex nearest to ``pos``, edges subdivided to at
     most ``spacing``."""
@@ -300,7 +318,7 @@ def plan_pocket(spec: PocketSpec) -> tuple[Toolpath, dict]:
     grid = build_grid(spec.polygon, tool.radius, spec.dx, spec.dy, spec.file,
                       anchor=spec.grid_anchor)
     zf = ZField(spec.surface, tool, spec.z_mode, spec.polygon.bounds, spec.tolerance, spec.file)
-    max_radius = 100.0 if spec.units == "inch" else 2540.0
+    max_radius = default("max_arc_radius", spec.units)
     fitter = Fitter(spec.motion, spec.tolerance, max_radius, _decimals(spec.units),
                     spec.bezier_parameters)
     b = _Builder(spec, grid, zf, fitter)
@@ -319,6 +337,7 @@ def plan_pocket(spec: PocketSpec) -> tuple[Toolpath, dict]:
     layers = []
     done = spec.top
     final_path: list = []
+    layer_paths: list[list] = []        # the cells each floor's layer cut (wall entries)
     for k, floor in enumerate(floors):
         finish = k == len(floors) - 1
         # a roughing layer skips cells whose bottom is above its floor (the finish layer
@@ -326,6 +345,7 @@ def plan_pocket(spec: PocketSpec) -> tuple[Toolpath, dict]:
         mask = grid.inside & (zc < (spec.top if finish else floor) - eps)
         path = main_path(mask, spec.dx, spec.dy, spec.navigation)
         phase = "finish" if finish else "rough"
+        layer_paths.append(path)
         layers.append({"floor": None if math.isinf(floor) else floor, "finish": finish,
                        "cells": len(path), "length": 0.0})
         if not path:
@@ -350,9 +370,19 @@ def plan_pocket(spec: PocketSpec) -> tuple[Toolpath, dict]:
     wall_done = spec.top
     wall_region = grid.region.buffer(spec.tolerance, quad_segs=16)
     shapely.prepare(wall_region)
-    for floor in floors:
+    for floor, path in zip(floors, layer_paths):
+        # each lap is entered from a cell its layer cleared to this floor: straight down
+        # there (cleared space), then across to the outline at the floor (issue 14: no
+        # descent into the band of material the layer left along the wall)
+        swept = (shapely.union_all(shapely.buffer(shapely.points(_cells_xy(grid, path)),
+                                                  tool.radius, quad_segs=16))
+                 if path else None)
         for ring in rings:
             pts = _ring_from(ring, b.pos, spacing)
+            entry = _wall_entry(grid, path, pts[0])
+            if entry is not None:
+                b.cleared = swept
+                b.cut(np.array([entry, pts[0]]), floor, spec.finish_feed, floor, wall_region)
             b.cut(pts, floor, spec.finish_feed, wall_done, wall_region)
         wall_done = floor
 
@@ -410,7 +440,7 @@ def _length(tp: Toolpath) -> float:
     pos = None
     for m in tp.moves:
         if pos is not None and m.kind in ("line", "arc", "cubic"):
-            p = sample_move(pos, m, 0.01 if tp.units == "inch" else 0.25)
+            p = sample_move(pos, m, default("sample_step", tp.units))
             total += float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum())
         pos = m.end
     return total

@@ -10,7 +10,7 @@ Keys (job units; feeds in units per minute; Z absolute, tool tip):
   ``angle`` degrees then a contour), ``adaptive`` (constant ``engagement``, a fraction
   of the diameter in (0, 1), default 0.15); ``stepover`` (default 0.4 D) for offset
   and zigzag and for the floor finish.
-- ``finish_allowance``: stock left on walls and floor by the clearing levels; when
+- ``allowance``: stock left on walls and floor by the clearing levels; when
   positive a second operation "pocket finish" cuts the walls at every level and the
   floor (rings ``stepover`` apart) to size.
 - ``entry``: ``helix`` (radius ``helix_radius``, default 0.5 R, where it fits) or
@@ -18,7 +18,7 @@ Keys (job units; feeds in units per minute; Z absolute, tool tip):
   straight feed down only where the column is empty (in-process stock).
 - ``direction``: ``climb`` (default; clockwise spindle) or ``conventional``.
 - ``rest``: cut only where the in-process stock left by the earlier operations is more
-  than ``finish_allowance`` (at least ``tolerance``) above each level. Without it the
+  than ``allowance`` (at least ``tolerance``) above each level. Without it the
   operation still skips stretches where its tool meets no material.
 - ``feed``, ``plunge_feed`` (default feed / 2), ``spindle``, ``safe_z`` (default: top
   + 5 mm / 0.2 in).
@@ -40,6 +40,7 @@ from millpath.plan.pocket.emit import Emitter
 from millpath.plan.pocket.passes import Cut, offset_cuts, order_nearest, zigzag_cuts
 from millpath.plan.twod.field import MaterialField, Raster, stock_heights
 from millpath.plan.twod.geometry import GEOMETRY_PARAMS, default_tolerance, load_regions
+from millpath.plan.twod.heights import end_mill, operation_heights
 from millpath.plan.twod.offsets import offset, polygons, rings
 from millpath.plan.twod.writer import PathWriter
 
@@ -54,20 +55,30 @@ PARAMS = {
     "top": Param("float", None, doc="Z of the pocket top (default: stock top)", unit="length"),
     "depth": Param("float", positive=True, doc="below top", unit="length"),
     "stepdown": Param("float", positive=True, doc="depth per level", unit="length"),
-    "strategy": Param("str", "offset", choices=("offset", "zigzag", "adaptive")),
+    "strategy": Param("str", "offset", choices=("offset", "zigzag", "adaptive"),
+          doc="clearing: offset rings, zigzag lines then a contour, or adaptive (constant "
+              "engagement)"),
     "stepover": Param("float", None, positive=True, doc="default 0.4 D", unit="length"),
     "angle": Param("float", 0.0, doc="zigzag line angle from X, degrees", unit="deg"),
     "engagement": Param("float", 0.15, check=_fraction, doc="adaptive: width of cut / D", unit="ratio"),
-    "finish_allowance": Param("float", 0.0, nonneg=True, unit="length"),
-    "entry": Param("str", "helix", choices=("helix", "ramp")),
+    "allowance": Param("float", 0.0, nonneg=True, unit="length",
+          doc="stock left on walls and floor by the clearing levels; when positive a 'pocket "
+              "finish' pass cuts to size"),
+    "entry": Param("str", "helix", choices=("helix", "ramp"),
+          doc="entry into material: helix where it fits, or ramp along the cut"),
     "helix_radius": Param("float", None, positive=True, doc="default 0.5 x tool radius", unit="length"),
-    "ramp_angle": Param("float", 3.0, positive=True, unit="deg"),
-    "direction": Param("str", "climb", choices=("climb", "conventional")),
-    "rest": Param("bool", False),
-    "feed": Param("float", positive=True, unit="feed"),
-    "plunge_feed": Param("float", None, positive=True, unit="feed"),
-    "spindle": Param("float", 0.0, unit="rpm"),
-    "safe_z": Param("float", None, unit="length"),
+    "ramp_angle": Param("float", 3.0, positive=True, unit="deg",
+          doc="descent angle of helix and ramp entries"),
+    "direction": Param("str", "climb", choices=("climb", "conventional"),
+          doc="climb (clockwise spindle) or conventional"),
+    "rest": Param("bool", False,
+          doc="cut only where earlier operations left more than the allowance"),
+    "feed": Param("float", positive=True, unit="feed", doc="cutting feed"),
+    "plunge_feed": Param("float", None, positive=True, unit="feed",
+          doc="feed of entries (default: feed / 2)"),
+    "spindle": Param("float", 0.0, unit="rpm", doc="spindle speed, clockwise (M3)"),
+    "safe_z": Param("float", None, unit="length",
+          doc="retract height (default: top + 5 mm / 0.2 in)"),
 }
 
 
@@ -99,24 +110,15 @@ def check_fit(region, free, tool, file) -> None:
 
 def plan(ctx: PlanContext, params: dict) -> PlanResult:
     file = ctx.job_file
-    tool = ctx.tool(params["tool"])
-    if tool.type not in ("flat", "bull"):
-        raise JobError(f"tool: a pocket needs a flat or bull end mill, tool {tool.number} "
-                       f"is {tool.type}", file)
-    regions = load_regions(params, ctx.units, file)
+    tool = end_mill(ctx, params, "a pocket")
+    regions = load_regions(params, ctx.units, file, ctx.parts)
     R, D = tool.radius, tool.diameter
-    allow = params["finish_allowance"]
+    allow = params["allowance"]
+    heights = operation_heights(ctx, params)
+    top, upper, safe, clearance = (heights.top, heights.upper, heights.safe_z,
+                                   heights.clearance)
     stock_top = ctx.stock.zmax if ctx.stock is not None else None
-    top = params["top"] if params["top"] is not None else stock_top
-    if top is None:
-        raise JobError("top: needed when the job gives no [stock]", file)
     floor = top - params["depth"]
-    mm = ctx.units == "mm"
-    clearance = 0.5 if mm else 0.02
-    upper = max(top, stock_top if stock_top is not None else top)
-    safe = params["safe_z"] if params["safe_z"] is not None else upper + (5.0 if mm else 0.2)
-    if safe <= upper:
-        raise JobError(f"safe_z: {safe:g} is not above the stock top {upper:g}", file)
     stepover = params["stepover"] or 0.4 * D
     if stepover > D:
         raise JobError(f"stepover: {stepover:g} is more than the tool diameter", file)
@@ -202,7 +204,7 @@ def _finish(tp, ctx, params, regions, tool, top, floor, safe, upper, clearance, 
     w = PathWriter(tp, safe_z=safe, clear_z=upper + clearance, feed=feed, plunge_feed=plunge,
                    ramp_angle=params["ramp_angle"])
     em = Emitter(w, radius=R, helix_radius=hr, entry="ramp", clearance=clearance)
-    allow = params["finish_allowance"]
+    allow = params["allowance"]
     thr = max(allow, tol) if rest else tol
     for reg in regions:
         free0 = offset(reg.polygon, -R)

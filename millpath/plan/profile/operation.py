@@ -39,28 +39,40 @@ from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.profile.leads import leads, start_on_longest
 from millpath.plan.twod.field import MaterialField, Raster, densify, stock_heights
 from millpath.plan.twod.geometry import GEOMETRY_PARAMS, default_tolerance, load_regions
+from millpath.plan.twod.heights import end_mill, operation_heights
 from millpath.plan.twod.offsets import offset, polygons
 from millpath.plan.twod.writer import PathWriter
 
 PARAMS = {
     **GEOMETRY_PARAMS,
     "tool": Param("int", positive=True, doc="flat or bull end mill"),
-    "side": Param("str", choices=("outside", "inside")),
-    "compensation": Param("str", "cam", choices=("cam", "control")),
-    "direction": Param("str", "climb", choices=("climb", "conventional")),
-    "lead_radius": Param("float", None, positive=True, unit="length"),
-    "top": Param("float", None, unit="length"),
-    "depth": Param("float", positive=True, unit="length"),
-    "stepdown": Param("float", positive=True, unit="length"),
-    "tabs": Param("int", 0, nonneg=True, unit="count"),
-    "tab_height": Param("float", 0.0, nonneg=True, unit="length"),
-    "tab_width": Param("float", None, positive=True, unit="length"),
-    "rest": Param("bool", False),
-    "feed": Param("float", positive=True, unit="feed"),
-    "plunge_feed": Param("float", None, positive=True, unit="feed"),
-    "spindle": Param("float", 0.0, unit="rpm"),
-    "safe_z": Param("float", None, unit="length"),
-    "ramp_angle": Param("float", 3.0, positive=True, unit="deg"),
+    "side": Param("str", choices=("outside", "inside"), doc="tool outside or inside the contour"),
+    "compensation": Param("str", "cam", choices=("cam", "control"),
+          doc="'cam': the tool-centre path; 'control': the contour between G41/G42 and G40"),
+    "direction": Param("str", "climb", choices=("climb", "conventional"),
+          doc="climb (tool on the left, G41) or conventional (right, G42)"),
+    "lead_radius": Param("float", None, positive=True, unit="length",
+          doc="tangent lead-in/out arc radius (default: the tool diameter; more than the tool "
+              "radius)"),
+    "top": Param("float", None, unit="length", doc="Z of the contour's top (default: stock top)"),
+    "depth": Param("float", positive=True, unit="length", doc="depth below top"),
+    "stepdown": Param("float", positive=True, unit="length", doc="depth per level"),
+    "tabs": Param("int", 0, nonneg=True, unit="count",
+          doc="holding tabs spread evenly along each contour"),
+    "tab_height": Param("float", 0.0, nonneg=True, unit="length",
+          doc="tab height above the bottom (0: no tabs)"),
+    "tab_width": Param("float", None, positive=True, unit="length",
+          doc="tab length along the contour (default: the tool diameter)"),
+    "rest": Param("bool", False,
+          doc="skip levels whose path meets no material left by earlier operations"),
+    "feed": Param("float", positive=True, unit="feed", doc="cutting feed"),
+    "plunge_feed": Param("float", None, positive=True, unit="feed",
+          doc="feed of the entry descent (default: feed / 2)"),
+    "spindle": Param("float", 0.0, unit="rpm", doc="spindle speed"),
+    "safe_z": Param("float", None, unit="length",
+          doc="retract height (default: top + 5 mm / 0.2 in)"),
+    "ramp_angle": Param("float", 3.0, positive=True, unit="deg",
+          doc="helix descent angle at the entry point"),
 }
 
 
@@ -115,26 +127,17 @@ def _collinear(a, b, c) -> bool:
 
 def plan(ctx: PlanContext, params: dict) -> PlanResult:
     file = ctx.job_file
-    tool = ctx.tool(params["tool"])
-    if tool.type not in ("flat", "bull"):
-        raise JobError(f"tool: a profile needs a flat or bull end mill, tool {tool.number} "
-                       f"is {tool.type}", file)
-    regions = load_regions(params, ctx.units, file)
+    tool = end_mill(ctx, params, "a profile")
+    regions = load_regions(params, ctx.units, file, ctx.parts)
     R = tool.radius
     rho = params["lead_radius"] or tool.diameter
     if rho <= R * 1.0001:
         raise JobError(f"lead_radius: {rho:g} must be larger than the tool radius {R:g}", file)
+    heights = operation_heights(ctx, params)
+    top, upper, safe, clearance = (heights.top, heights.upper, heights.safe_z,
+                                   heights.clearance)
     stock_top = ctx.stock.zmax if ctx.stock is not None else None
-    top = params["top"] if params["top"] is not None else stock_top
-    if top is None:
-        raise JobError("top: needed when the job gives no [stock]", file)
     bottom = top - params["depth"]
-    mm = ctx.units == "mm"
-    clearance = 0.5 if mm else 0.02
-    upper = max(top, stock_top if stock_top is not None else top)
-    safe = params["safe_z"] if params["safe_z"] is not None else upper + (5.0 if mm else 0.2)
-    if safe <= upper:
-        raise JobError(f"safe_z: {safe:g} is not above the stock top {upper:g}", file)
     tab_h = params["tab_height"]
     if params["tabs"] and not 0 < tab_h < params["depth"]:
         raise JobError(f"tab_height: must be between 0 and the depth {params['depth']:g} "

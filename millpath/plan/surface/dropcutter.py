@@ -155,6 +155,28 @@ def build_index(mesh: Mesh, cell: float | None = None) -> MeshIndex:
 
 
 @njit(cache=True)
+def _inside_xy(tri, t, px, py, rel_eps):
+    """Whether (px, py) lies in triangle ``t`` seen from +Z (edge functions, either
+    winding), with a slack of ``rel_eps`` times its doubled area."""
+    ax = tri[t, 0, 0]
+    ay = tri[t, 0, 1]
+    bx = tri[t, 1, 0]
+    by = tri[t, 1, 1]
+    cx = tri[t, 2, 0]
+    cy = tri[t, 2, 1]
+    area = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
+    w0 = (bx - px) * (cy - py) - (by - py) * (cx - px)
+    w1 = (cx - px) * (ay - py) - (cy - py) * (ax - px)
+    w2 = (ax - px) * (by - py) - (ay - py) * (bx - px)
+    if area < 0.0:
+        w0 = -w0
+        w1 = -w1
+        w2 = -w2
+    eps = -rel_eps * abs(area)
+    return w0 >= eps and w1 >= eps and w2 >= eps
+
+
+@njit(cache=True)
 def _h(r, rc, a):
     """Profile height above the tip at radial distance r (corner rc, flat part a)."""
     if r <= a:
@@ -285,23 +307,7 @@ def _drop_one(x, y, R, rc, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts, 
                     pz = (plane[t, 3] - nxx * px - nyy * py) / nzz
                     tip = pz - rc + rc * nzz
                     if tip > best:
-                        # inside test in XY (edge functions, orientation independent)
-                        ax = tri[t, 0, 0]
-                        ay = tri[t, 0, 1]
-                        bx = tri[t, 1, 0]
-                        by = tri[t, 1, 1]
-                        cx = tri[t, 2, 0]
-                        cy = tri[t, 2, 1]
-                        area = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
-                        w0 = (bx - px) * (cy - py) - (by - py) * (cx - px)
-                        w1 = (cx - px) * (ay - py) - (cy - py) * (ax - px)
-                        w2 = (ax - px) * (by - py) - (ay - py) * (bx - px)
-                        if area < 0.0:
-                            w0 = -w0
-                            w1 = -w1
-                            w2 = -w2
-                        eps = -1e-12 * abs(area)
-                        if w0 >= eps and w1 >= eps and w2 >= eps:
+                        if _inside_xy(tri, t, px, py, 1e-12):
                             best = tip
                             ccx = px
                             ccy = py
@@ -444,22 +450,7 @@ def _height_one(x, y, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts, items
         if box[t, 0] > x or box[t, 1] < x or box[t, 2] > y or box[t, 3] < y:
             continue
         nzz = plane[t, 2]
-        ax = tri[t, 0, 0]
-        ay = tri[t, 0, 1]
-        bx = tri[t, 1, 0]
-        by = tri[t, 1, 1]
-        cx = tri[t, 2, 0]
-        cy = tri[t, 2, 1]
-        area = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
-        w0 = (bx - x) * (cy - y) - (by - y) * (cx - x)
-        w1 = (cx - x) * (ay - y) - (cy - y) * (ax - x)
-        w2 = (ax - x) * (by - y) - (ay - y) * (bx - x)
-        if area < 0.0:
-            w0 = -w0
-            w1 = -w1
-            w2 = -w2
-        eps = -1e-9 * abs(area)
-        if not (w0 >= eps and w1 >= eps and w2 >= eps):
+        if not _inside_xy(tri, t, x, y, 1e-9):
             continue
         if nzz > 1e-12:
             z = (plane[t, 3] - plane[t, 0] * x - plane[t, 1] * y) / nzz

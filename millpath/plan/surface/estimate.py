@@ -162,3 +162,41 @@ def estimate_finish(sampler: Sampler, region, *, strategy: str, scallop: float,
     holder = 1.0 + len(sampler.holder)
     e.seconds = (e.drops * holder * R.us_per_drop * 1e-6 + e.points * PYTHON_PER_POINT)
     return e, R
+
+
+#: the most raster nodes a ``surface-rough`` plans (beyond: refused; about 1 GB)
+ROUGH_MAX_RASTER = 10_000_000
+
+
+@dataclass
+class RoughEstimate(Estimate):
+    """A ``surface-rough`` estimate: ``levels`` layers, ``pass_lines`` rows per layer,
+    ``raster`` drop-cutter nodes of its two rasters (rows and the fine contour one)."""
+
+    raster: int = 0
+
+    def to_json(self) -> dict:
+        return {**super().to_json(), "raster_nodes": self.raster}
+
+
+def estimate_rough(region, top: float, bottom: float, stepdown: float, step_over: float,
+                   station: float, angle: float, us_per_drop: float) -> RoughEstimate:
+    """Layers, rows, raster nodes, points and CPU seconds of a ``surface-rough`` from the
+    region (tool-tip box), the stock top and the lowest floor (surface bottom plus
+    allowance) alone: every row of every layer is counted as cut (an upper bound)."""
+    x0, y0, x1, y1 = region
+    a = math.radians(angle)
+    c, s = abs(math.cos(a)), abs(math.sin(a))
+    lu = (x1 - x0) * c + (y1 - y0) * s            # extent along the passes
+    lw = (x1 - x0) * s + (y1 - y0) * c            # and across them
+    n_u = max(2, int(math.ceil(lu / station)) + 1)
+    rows = max(1, int(math.ceil(lw / step_over))) + 1
+    fine = max(2, int(math.ceil(lw / station)) + 1)
+    e = RoughEstimate()
+    e.levels = max(1, int(math.ceil(max(top - bottom, 0.0) / stepdown)))
+    e.pass_lines = rows
+    e.raster = n_u * (rows + fine)
+    e.points = e.levels * rows * n_u
+    e.drops = 2 * e.raster
+    e.seconds = e.drops * us_per_drop * 1e-6 + e.points * PYTHON_PER_POINT
+    return e

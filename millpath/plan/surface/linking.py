@@ -39,6 +39,17 @@ def surface_link(sampler: Sampler, a: np.ndarray, b: np.ndarray, tol: float,
     return np.column_stack([xy, P[:, 2]])
 
 
+def _link_on_part(sampler: Sampler, a: np.ndarray, b: np.ndarray, tol: float,
+                  silhouette: bool) -> np.ndarray | None:
+    """:func:`surface_link`, or None with ``silhouette`` when the tool leaves the part."""
+    L = surface_link(sampler, a, b, tol, 0.25 * sampler.cutter.radius)
+    if silhouette:
+        uw = sampler.uw(L[:, 0], L[:, 1])
+        if not sampler.touches(uw[:, 0], uw[:, 1]).all():
+            return None
+    return L
+
+
 def _descend(tp: Toolpath, start, safe_z: float, clearance: float, approach_z: float,
              plunge_feed: float, sampler: Sampler | None = None,
              allowance: float = 0.0) -> bool:
@@ -75,9 +86,11 @@ def _descend(tp: Toolpath, start, safe_z: float, clearance: float, approach_z: f
 def add_passes(tp: Toolpath, sampler: Sampler, passes: list[Pass], *, feed: float,
                plunge_feed: float, safe_z: float, clearance: float, link_max: float,
                tolerance: float, approach_z: float = -math.inf,
-               allowance: float = 0.0) -> dict:
+               allowance: float = 0.0, silhouette: bool = False) -> dict:
     """Append the passes to ``tp`` (its operation already begun); return link counts.
-    ``allowance``: stock the passes leave on the surface (entries leave it too)."""
+    ``allowance``: stock the passes leave on the surface (entries leave it too).
+    ``silhouette``: a link whose tool would leave the part (touch nothing, see
+    :meth:`.sampler.Sampler.touches`) retracts instead of following the surface."""
     links = {"surface": 0, "retract": 0, "helix": 0}
     cur = None
     for p in passes:
@@ -89,8 +102,9 @@ def add_passes(tp: Toolpath, sampler: Sampler, passes: list[Pass], *, feed: floa
             tp.rapid(start[0], start[1], safe_z)
             links["helix"] += _descend(tp, start, safe_z, clearance, approach_z,
                                        plunge_feed, sampler, allowance)
-        elif math.hypot(start[0] - cur[0], start[1] - cur[1]) <= link_max:
-            L = surface_link(sampler, cur, start, tolerance, 0.25 * sampler.cutter.radius)
+        elif (math.hypot(start[0] - cur[0], start[1] - cur[1]) <= link_max
+              and (L := _link_on_part(sampler, cur, start, tolerance, silhouette))
+              is not None):
             for q in L[1:]:
                 tp.line(*q, feed)
             links["surface"] += 1

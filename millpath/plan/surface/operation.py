@@ -20,8 +20,9 @@ Keys (lengths in the job's units, feeds in units per minute):
   scallops are measured along the surface normal (zigzag's vertically).
 - ``feed``, ``plunge_feed``, ``spindle`` (rpm), ``safe_z`` (default: 5 mm / 0.2 in
   above the highest tool position), ``region`` ``[xmin, ymin, xmax, ymax]`` of the tool
-  tip (default: the surface's XY extent grown by the cutter radius, so the
-  edges are finished too), ``compare`` (default false): also plan the other side-step
+  tip (default: the part's silhouette grown by the cutter radius, so the edges are
+  finished too and the ball never runs down the outside of the part: passes and
+  surface links are cut where the cutter would touch nothing), ``compare`` (default false): also plan the other side-step
   method and report both path counts.
 
 The design handed to the simulator is the tessellated surface as a height field.
@@ -36,35 +37,55 @@ from millpath.io.schema import Param
 from millpath.model.toolpath import Operation, Toolpath
 from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.surface.cutter import Cutter
-from millpath.plan.surface.dropcutter import MeshHeight, build_index
+from millpath.plan.surface.dropcutter import MeshHeight
 from millpath.plan.surface.estimate import Estimate, estimate_finish
 from millpath.plan.surface.linking import add_passes
 from millpath.plan.surface.sampler import Sampler
-from millpath.plan.surface.source import SURFACE_PARAMS, load_op_surface
+from millpath.plan.surface.source import SURFACE_PARAMS, load_op_surface, op_surface_index
 from millpath.plan.surface.steep_shallow import steep_shallow
 from millpath.plan.surface.toolchoice import choose_tool
 from millpath.plan.surface.waterline import WaterlineSettings, waterline
 from millpath.plan.surface.zigzag import ZigzagSettings, zigzag
+from millpath.model.units import default
 
 PARAMS = {
     **SURFACE_PARAMS,
-    "tool": Param("int", None, positive=True),
-    "choose_tool": Param("bool", False),
-    "tolerance": Param("float", None, positive=True),
-    "scallop": Param("float", None, positive=True),
-    "angle": Param("float", 0.0),
-    "strategy": Param("str", "zigzag", choices=("zigzag", "waterline", "steep-shallow")),
-    "side_step": Param("str", "variable", choices=("published", "variable")),
-    "steep_angle": Param("float", 45.0, doc="degrees: waterline on slopes this steep and up"),
-    "stepdown_max": Param("float", None, positive=True),
-    "feed": Param("float", None, positive=True),
-    "plunge_feed": Param("float", None, positive=True),
-    "spindle": Param("float", 10000.0, positive=True),
-    "safe_z": Param("float", None),
-    "region": Param("floats", None, length=4),
+    "tool": Param("int", None, positive=True,
+          doc="ball, bull or flat end mill (tool number); or choose_tool"),
+    "choose_tool": Param("bool", False,
+          doc="pick the largest ball under the smallest concave radius whose holder clears the "
+              "part"),
+    "tolerance": Param("float", None, positive=True,
+          unit="length", doc="chordal tolerance along the passes (default 0.005 mm / 0.0002 in)"),
+    "scallop": Param("float", None, positive=True,
+          unit="length", doc="scallop (cusp) height left between passes (default 0.01 mm / 0.0004 "
+                             "in)"),
+    "angle": Param("float", 0.0, unit="deg", doc="pass direction from +X"),
+    "strategy": Param("str", "zigzag", choices=("zigzag", "waterline", "steep-shallow"),
+          doc="zigzag passes, waterline (constant-Z contours) or steep-shallow (both, split at "
+              "steep_angle)"),
+    "side_step": Param("str", "variable", choices=("published", "variable"),
+          doc="side step between passes: variable (from the local slope) or the published "
+              "formula"),
+    "steep_angle": Param("float", 45.0, doc="degrees: waterline on slopes this steep and up",
+          unit="deg"),
+    "stepdown_max": Param("float", None, positive=True,
+          unit="length", doc="largest step between waterline levels (default: the cutter's corner "
+                             "radius)"),
+    "feed": Param("float", None, positive=True,
+          unit="feed", doc="cutting feed (default 1000 mm/min / 40 in/min)"),
+    "plunge_feed": Param("float", None, positive=True,
+          unit="feed", doc="feed down into material (default: feed / 3)"),
+    "spindle": Param("float", 10000.0, positive=True, unit="rpm", doc="spindle speed"),
+    "safe_z": Param("float", None,
+          unit="length", doc="retract height (default: 5 mm / 0.2 in above the highest tool "
+                             "position)"),
+    "region": Param("floats", None, length=4, unit="length",
+                    doc="[xmin, ymin, xmax, ymax] of the tool tip (default: the part's "
+                    "silhouette grown by the cutter radius)"),
     "compare": Param("bool", False, doc="also plan the other side step (twice the work) "
                      "and report both pass counts"),
-    "name": Param("str", "surface finish"),
+    "name": Param("str", "surface finish", doc="operation name in the program and report"),
     "rest": Param("bool", False, doc="cut only where earlier operations left material"),
     "rest_allowance": Param("float", None, nonneg=True, unit="length",
                             doc="rest: stock thinner than this is left (default: scallop)"),
@@ -75,7 +96,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     inch = ctx.units == "inch"
     file = ctx.job_file
     mesh = load_op_surface(ctx, params)
-    index = build_index(mesh)
+    index = op_surface_index(ctx, params)
     design = MeshHeight(index)
     lo, hi = mesh.bounds
     extent = (float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1]))
@@ -90,7 +111,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
                      np.ptp(mesh.triangles[:, :, 1], axis=1))
     if params["choose_tool"]:
         tool, why = choose_tool(ctx.tools, index, design, region,
-                                max(4.0 * float(np.mean(ext)), 0.02 if inch else 0.5))
+                                max(4.0 * float(np.mean(ext)), default("choose_tool_min_size", ctx.units)))
         report["tool_choice"] = why
         if tool is None:
             reasons = "; ".join(f"T{c['tool']}: {c['rejected']}" for c in why["candidates"]
@@ -111,13 +132,13 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         # point reaches the edge on any slope (the tool rolls over the edge there)
         region = (extent[0] - cutter.radius, extent[1] - cutter.radius,
                   extent[2] + cutter.radius, extent[3] + cutter.radius)
-    tol = params["tolerance"] or (0.0002 if inch else 0.005)
-    scallop = params["scallop"] or (0.0004 if inch else 0.01)
-    feed = params["feed"] or (40.0 if inch else 1000.0)
+    tol = params["tolerance"] or default("path_tolerance", ctx.units)
+    scallop = params["scallop"] or default("scallop", ctx.units)
+    feed = params["feed"] or default("finish_feed", ctx.units)
     plunge = params["plunge_feed"] or feed / 3.0
     sampler = Sampler(index, cutter, params["angle"], tuple(tool.holder_cylinders()),
                       z_floor=float(lo[2]),
-                      holder_clearance=0.04 if inch else 1.0)
+                      holder_clearance=default("feed_clearance", ctx.units))
 
     tol_m = min(tol, 0.25 * scallop)
     est, _ = estimate_finish(sampler, region, strategy=strategy, scallop=scallop,
@@ -132,6 +153,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     def zz_settings(mode: str, bar=None) -> ZigzagSettings:
         return ZigzagSettings(tolerance=tol, scallop=scallop, region=region, side_step=mode,
                               material_tolerance=tol_m, trim_edges=not params["region"],
+                              silhouette=not params["region"],
                               on_line=(lambda n: bar.update(completed=n)) if bar else None)
 
     def run(mode: str, bar=None):
@@ -162,7 +184,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     safe_z = params["safe_z"]
     stock_top = ctx.stock.zmax if ctx.stock is not None else -np.inf
     if safe_z is None:
-        safe_z = max(top, stock_top) + (0.2 if inch else 5.0)
+        safe_z = max(top, stock_top) + default("safe_clearance", ctx.units)
     elif safe_z < top:
         raise JobError(f"safe_z: {safe_z:g} is below the highest tool position {top:.4g}", file)
     elif safe_z <= stock_top:
@@ -180,9 +202,10 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
             float(sum(np.linalg.norm(np.diff(p.points, axis=0), axis=1).sum()
                       for p in passes)), 4))
     links = add_passes(tp, sampler, passes, feed=feed, plunge_feed=plunge, safe_z=safe_z,
-                       clearance=0.04 if inch else 1.0, link_max=3.0 * cutter.radius,
+                       clearance=default("feed_clearance", ctx.units), link_max=3.0 * cutter.radius,
                        tolerance=tol,
-                       approach_z=stock_top if ctx.stock is not None else np.inf)
+                       approach_z=stock_top if ctx.stock is not None else np.inf,
+                       silhouette=not params["region"])
     zres = res if strategy == "zigzag" else getattr(res, "zigzag", None)
     wres = res if strategy == "waterline" else getattr(res, "waterline", None)
     removed = wres.removed if wres is not None else {}
@@ -292,10 +315,11 @@ def preflight(ctx: PlanContext, params: dict) -> None:
         lo[0] - cutter.radius, lo[1] - cutter.radius, hi[0] + cutter.radius,
         hi[1] + cutter.radius)
     inch = ctx.units == "inch"
-    tol = params["tolerance"] or (0.0002 if inch else 0.005)
-    scallop = params["scallop"] or (0.0004 if inch else 0.01)
+    tol = params["tolerance"] or default("path_tolerance", ctx.units)
+    scallop = params["scallop"] or default("scallop", ctx.units)
     tol_m = min(tol, 0.25 * scallop)
-    sampler = Sampler(build_index(mesh), cutter, params["angle"], (), z_floor=float(lo[2]))
+    sampler = Sampler(op_surface_index(ctx, params), cutter, params["angle"], (),
+                      z_floor=float(lo[2]))
     est, _ = estimate_finish(sampler, region, strategy=params["strategy"], scallop=scallop,
                              tolerance=tol, material_tolerance=tol_m,
                              side_step=params["side_step"], steep_angle=params["steep_angle"],

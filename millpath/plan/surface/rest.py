@@ -16,48 +16,10 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 from scipy import ndimage
 
+from millpath.plan.restcut import BALL, BULL, FLAT, meets_stock
 from millpath.plan.surface.zigzag import Pass
-
-FLAT, BALL, BULL = 0, 1, 2
-
-
-@njit(cache=True)
-def _touch(P, H, gx, gy, h, R, kind, rc, thr):
-    n = P.shape[0]
-    ny, nx = H.shape
-    out = np.zeros(n, np.bool_)
-    for k in range(n):
-        x, y, z = P[k, 0], P[k, 1], P[k, 2]
-        i0 = max(0, int(math.floor((x - R - gx) / h)))
-        i1 = min(nx - 1, int(math.floor((x + R - gx) / h)))
-        j0 = max(0, int(math.floor((y - R - gy) / h)))
-        j1 = min(ny - 1, int(math.floor((y + R - gy) / h)))
-        hit = False
-        for j in range(j0, j1 + 1):
-            yc = gy + (j + 0.5) * h
-            for i in range(i0, i1 + 1):
-                xc = gx + (i + 0.5) * h
-                r = math.sqrt((xc - x) ** 2 + (yc - y) ** 2)
-                if r > R:
-                    continue
-                if kind == FLAT:
-                    prof = 0.0
-                elif kind == BALL:
-                    prof = R - math.sqrt(max(R * R - r * r, 0.0))
-                else:
-                    f = R - rc
-                    d = r - f
-                    prof = 0.0 if d <= 0.0 else rc - math.sqrt(max(rc * rc - d * d, 0.0))
-                if H[j, i] > z + prof + thr:
-                    hit = True
-                    break
-            if hit:
-                break
-        out[k] = hit
-    return out
 
 
 def rest_passes(passes: list[Pass], remaining, tool, threshold: float,
@@ -85,7 +47,7 @@ def rest_passes(passes: list[Pass], remaining, tool, threshold: float,
         P = np.ascontiguousarray(p.points, dtype=float)
         if not len(P):
             continue
-        t = _touch(P, H, x0, y0, h, R, kind, float(tool.corner_radius), threshold)
+        t = meets_stock(P, H, x0, y0, h, R, kind, float(tool.corner_radius), threshold, 0.0)
         total += len(P)
         if not t.any():
             continue

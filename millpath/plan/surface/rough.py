@@ -6,7 +6,7 @@ meets an even skin instead of the whole block. At every point of a pass the tip 
 to ``max(layer Z, drop-cutter Z + allowance)``: the drop-cutter Z (exact, holder and
 shank clearance included, see :mod:`.sampler`) never lets the tool touch the surface,
 the layer Z never lets it take more than ``stepdown`` at once. Passes run along
-``angle`` (degrees from +X) ``step_over`` apart; each layer keeps only the stretches
+``angle`` (degrees from +X) ``stepover`` apart; each layer keeps only the stretches
 that still have material above their target (the layer above did not reach them).
 The rows stop up to a step-over short of a wall, so each layer ends with a contour
 pass along the line where the floor rises through the layer (the boundary of what the
@@ -14,7 +14,7 @@ layer can reach, traced on a fine raster with ``contourpy``), leaving an even
 allowance-plus-staircase on steep walls instead of step-over-wide slivers.
 
 Keys (job units; feeds in units per minute): ``surface`` (as for surface-finish),
-``divisions``, ``tool``, ``stepdown``, ``step_over`` (length; default 0.6 x the tool
+``divisions``, ``tool``, ``stepdown``, ``stepover`` (length; default 0.6 x the tool
 diameter), ``allowance`` (default 0.3 mm / 0.012 in), ``angle``, ``feed``,
 ``plunge_feed``, ``spindle``, ``safe_z``, ``region`` (tool-tip box, default: the
 surface grown by the tool radius), ``name``; ``rest``: keep only the stretches of the
@@ -34,26 +34,38 @@ from millpath.io.schema import Param
 from millpath.model.toolpath import Operation, Toolpath
 from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.surface.cutter import Cutter
-from millpath.plan.surface.dropcutter import MeshHeight, build_index
+from millpath.plan.surface.dropcutter import MeshHeight
+from millpath.plan.surface.estimate import (ROUGH_MAX_RASTER, CoarseRaster,
+                                            RoughEstimate, estimate_rough)
 from millpath.plan.surface.linking import add_passes
+from millpath.plan.surface.refine import refine_worst
 from millpath.plan.surface.sampler import Sampler
-from millpath.plan.surface.source import SURFACE_PARAMS, load_op_surface
+from millpath.plan.surface.source import SURFACE_PARAMS, load_op_surface, op_surface_index
 from millpath.plan.surface.waterline import index_runs
 from millpath.plan.surface.zigzag import Pass, in_region
+from millpath.model.units import default
 
 PARAMS = {
     **SURFACE_PARAMS,
-    "tool": Param("int", None, positive=True),
-    "stepdown": Param("float", None, positive=True),
-    "step_over": Param("float", None, positive=True),
-    "allowance": Param("float", None),
-    "angle": Param("float", 0.0),
-    "feed": Param("float", None, positive=True),
-    "plunge_feed": Param("float", None, positive=True),
-    "spindle": Param("float", 8000.0, positive=True),
-    "safe_z": Param("float", None),
-    "region": Param("floats", None, length=4),
-    "name": Param("str", "surface rough"),
+    "tool": Param("int", None, positive=True, doc="end mill (tool number)"),
+    "stepdown": Param("float", None, positive=True,
+          unit="length", doc="depth per layer (default 2 mm / 0.08 in)"),
+    "stepover": Param("float", None, positive=True,
+          unit="length", doc="distance between passes (default 0.6 x the tool diameter)"),
+    "allowance": Param("float", None,
+          unit="length", doc="stock left above the surface (default 0.3 mm / 0.012 in)"),
+    "angle": Param("float", 0.0, unit="deg", doc="pass direction from +X"),
+    "feed": Param("float", None, positive=True,
+          unit="feed", doc="cutting feed (default 1500 mm/min / 60 in/min)"),
+    "plunge_feed": Param("float", None, positive=True,
+          unit="feed", doc="feed down into material (default: feed / 3)"),
+    "spindle": Param("float", 8000.0, positive=True, unit="rpm", doc="spindle speed"),
+    "safe_z": Param("float", None,
+          unit="length", doc="retract height (default: above the stock top)"),
+    "region": Param("floats", None, length=4,
+          unit="length", doc="[xmin, ymin, xmax, ymax] of the tool tip (default: the surface "
+                             "grown by the tool radius)"),
+    "name": Param("str", "surface rough", doc="operation name in the program and report"),
     "rest": Param("bool", False, doc="cut only where earlier operations left material"),
 }
 
@@ -130,7 +142,7 @@ def _raster(sampler: Sampler, region, u: np.ndarray, w: np.ndarray
     U, W = np.meshgrid(u, w)
     inside = in_region(sampler, region, U, W)
     zc, cu, _ = sampler.cut(U.ravel(), W.ravel())            # one drop for Z and contact
-    floor = np.maximum(zc, sampler.holder_lift(U.ravel(), W.ravel()))
+    floor = np.maximum(zc, sampler.holder_lift(U.ravel(), W.ravel(), below=zc))
     touch = np.isfinite(cu).reshape(U.shape) & inside
     return inside, floor.reshape(U.shape), touch
 
@@ -170,26 +182,11 @@ def _refine_floor(sampler: Sampler, P: np.ndarray, level: float, allowance: floa
     ``tolerance`` at any of ``checks`` evenly spaced interior points (the points
     themselves are exact; beside a vertical wall the floor jumps, and a midpoint alone
     misses a jump in the first quarter of a chord); the worst point is inserted."""
-    t = np.arange(1, checks + 1) / (checks + 1.0)
-    for _ in range(20):
-        if len(P) < 2:
-            break
-        A, B = P[:-1], P[1:]
-        Q = A[:, None, :] + (B - A)[:, None, :] * t[None, :, None]
-        zt, _ = sampler.z_safe(Q[..., 0].ravel(), Q[..., 1].ravel())
-        want = np.maximum(zt.reshape(len(A), checks) + allowance, level)
-        over = want - Q[..., 2]
-        seg = np.hypot(B[:, 0] - A[:, 0], B[:, 1] - A[:, 1])
-        rows = np.arange(len(A))
-        worst = np.argmax(over, axis=1)
-        bad = (over[rows, worst] > tolerance) & (seg > 1e-3)
-        if not bad.any():
-            break
-        new = Q[rows, worst].copy()
-        new[:, 2] = want[rows, worst]
-        idx = np.nonzero(bad)[0]
-        P = np.insert(P, idx + 1, new[idx], axis=0)
-    return P
+    def judge(Q, zt):
+        want = np.maximum(zt + allowance, level)
+        return want - Q[..., 2], want
+
+    return refine_worst(sampler, P, judge, tolerance, 1e-3, checks)
 
 
 def _stock_top_near(remaining, tool, tol: float):
@@ -218,8 +215,8 @@ def _stock_top_near(remaining, tool, tol: float):
     return top
 
 
-def plan(ctx: PlanContext, params: dict) -> PlanResult:
-    inch = ctx.units == "inch"
+def _settings(ctx: PlanContext, params: dict):
+    """(mesh, tool, cutter, region, stepdown, step_over, allowance), checked."""
     file = ctx.job_file
     if ctx.stock is None:
         raise JobError("surface-rough needs the job's [stock] box (the layers start at its "
@@ -240,21 +237,64 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     else:
         region = (lo[0] - cutter.radius, lo[1] - cutter.radius,
                   hi[0] + cutter.radius, hi[1] + cutter.radius)
-    stepdown = params["stepdown"] or (0.08 if inch else 2.0)
-    step_over = params["step_over"] or 0.6 * 2.0 * cutter.radius
+    stepdown = params["stepdown"] or default("rough_stepdown", ctx.units)
+    step_over = params["stepover"] or 0.6 * 2.0 * cutter.radius
     if step_over > 2.0 * cutter.radius:
-        raise JobError(f"step_over: {step_over:g} is more than the tool diameter", file)
-    allowance = params["allowance"] if params["allowance"] is not None else (
-        0.012 if inch else 0.3)
+        raise JobError(f"stepover: {step_over:g} is more than the tool diameter", file)
+    allowance = params["allowance"] if params["allowance"] is not None else \
+        default("rough_allowance", ctx.units)
     if allowance < 0:
         raise JobError("allowance: must not be negative", file)
+    return mesh, tool, cutter, region, stepdown, step_over, allowance
+
+
+def estimate(ctx: PlanContext, params: dict, sampler: Sampler | None = None
+             ) -> RoughEstimate:
+    """The operation's estimate (:func:`.estimate.estimate_rough`); raises at once, with
+    the numbers and a way out, when it needs more raster nodes than are planned (the
+    job loader already refuses too many layers or rows, see ``[limits]``)."""
+    mesh, tool, cutter, region, stepdown, step_over, allowance = _settings(ctx, params)
+    inch = ctx.units == "inch"
+    unit = "in" if inch else "mm"
+    lo, _ = mesh.bounds
+    d = 2 * cutter.radius
+    station = min(0.5, cutter.radius / 4.0)          # as rough_passes
+    if sampler is None:
+        sampler = Sampler(op_surface_index(ctx, params), cutter, params["angle"])
+    us = CoarseRaster.build(sampler, region, n=40).us_per_drop
+    bottom = float(lo[2]) + allowance
+    e = estimate_rough(region, ctx.stock.zmax, bottom, stepdown, step_over, station,
+                       params["angle"], us)
+    if e.raster > ROUGH_MAX_RASTER:
+        raise PlanningError(
+            f"region {region[2] - region[0]:.4g} x {region[3] - region[1]:.4g} {unit} "
+            f"needs about {e.raster:,} drop-cutter points for a {d:g} {unit} tool (at "
+            f"most {ROUGH_MAX_RASTER:,}, about 1 GB); a {2 * d:g} {unit} tool needs about "
+            f"{e.raster // 4:,}; or use a smaller region", ctx.job_file)
+    return e
+
+
+def preflight(ctx: PlanContext, params: dict) -> None:
+    """Refuse an impossible request before any operation of the job is planned."""
+    estimate(ctx, params)
+
+
+def plan(ctx: PlanContext, params: dict) -> PlanResult:
+    inch = ctx.units == "inch"
+    file = ctx.job_file
+    mesh, tool, cutter, region, stepdown, step_over, allowance = _settings(ctx, params)
+    lo, hi = mesh.bounds
     feed = params["feed"] or (60.0 if inch else 1500.0)
     plunge = params["plunge_feed"] or feed / 3.0
-    index = build_index(mesh)
+    index = op_surface_index(ctx, params)
     sampler = Sampler(index, cutter, params["angle"], tuple(tool.holder_cylinders()),
                       z_floor=min(float(lo[2]), ctx.stock.zmin),
                       holder_clearance=0.04 if inch else 1.0)
     tol = 0.25 * allowance if allowance > 0 else (0.0004 if inch else 0.01)
+    est = estimate(ctx, params, sampler)
+    ctx.progress.note(f"{params['name']}: about {est.levels:,} layers of {est.pass_lines:,} "
+                      f"rows, {est.points:,} points at most, {est.seconds:.0f} CPU-s "
+                      "(estimate)")
     passes, levels = rough_passes(sampler, region, ctx.stock.zmax, stepdown, step_over,
                                   allowance, tol)
     rest_info = None
@@ -267,7 +307,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     if not passes and rest_info is None:
         raise PlanningError("surface-rough: the stock top is already below the surface "
                             "plus allowance; nothing to rough", file)
-    clear = 0.2 if inch else 5.0
+    clear = default("safe_clearance", ctx.units)
     safe_z = params["safe_z"] if params["safe_z"] is not None else ctx.stock.zmax + clear
     if safe_z <= ctx.stock.zmax:
         raise JobError(f"safe_z: {safe_z:g} is not above the stock top {ctx.stock.zmax:g}",
@@ -285,8 +325,9 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         "operation": params["name"], "tool": tool.number,
         "cutter": f"{cutter.kind} D{2 * cutter.radius:g}", "layers": len(levels),
         "levels": [round(z, 4) for z in levels], "stepdown": stepdown,
-        "step_over": step_over, "allowance": allowance, "pieces": len(passes),
-        "retracts": links["retract"],
+        "stepover": step_over, "allowance": allowance, "pieces": len(passes),
+        "retracts": links["retract"], "estimate": est.to_json(),
+        "cl_points": int(sum(len(p.points) for p in passes)),
     }
     if rest_info is not None:
         section["rest"] = rest_info

@@ -45,6 +45,30 @@ class Sampler:
             rmax = max(h[0] for h in self.holder)
             self.holder_index = build_index(self.index.mesh, cell=max(rmax / 3.0,
                                                                       self.index.cell))
+        self._near_top = [self._top_within(h[0]) for h in self.holder]
+
+    def _top_within(self, radius: float) -> np.ndarray:
+        """Per cell of the holder index, an upper bound of the mesh's Z within ``radius``
+        of any point of the cell (cells' highest triangle tops, dilated by a disc)."""
+        ix = self.holder_index
+        n = ix.nx * ix.ny
+        has = ix.starts[1:] > ix.starts[:-1]
+        top = np.full(n, -np.inf)
+        top[has] = ix.ztop[ix.items[ix.starts[:-1][has]]]        # lists: highest first
+        top = top.reshape(ix.ny, ix.nx)
+        # a point of the cell and a triangle point within radius: their cells' centres
+        # are at most radius + one cell diagonal apart
+        k = int(math.ceil(radius / ix.cell + 1.5))
+        j, i = np.mgrid[-k:k + 1, -k:k + 1]
+        disc = np.hypot(i, j) <= radius / ix.cell + math.sqrt(2.0)
+        from scipy.ndimage import maximum_filter
+        return maximum_filter(top, footprint=disc, mode="nearest")
+
+    def _cell_of(self, xy: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        ix = self.holder_index
+        i = np.clip(np.floor((xy[:, 0] - ix.x0) / ix.cell), 0, ix.nx - 1).astype(np.int64)
+        j = np.clip(np.floor((xy[:, 1] - ix.y0) / ix.cell), 0, ix.ny - 1).astype(np.int64)
+        return j, i
 
     def xy(self, u, w) -> np.ndarray:
         u = np.asarray(u, float)
@@ -69,22 +93,40 @@ class Sampler:
         cuw = self.uw(r.cc[:, 0], r.cc[:, 1])
         return r.z, cuw[:, 0], cuw[:, 1]
 
-    def holder_lift(self, u, w) -> np.ndarray:
-        """Lowest tip Z at which no holder cylinder touches the mesh (-inf if none)."""
+    def touches(self, u, w) -> np.ndarray:
+        """Whether the cutter touches the mesh at all at ``(u, w)`` (1-D arrays): the tip
+        lies within the cutter radius of the part's silhouette. Elsewhere the tool is
+        beside the part and ``z_cut`` is only ``z_floor``."""
+        r = drop(self.index, self.cutter, self.xy(u, w))
+        return np.isfinite(r.z)
+
+    def holder_lift(self, u, w, below=None) -> np.ndarray:
+        """Lowest tip Z at which no holder cylinder touches the mesh (-inf if none).
+        With ``below`` (tip Z per point), points where a cylinder cannot come within the
+        clearance of the mesh with the tip at ``below`` (the mesh near it is lower than
+        its bottom, :meth:`_top_within`) are not queried for it: -inf there (the lift
+        would not exceed ``below``)."""
         u, w = np.broadcast_arrays(np.asarray(u, float), np.asarray(w, float))
         out = np.full(u.shape, -np.inf)
         if not self.holder:
             return out
         xy = self.xy(u, w).reshape(-1, 2)
-        for r, zb, _zt in self.holder:
-            z = (drop(self.holder_index, Cutter(r, 0.0), xy).z.reshape(u.shape) - zb
-                 + self.holder_clearance)
-            np.maximum(out, z, out=out)
+        flat = out.reshape(-1)
+        cells = self._cell_of(xy)
+        zb_all = None if below is None else np.asarray(below, float).reshape(-1)
+        for (r, zb, _zt), near in zip(self.holder, self._near_top):
+            need = np.ones(len(xy), bool)
+            if zb_all is not None:
+                need = ~(near[cells] <= zb_all + zb - self.holder_clearance)   # NaN: query
+            if not need.any():
+                continue
+            z = drop(self.holder_index, Cutter(r, 0.0), xy[need]).z - zb + self.holder_clearance
+            flat[need] = np.maximum(flat[need], z)
         return out
 
     def z_safe(self, u, w) -> tuple[np.ndarray, np.ndarray]:
         """(tip Z clear of cutter and holder contact, mask where the holder lifted it)."""
         zc = self.z_cut(u, w)
-        zh = self.holder_lift(u, w)
+        zh = self.holder_lift(u, w, below=zc)
         lifted = zh > zc + 1e-9
         return np.maximum(zc, zh), lifted

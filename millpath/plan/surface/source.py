@@ -3,10 +3,13 @@
 
 from __future__ import annotations
 
+
 from millpath.io.schema import Param
 from millpath.part.surface.load import load_surface
 from millpath.part.surface.mesh import Mesh
 from millpath.plan.base import PlanContext
+from millpath.plan.surface.dropcutter import MeshIndex, build_index
+from millpath.model.units import default
 
 SURFACE_PARAMS = {
     "surface": Param("any", doc="STL/STEP/grid file, Bezier net or grid table, or "
@@ -17,9 +20,41 @@ SURFACE_PARAMS = {
 }
 
 
+def _surface_key(ctx: PlanContext, params: dict) -> tuple:
+    """Everything the operation's mesh depends on (see :mod:`millpath.part.cache`)."""
+    return (params["surface"], params["divisions"], ctx.base_dir, _chord_tolerance(ctx, params),
+            ctx.units, ctx.stock.box if ctx.stock is not None else None)
+
+
+def _chord_tolerance(ctx: PlanContext, params: dict) -> float:
+    return params["chord_tolerance"] or default("chord_tolerance", ctx.units)
+
+
 def load_op_surface(ctx: PlanContext, params: dict) -> Mesh:
-    """The operation's ``surface`` as a mesh (see :mod:`millpath.part.surface.load`)."""
-    tol = params["chord_tolerance"] or (0.0004 if ctx.units == "inch" else 0.01)
-    return load_surface(params["surface"], params["divisions"], ctx.base_dir, ctx.job_file,
-                        chord_tolerance=tol, units=ctx.units,
-                        stock_box=ctx.stock.box if ctx.stock is not None else None)
+    """The operation's ``surface`` as a mesh (see :mod:`millpath.part.surface.load`),
+    loaded once per job (``ctx.parts``), with a progress bar while it is read."""
+    src = params["surface"]
+    name = src if isinstance(src, str) else src.get("file", "surface") \
+        if isinstance(src, dict) else "surface"
+
+    def load() -> Mesh:
+        with ctx.progress.task(f"reading {name}", total=1) as bar:
+            mesh = load_surface(src, params["divisions"], ctx.base_dir, ctx.job_file,
+                                chord_tolerance=_chord_tolerance(ctx, params), units=ctx.units,
+                                stock_box=ctx.stock.box if ctx.stock is not None else None)
+            bar.advance()
+        return mesh
+    return ctx.parts.get("surface", _surface_key(ctx, params), load)
+
+
+def op_surface_index(ctx: PlanContext, params: dict) -> MeshIndex:
+    """The drop-cutter index (default cell) of the operation's surface, built once per
+    job (a progress bar while it is built)."""
+    mesh = load_op_surface(ctx, params)
+
+    def build() -> MeshIndex:
+        with ctx.progress.task(f"indexing {len(mesh.triangles):,} triangles", total=1) as bar:
+            index = build_index(mesh)
+            bar.advance()
+        return index
+    return ctx.parts.get("surface-index", _surface_key(ctx, params), build)

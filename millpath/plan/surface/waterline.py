@@ -527,7 +527,7 @@ def _holder_split(sampler: Sampler, P: np.ndarray, z: float, closed: bool,
     mid = 0.5 * (P[1:] + P[:-1])
     allp = np.concatenate([P, mid])
     uw = sampler.uw(allp[:, 0], allp[:, 1])
-    lift = sampler.holder_lift(uw[:, 0], uw[:, 1]) > z + 1e-9
+    lift = sampler.holder_lift(uw[:, 0], uw[:, 1], below=np.full(len(uw), z)) > z + 1e-9
     bad_p = lift[:len(P)].copy()
     bad_m = lift[len(P):]
     bad_p[:-1] |= bad_m

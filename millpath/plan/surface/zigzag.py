@@ -35,6 +35,7 @@ import numpy as np
 
 from millpath.errors import PlanningError
 from millpath.plan.surface.polyline import merge_collinear
+from millpath.plan.surface.refine import refine_worst
 from millpath.plan.surface.sampler import Sampler
 from millpath.plan.surface.steps import curvature_radius, feed_step, flat_side_step, side_step
 
@@ -48,7 +49,10 @@ class ZigzagSettings:
     contact point just reaches the surface's edge (see :func:`edge_lines`). ``keep``:
     XY points ``(n, 2)`` -> where passes are wanted (steep-shallow's shallow side and
     the overlap), no points are planned elsewhere; ``hold``: where the scallop sets the
-    side step (default ``keep``; steep-shallow: the shallow side only)."""
+    side step (default ``keep``; steep-shallow: the shallow side only). ``silhouette``:
+    passes are cut where the cutter touches nothing (its tip farther than its radius
+    from the part's silhouette, see :func:`beside_part`), so the tool never runs down
+    the outside of the part to ``z_floor``."""
 
     tolerance: float
     scallop: float
@@ -62,6 +66,7 @@ class ZigzagSettings:
     keep: Callable[[np.ndarray], np.ndarray] | None = None
     hold: Callable[[np.ndarray], np.ndarray] | None = None
     on_line: Callable[[int], None] | None = None      # progress: pass lines so far
+    silhouette: bool = False    # split passes where the tool is beside the part
 
 
 @dataclass
@@ -303,46 +308,98 @@ def refine_chords(sampler: Sampler, P: np.ndarray, tol_g: float, tol_m: float,
     """Split segments of ``P`` (rows u, w, z) that deviate beyond tolerance at any of
     ``checks`` evenly spaced interior points (the midpoint alone misses a bump of the
     CL surface narrower than half a segment); the worst point is inserted."""
+    def judge(Q, zt):
+        dev = zt - Q[..., 2]
+        return np.maximum(dev - tol_g, -dev - tol_m), zt                # > 0: outside
+
+    return refine_worst(sampler, P, judge, 0.0, min_len, checks)
+
+
+def refine_chords_many(sampler: Sampler, Ps: list[np.ndarray], tol_g: float, tol_m: float,
+                       min_len: float, checks: int = 3) -> list[np.ndarray]:
+    """:func:`refine_chords` of every polyline in ``Ps`` at once: one drop-cutter batch
+    per round for all of them (numba's parallel loop), and a segment found within
+    tolerance is not checked again (its ends do not change)."""
+    if not Ps:
+        return []
     t = np.arange(1, checks + 1) / (checks + 1.0)
+    P = np.concatenate(Ps)
+    pid = np.repeat(np.arange(len(Ps)), [len(Q) for Q in Ps])
+    todo = pid[:-1] == pid[1:]                      # segments still to check
     for _ in range(20):
-        if len(P) < 2:
+        idx = np.nonzero(todo)[0]
+        if len(idx) == 0:
             break
-        A, B = P[:-1], P[1:]
-        Q = A[:, None, :] + (B - A)[:, None, :] * t[None, :, None]      # (m, k, 3)
+        A, B = P[idx], P[idx + 1]
+        Q = A[:, None, :] + (B - A)[:, None, :] * t[None, :, None]
         zt, _ = sampler.z_safe(Q[..., 0].ravel(), Q[..., 1].ravel())
         zt = zt.reshape(len(A), checks)
         dev = zt - Q[..., 2]
-        over = np.maximum(dev - tol_g, -dev - tol_m)                   # > 0: outside
+        over = np.maximum(dev - tol_g, -dev - tol_m)
         seg = np.hypot(B[:, 0] - A[:, 0], B[:, 1] - A[:, 1])
         worst = np.argmax(over, axis=1)
         rows = np.arange(len(A))
         bad = (over[rows, worst] > 0) & (seg > min_len)
+        todo[idx[~bad]] = False
         if not bad.any():
             break
-        new = Q[rows, worst].copy()
-        new[:, 2] = zt[rows, worst]
-        idx = np.nonzero(bad)[0]
-        P = np.insert(P, idx + 1, new[idx], axis=0)
-    return P
+        new = Q[rows, worst][bad]
+        new[:, 2] = zt[rows, worst][bad]
+        at = idx[bad]
+        P = np.insert(P, at + 1, new, axis=0)
+        pid = np.insert(pid, at + 1, pid[at])
+        todo = np.insert(todo, at + 1, True)          # both halves are checked next
+    counts = np.bincount(pid, minlength=len(Ps))
+    return np.split(P, np.cumsum(counts)[:-1])
 
 
-def sample_pass(sampler: Sampler, u: np.ndarray, W: np.ndarray, s: ZigzagSettings,
-                r: float) -> np.ndarray | None:
-    """Tolerance-driven CL points (rows u, w, z in the pass frame) along one pass."""
-    inside = in_region(sampler, s.region, u, W)
-    if inside.sum() < 2:
-        return None
-    u, W = u[inside], W[inside]
-    Z, _ = sampler.z_safe(u, W)
-    if not np.all(np.isfinite(Z)):
-        ok = np.isfinite(Z)
-        u, W, Z = u[ok], W[ok], Z[ok]
-        if len(u) < 2:
-            return None
+def sample_passes(sampler: Sampler, runs: list[tuple[np.ndarray, np.ndarray]],
+                  s: ZigzagSettings, r: float) -> list[np.ndarray | None]:
+    """:func:`sample_pass` of every ``(u, W)`` run, with one drop-cutter batch per step
+    for all of them."""
+    runs = [(u[m], W[m]) for u, W in runs
+            for m in [in_region(sampler, s.region, u, W)]]
+    keep = [i for i, (u, _) in enumerate(runs) if len(u) >= 2]
+    out: list[np.ndarray | None] = [None] * len(runs)
+    if not keep:
+        return out
+    Us = np.concatenate([runs[i][0] for i in keep])
+    Ws = np.concatenate([runs[i][1] for i in keep])
+    Zs, _ = sampler.z_safe(Us, Ws)
+    ends = np.cumsum([len(runs[i][0]) for i in keep])
     tol_g = s.tolerance
     tol_m = s.material_tolerance if s.material_tolerance is not None else s.tolerance
     max_step = s.max_step or 2.0 * sampler.cutter.radius
-    # CL arc length and the feed step from the curvature along the pass
+    samples, owners = [], []
+    for i, u, W, Z in zip(keep, np.split(Us, ends[:-1]), np.split(Ws, ends[:-1]),
+                          np.split(Zs, ends[:-1])):
+        uw = _arc_samples(u, W, Z, r, min(tol_g, tol_m), max_step)
+        if uw is not None:
+            samples.append(uw)
+            owners.append(i)
+    if not samples:
+        return out
+    allp = np.concatenate(samples)
+    z, _ = sampler.z_safe(allp[:, 0], allp[:, 1])
+    Ps = np.split(np.column_stack([allp, z]), np.cumsum([len(q) for q in samples])[:-1])
+    min_len = 1e-3 * max(r, 1e-3)
+    Ps = refine_chords_many(sampler, Ps, tol_g, tol_m, min_len)
+    Ps = [merge_collinear(P, 0.2 * min(tol_g, tol_m)) for P in Ps]
+    Ps = refine_chords_many(sampler, Ps, tol_g, tol_m, min_len)
+    for i, P in zip(owners, Ps):
+        out[i] = P
+    return out
+
+
+def _arc_samples(u: np.ndarray, W: np.ndarray, Z: np.ndarray, r: float, tol: float,
+                 max_step: float) -> np.ndarray | None:
+    """(u, w) rows sampled by constant CL arc length along one pass (see
+    :func:`sample_pass`), from its stations' tip Z; None if under two stations."""
+    ok = np.isfinite(Z)
+    if not ok.all():
+        u, W, Z = u[ok], W[ok], Z[ok]
+    if len(u) < 2:
+        return None
     seg = np.sqrt(np.diff(u) ** 2 + np.diff(W) ** 2 + np.diff(Z) ** 2)
     if len(u) >= 3:
         sxy = np.concatenate([[0.0], np.cumsum(np.hypot(np.diff(u), np.diff(W)))])
@@ -351,26 +408,40 @@ def sample_pass(sampler: Sampler, u: np.ndarray, W: np.ndarray, s: ZigzagSetting
         d2 = np.gradient(d1, sxy)
         with np.errstate(divide="ignore", invalid="ignore"):
             rho_cl = np.where(np.abs(d2) < 1e-12, np.inf, -(1.0 + d1 * d1) ** 1.5 / d2)
-        delta = feed_step(r, rho_cl - r, min(tol_g, tol_m), max_step)
+        delta = feed_step(r, rho_cl - r, tol, max_step)
         delta = _runmin(np.maximum(delta, ds.min() * 0.5), 1)
     else:
         delta = np.full(len(u), max_step)
-    # constant arc length sampling: sample count grows as the integral of ds / delta
     N = np.concatenate([[0.0], np.cumsum(seg / np.minimum(delta[1:], delta[:-1]))])
     k = max(1, int(math.ceil(N[-1])))
     Ns = np.linspace(0.0, N[-1], k + 1)
-    # the stations too: w(u) is piecewise linear between them (variable side step), and
-    # a chord across a kink would leave the next pass's scallop wider than planned
-    # (on a flat the Z check cannot see it); merge_collinear drops the collinear ones
     us = np.union1d(np.interp(Ns, N, u), u)
-    ws = np.interp(us, u, W)
-    zs, _ = sampler.z_safe(us, ws)
-    P = np.stack([us, ws, zs], axis=1)
-    min_len = 1e-3 * max(r, 1e-3)
-    P = refine_chords(sampler, P, tol_g, tol_m, min_len)
-    P = merge_collinear(P, 0.2 * min(tol_g, tol_m))
-    P = refine_chords(sampler, P, tol_g, tol_m, min_len)
-    return P
+    return np.column_stack([us, np.interp(us, u, W)])
+
+
+def sample_pass(sampler: Sampler, u: np.ndarray, W: np.ndarray, s: ZigzagSettings,
+                r: float) -> np.ndarray | None:
+    """Tolerance-driven CL points (rows u, w, z in the pass frame) along one pass: the
+    stations inside the region, sampled by constant CL arc length with the feed step
+    from the chord tolerance and the curvature along the pass (:func:`.steps.feed_step`),
+    the stations kept too (``w(u)`` is piecewise linear between them, and a chord across
+    a kink would leave the next pass's scallop wider than planned; collinear ones are
+    merged), every chord verified (:func:`refine_chords`)."""
+    return sample_passes(sampler, [(u, W)], s, r)[0]
+
+
+def beside_part(sampler: Sampler, P: np.ndarray, touch: np.ndarray | None = None
+                ) -> list[np.ndarray]:
+    """The runs of ``P`` (rows u, w, z) where the cutter touches the part (at least two
+    points each). The chord verification (:func:`refine_chords`) has already put points
+    down the cliff where the drop-cutter falls to ``z_floor`` beside the part, so a run
+    ends within the minimum segment length of the tool's last contact."""
+    if touch is None:
+        touch = sampler.touches(P[:, 0], P[:, 1])
+    if touch.all():
+        return [P]
+    cut = np.nonzero(np.diff(touch.astype(np.int8)))[0] + 1
+    return [Q for Q, t in zip(np.split(P, cut), np.split(touch, cut)) if t[0] and len(Q) > 1]
 
 
 def zigzag(sampler: Sampler, design, s: ZigzagSettings) -> ZigzagResult:
@@ -381,6 +452,8 @@ def zigzag(sampler: Sampler, design, s: ZigzagSettings) -> ZigzagResult:
     u, lines, steps = pass_lines(sampler, design, s)
     wmax = lines[-1]
     passes: list[Pass] = []
+    runs: list[tuple[np.ndarray, np.ndarray]] = []
+    line_of: list[int] = []
     for k, W in enumerate(lines):
         # a station already on the last line was finished by the pass before
         active = (lines[0] < wmax - 1e-9) if k == 0 else lines[k - 1] < wmax - 1e-9
@@ -391,17 +464,32 @@ def zigzag(sampler: Sampler, design, s: ZigzagSettings) -> ZigzagResult:
             for _ in range(2):
                 want = want | np.roll(want, 1) | np.roll(want, -1)
             active &= want
-        pieces = []
         for run in np.split(np.arange(len(u)), np.nonzero(np.diff(active.astype(int)))[0] + 1):
             if not active[run[0]] or len(run) < 2:
                 continue
-            P = sample_pass(sampler, u[run], W[run], s, r)
-            if P is not None:
-                pieces.append(P)
+            runs.append((u[run], W[run]))
+            line_of.append(k)
+    sampled = sample_passes(sampler, runs, s, r)
+    by_line: dict[int, list[np.ndarray]] = {}
+    for k, P in zip(line_of, sampled):
+        if P is not None:
+            by_line.setdefault(k, []).append(P)
+    out: list[np.ndarray] = []
+    for k in sorted(by_line):
+        pieces = by_line[k]
         if k % 2 == 1:
             pieces = [P[::-1] for P in pieces[::-1]]
-        for P in pieces:
-            _, lifted = sampler.z_safe(P[:, 0], P[:, 1])
-            xy = sampler.xy(P[:, 0], P[:, 1])
-            passes.append(Pass(np.column_stack([xy, P[:, 2]]), lifted))
+        out.extend(pieces)
+    if out and s.silhouette:
+        allp = np.concatenate(out)
+        touch = np.split(sampler.touches(allp[:, 0], allp[:, 1]),
+                         np.cumsum([len(P) for P in out])[:-1])
+        out = [Q for P, t in zip(out, touch) for Q in beside_part(sampler, P, t)]
+    if out:
+        allp = np.concatenate(out)
+        _, lifted = sampler.z_safe(allp[:, 0], allp[:, 1])
+        xy = sampler.xy(allp[:, 0], allp[:, 1])
+        cut = np.cumsum([len(P) for P in out])[:-1]
+        for P, xyp, lf in zip(out, np.split(xy, cut), np.split(lifted, cut)):
+            passes.append(Pass(np.column_stack([xyp, P[:, 2]]), lf))
     return ZigzagResult(passes, steps, min(steps) if steps else 0.0, len(lines))

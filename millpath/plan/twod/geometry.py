@@ -11,7 +11,9 @@ from shapely.geometry import Polygon
 
 from millpath.errors import JobError
 from millpath.io.schema import Param
+from millpath.part.cache import PartCache
 from millpath.part.drawing import Region, read_dxf, region_from_polygon, regions_from_loops
+from millpath.model.units import default
 
 GEOMETRY_PARAMS = {
     "dxf": Param("path", None, doc="DXF drawing of the contours"),
@@ -26,11 +28,13 @@ GEOMETRY_PARAMS = {
 
 
 def default_tolerance(units: str) -> float:
-    return 0.0005 if units == "inch" else 0.01
+    return default("drawing_tolerance", units)
 
 
-def load_regions(params: dict, units: str, file=None) -> list[Region]:
-    """The regions (outer contour with islands) the operation's keys describe."""
+def load_regions(params: dict, units: str, file=None,
+                 parts: PartCache | None = None) -> list[Region]:
+    """The regions (outer contour with islands) the operation's keys describe; a
+    drawing is read once per ``parts`` cache (the job's)."""
     tol = params["tolerance"] or default_tolerance(units)
     if (params["dxf"] is None) == (params["polygon"] is None):
         raise JobError("give exactly one of dxf (a drawing) or polygon (points)", file)
@@ -38,9 +42,14 @@ def load_regions(params: dict, units: str, file=None) -> list[Region]:
         if params["islands"] is not None:
             raise JobError("islands: not used with dxf (islands are the drawing's inner "
                            "contours)", file)
-        loops = read_dxf(params["dxf"], units, tol, layer=params["layer"],
-                         join_tolerance=params["join_tolerance"])
-        return regions_from_loops(loops, params["dxf"])
+        def load() -> list[Region]:
+            loops = read_dxf(params["dxf"], units, tol, layer=params["layer"],
+                             join_tolerance=params["join_tolerance"])
+            return regions_from_loops(loops, params["dxf"])
+        if parts is None:
+            return load()
+        key = (params["dxf"], units, tol, params["layer"], params["join_tolerance"])
+        return list(parts.get("drawing", key, load))
     islands = params["islands"] or []
     for k, q in enumerate(islands):
         if (not isinstance(q, list) or len(q) < 3

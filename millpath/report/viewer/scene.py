@@ -25,11 +25,12 @@ from millpath.report.viewer.motionpack import (ViewOperation, operations_from_pr
 from millpath.report.viewer.page import b64, render_page
 from millpath.report.viewer.stocksurface import display_surface
 from millpath.report.viewer.toolshape import tool_shape
+from millpath.model.units import default
 
 
 def default_tolerance(units: str) -> float:
     """Deviation shown as neutral by default: 0.01 mm, or 0.0005 inch."""
-    return 0.0005 if units == "inch" else 0.01
+    return default("drawing_tolerance", units)
 
 
 def _le(a: np.ndarray, dtype: str) -> str:
@@ -77,6 +78,8 @@ def scene_data(*, program: str, motions: list[Motion], tools: dict[int, Tool], s
         "program_name": program_name,
         "units": units,
         "stock": [float(v) for v in stock.box],
+        # a bar: [cx, cy, radius] of its circle (drawn instead of the box), else None
+        "stock_cylinder": None if stock.cylinder is None else [float(v) for v in stock.cylinder],
         "tolerance": float(tolerance if tolerance is not None else default_tolerance(units)),
         "verification": sim.to_json() if sim is not None else None,
         "operations": [{"name": o.name, "tool": o.tool, "first_line": o.first_line}

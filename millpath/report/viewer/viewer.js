@@ -198,10 +198,15 @@ const opMoveCount = new Int32Array(ops.length);
 
 mark('toolpath');
 // ---- stock: box, simulated surface, design overlay, markers -----------------------------
+// a bar (D.stock_cylinder = [cx, cy, r]) is drawn as its two end circles, else the box
+const SC = D.stock_cylinder;
 const stockBox = new THREE.LineSegments(
-  new THREE.EdgesGeometry(new THREE.BoxGeometry(sx1 - sx0, sy1 - sy0, sz1 - sz0)),
+  SC ? new THREE.EdgesGeometry(new THREE.CylinderGeometry(SC[2], SC[2], sz1 - sz0, 96), 10)
+    : new THREE.EdgesGeometry(new THREE.BoxGeometry(sx1 - sx0, sy1 - sy0, sz1 - sz0)),
   new THREE.LineBasicMaterial({ color: srgb('#3c4047') }));
-stockBox.position.set((sx0 + sx1) / 2, (sy0 + sy1) / 2, (sz0 + sz1) / 2);
+if (SC) stockBox.rotation.x = Math.PI / 2;        // three.js cylinders run along Y
+stockBox.position.set(SC ? SC[0] : (sx0 + sx1) / 2, SC ? SC[1] : (sy0 + sy1) / 2,
+  (sz0 + sz1) / 2);
 scene.add(stockBox);
 
 const S = D.surface;

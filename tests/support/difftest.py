@@ -1,5 +1,5 @@
 """Differential testing against LinuxCNC's rs274: same motion, or an error on the same
-block.
+block (test support: used by tests/ and bench/conformance.py).
 
 Motion is compared move by move: same kinds (our ``cubic`` is rs274's ``nurbs``, whose
 end point rs274 does not print), every end point and arc center within ``tol`` program

@@ -1,0 +1,98 @@
+"""One vocabulary (issue 23.2): every renamed key's old name is still accepted, with a
+one-line deprecation warning naming the new key, and gives the same validated value as
+the new name; giving both names is an error naming both."""
+
+from __future__ import annotations
+
+import warnings
+
+import pytest
+
+from millpath.errors import JobError, MillpathWarning
+from millpath.job.jobfile import job_from_dict
+from millpath.job.vocabulary import RENAMED
+from millpath.plan.registry import STRATEGIES, strategy
+
+#: the smallest valid operation of each renamed type (without the renamed key)
+BASE = {
+    "die-cavity": {"tool": 1, "points": [[0, 0], [40, 0], [40, 30], [0, 30]], "depth": 5.0,
+                   "stepdown": 2.5, "tolerance": 0.01, "feed": 600.0},
+    "features": {"step": "part.stp"},
+    "grid-pocket": {"tool": 1, "polygon": [[0, 0], [40, 0], [40, 30], [0, 30]],
+                    "bottom": {"bezier": [[-5, -5], [-5, -5]]}, "feed": 600.0,
+                    "spindle": 8000.0},
+    "pocket": {"tool": 1, "polygon": [[0, 0], [40, 0], [40, 30], [0, 30]], "depth": 5.0,
+               "stepdown": 2.5, "feed": 600.0},
+    "surface-rough": {"tool": 1, "surface": "part.stl"},
+}
+#: a value each renamed key accepts
+VALUE = {"stepdown": 1.25, "stepover": 2.5, "allowance": 0.3}
+
+
+def _job(op: dict) -> dict:
+    return {"units": "mm", "stock": {"box": [0, 0, -10, 40, 30, 0]},
+            "tools": [{"number": 1, "type": "flat", "diameter": 6.0}], "operations": [op]}
+
+
+def _cases():
+    for op_type, table in sorted(RENAMED.items()):
+        for old, new in table.items():
+            yield op_type, old, new
+
+
+def test_renamed_keys_are_new_names_of_existing_keys():
+    for op_type, old, new in _cases():
+        assert op_type in STRATEGIES
+        params = strategy(op_type).PARAMS
+        assert new in params and old not in params, (op_type, old, new)
+
+
+@pytest.mark.parametrize("op_type,old,new", list(_cases()))
+def test_old_name_maps_to_the_new_one_and_warns(op_type, old, new, tmp_path):
+    body = {k: v for k, v in BASE[op_type].items() if k != new}
+    op = {"type": op_type, **body, old: VALUE[new]}
+    with warnings.catch_warnings(record=True) as got:
+        warnings.simplefilter("always")
+        job = job_from_dict(_job(op), tmp_path / "job.toml")
+    mine = [str(w.message) for w in got if issubclass(w.category, MillpathWarning)]
+    assert mine == [f"{tmp_path / 'job.toml'}: [operation 1] '{old}' is deprecated; "
+                    f"use '{new}'"]
+    op_type_got, params = job.operations[0]
+    assert op_type_got == op_type and params[new] == VALUE[new] and old not in params
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", MillpathWarning)      # the new name: no warning
+        job2 = job_from_dict(_job({"type": op_type, **body, new: VALUE[new]}),
+                             tmp_path / "job.toml")
+    assert job2.operations[0][1] == params
+
+
+@pytest.mark.parametrize("op_type,old,new", list(_cases()))
+def test_both_names_is_an_error_naming_both(op_type, old, new, tmp_path):
+    body = {k: v for k, v in BASE[op_type].items() if k != new}
+    op = {"type": op_type, **body, old: VALUE[new], new: VALUE[new]}
+    with pytest.raises(JobError) as e:
+        job_from_dict(_job(op), tmp_path / "job.toml")
+    assert f"'{old}'" in e.value.message and f"'{new}'" in e.value.message
+    assert e.value.message.startswith("operations[0]:")
+
+
+def test_warning_is_one_line_on_the_command_line(tmp_path):
+    import subprocess
+    import sys
+    job = tmp_path / "job.toml"
+    job.write_text('units = "mm"\n[stock]\nbox = [0, 0, -10, 40, 30, 0]\n[[tools]]\n'
+                   'number = 1\ntype = "flat"\ndiameter = 6\n[[operations]]\n'
+                   'type = "die-cavity"\ntool = 1\npoints = [[0, 0], [40, 0], [40, 30], '
+                   '[0, 30]]\ndepth = 5\nstep_down = 6\ntolerance = 0.01\nfeed = 600\n'
+                   'spindle = 8000\n[[operations]]\ntype = "die-cavity"\ntool = 1\n'
+                   'points = [[0, 0], [40, 0], [40, 30], [0, 30]]\ndepth = 5\n'
+                   'stepdown = 6\nstep_down = 6\ntolerance = 0.01\nfeed = 600\n')
+    p = subprocess.run([sys.executable, "-m", "millpath.cli.main", "run", str(job), "-o", str(tmp_path / "out"), "--quiet"],
+                       capture_output=True, text=True, timeout=120)
+    lines = p.stderr.strip().splitlines()
+    assert p.returncode == 1 and not (tmp_path / "out").exists()
+    assert lines == [f"millpath: warning: {job}: [operation 1] 'step_down' is deprecated; "
+                     f"use 'stepdown'",
+                     f"millpath: error: {job}: operations[1]: 'step_down' and 'stepdown' "
+                     f"are the same key ('step_down' is the deprecated name); give only "
+                     f"'stepdown'"]
