@@ -217,3 +217,12 @@ def core_segment_dist2(px, py, pz, qx, qy, qz, flat_core, Q1, Q2):
                                      Q1[1, 0], Q1[1, 1], Q1[1, 2])
     return min(segment_triangle_dist2(px, py, pz, qx, qy, qz, Q1),
                segment_triangle_dist2(px, py, pz, qx, qy, qz, Q2))
+
+
+@njit(cache=True)
+def core_point_dist2(px, py, pz, flat_core, Q1, Q2):
+    """Squared distance between a point and a core from :func:`ball_core`."""
+    if not flat_core:
+        return segment_segment_dist2(px, py, pz, px, py, pz, Q1[0, 0], Q1[0, 1], Q1[0, 2],
+                                     Q1[1, 0], Q1[1, 1], Q1[1, 2])
+    return min(point_triangle_dist2(px, py, pz, Q1), point_triangle_dist2(px, py, pz, Q2))

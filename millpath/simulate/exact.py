@@ -22,9 +22,10 @@ from millpath.geometry.index import BoxIndex
 from millpath.model.motion import Motion
 from millpath.model.stock import Stock
 from millpath.model.tool import Tool
-from millpath.simulate.gouge import ToolShapes, gouge_chords, locate
-from millpath.simulate.leftover import material_left, sample_triangles
-from millpath.simulate.path import motion_segments
+from millpath.simulate.gouge import ToolShapes, gouge_chords, locate, near_chords
+from millpath.simulate.leftover import (chord_index, medial_cap, ray_caps, sample_triangles,
+                                        shorten_rays)
+from millpath.simulate.path import is_curve, motion_segments
 
 
 @dataclass
@@ -93,73 +94,174 @@ class ExactResult:
     chords: int = 0
 
 
+MOTION_BLOCK = 100_000      # motions turned into chords at a time (bounds memory)
+COARSE = 20.0               # coarse chords of curves: within COARSE * accuracy
+
+
+@dataclass
+class _Chords:
+    """The cutting chords of one block of motions: start, end, motion number (in the
+    whole program), tool slot, operation."""
+
+    S: np.ndarray
+    E: np.ndarray
+    motion: np.ndarray
+    slot: np.ndarray
+    op: np.ndarray
+
+
+def _chords(motions: list[Motion], first: int, mop: np.ndarray, lut: np.ndarray,
+            chord: float, numbers: np.ndarray | None = None) -> _Chords:
+    """Chords within ``chord`` of ``motions`` (tool 0 left out); their motion numbers
+    are ``first + k``, or ``numbers[k]``."""
+    segs = motion_segments(motions, chord)
+    keep = segs.tool != 0
+    mo = segs.motion[keep] + first if numbers is None else numbers[segs.motion[keep]]
+    return _Chords(np.ascontiguousarray(segs.start[keep], float),
+                   np.ascontiguousarray(segs.end[keep], float), mo,
+                   lut[segs.tool[keep]] if keep.any() else np.zeros(0, np.int64),
+                   mop[mo] if len(mo) else np.zeros(0, np.int64))
+
+
+def _blocks(motions: list[Motion], mop: np.ndarray, lut: np.ndarray, chord: float,
+            block: int):
+    """(first motion, chords) of ``motions``, ``block`` motions at a time, the last
+    block first (later operations, usually finishing, leave the least material: rays
+    they shorten first are cheaper for all the others)."""
+    for a in reversed(range(0, len(motions), block)):
+        yield a, _chords(motions[a:a + block], a, mop, lut, chord)
+
+
+def _take(ch: _Chords, keep: np.ndarray) -> _Chords:
+    return _Chords(ch.S[keep], ch.E[keep], ch.motion[keep], ch.slot[keep], ch.op[keep])
+
+
+@dataclass
+class _LeftState:
+    """Material-left rays of one reference, carried from block to block."""
+
+    pts: np.ndarray
+    nrm: np.ndarray
+    own: np.ndarray
+    cap: np.ndarray          # ray length before the stock box / the design
+    near: np.ndarray         # ray length of the first pass (at most ``cap``)
+    out: np.ndarray          # material left so far
+    who: np.ndarray          # motion that bounds it (-1: the box or the design)
+
+
 def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
                  references: list[Reference], *, motion_op: np.ndarray | None = None,
-                 accuracy: float = 0.001, spacing: float | None = None) -> ExactResult:
+                 accuracy: float = 0.001, spacing: float | None = None,
+                 block: int = MOTION_BLOCK) -> ExactResult:
     """Gouge and material left of ``motions`` against ``references`` (see the module
     doc). ``motion_op`` gives each motion's operation (default all 0). Material left is
     measured up to twice the largest tool diameter (more is reported as that). ``spacing`` is
     the distance between material-left sample points (default a quarter of the
-    smallest tool radius)."""
+    smallest tool radius). Chords are made ``block`` motions at a time, so memory does
+    not grow with the program's length."""
     nm = len(motions)
     mop = np.zeros(nm, np.int64) if motion_op is None else np.asarray(motion_op, np.int64)
-    segs = motion_segments(motions, accuracy / 4.0)
-    keep = segs.tool != 0
-    S, E, smo, stool = segs.start[keep], segs.end[keep], segs.motion[keep], segs.tool[keep]
-    numbers = sorted({int(t) for t in np.unique(stool)})
+    numbers = sorted({int(m.tool) for m in motions if m.tool != 0 and m.kind != "dwell"})
     missing = [t for t in numbers if t not in tools]
     if missing:
         raise ValueError(f"tool {missing[0]} is not defined: give its shape")
     lut = np.zeros(max(numbers, default=0) + 1, np.int64)
     for s, t in enumerate(numbers):
         lut[t] = s
-    slot = lut[stool] if len(stool) else np.zeros(0, np.int64)
     shapes = ToolShapes.of([tools[t] for t in numbers])
     if spacing is None:
         rmin = min((tools[t].radius for t in numbers), default=1.0)
         spacing = max(rmin / 4.0, accuracy * 10)
-    cop = mop[smo] if len(smo) else np.zeros(0, np.int64)
+    chord = accuracy / 4.0
     motion_g = np.zeros(nm)
     best_g, g_at = 0.0, None
-    best_l, l_at = 0.0, None
-    op_left: dict[int, float] = {}
+    refs = []
     for ref in references:
         tri = np.ascontiguousarray(ref.triangles, float)
-        if not len(tri):
-            continue
-        idx = BoxIndex.build(tri.min(axis=1), tri.max(axis=1))
-        sel = np.ones(len(S), bool) if ref.ops is None else np.isin(cop, ref.ops)
-        cs = np.flatnonzero(sel)
-        res = gouge_chords(S[cs], E[cs], slot[cs], shapes, tri, idx, accuracy)
-        g = np.maximum(res.gouge, 0.0)
-        if len(cs):
-            np.maximum.at(motion_g, smo[cs], g)
-            c = int(np.argmax(g))
-            if g[c] > best_g:
-                best_g = float(g[c])
-                _, X = locate(S[cs], E[cs], slot[cs], shapes, tri, res, c, accuracy)
-                mo = motions[int(smo[cs[c]])]
-                g_at = {"x": float(X[0]), "y": float(X[1]), "z": float(X[2]),
-                        "line": int(mo.line), "operation": int(cop[cs[c]])}
-        # material left on this reference, by all cutting chords
+        if len(tri):
+            refs.append((ref, tri, BoxIndex.build(tri.min(axis=1), tri.max(axis=1))))
+    # material left is measured up to twice the largest tool diameter: beyond that it
+    # is uncut stock, reported as that much
+    reach = float(min(max(stock.size), 2.0 * max([tools[t].diameter for t in numbers]
+                                                 + [0.0])))
+    margin = float(spacing) * 4.0
+    states = []
+    for ref, tri, idx in refs:
         pts, nrm, own = sample_triangles(tri, spacing)
         pts, nrm, own = _thin(pts, nrm, own, spacing)
-        # material left is measured up to twice the largest tool diameter: beyond
-        # that it is uncut stock, reported as that much
-        reach = float(min(max(stock.size), 2.0 * max(tools[t].diameter for t in numbers)))
-        left, who = material_left(pts, nrm, own, stock.box, tri, idx, S, E, slot, shapes,
-                                  accuracy, reach, float(spacing) * 4.0)
-        if len(left):
-            q = int(np.argmax(left))
-            lq = float(left[q]) if left[q] >= accuracy / 2 else 0.0
-            for o in (ref.ops if ref.ops is not None else sorted(set(mop.tolist())) or [0]):
-                op_left[o] = max(op_left.get(o, 0.0), lq)
-            if lq > best_l:
-                best_l = lq
-                c = int(who[q])
-                l_at = {"x": float(pts[q, 0]), "y": float(pts[q, 1]), "z": float(pts[q, 2]),
-                        "line": int(motions[int(smo[c])].line) if c >= 0 else None,
-                        "operation": int(cop[c]) if c >= 0 else None}
+        cap = ray_caps(pts, nrm, own, stock.box, tri, idx, reach)
+        near = np.minimum(cap, margin / 4.0)
+        states.append(_LeftState(pts, nrm, own, cap, near, near.copy(),
+                                 np.full(len(pts), -1, np.int64)))
+    nchords = 0
+    grow = COARSE * accuracy
+    for a, ch in _blocks(motions, mop, lut, chord, block):
+        nchords += len(ch.S)
+        if not len(ch.S):
+            continue
+        cidx = _last_first(ch, shapes)
+        # curves (arcs, helices, cubics): coarse chords within ``grow`` first; the fine
+        # chords of a curve are checked only where a coarse one comes within ``grow`` of
+        # the design
+        curve = np.array([a + i for i, m in enumerate(motions[a:a + block]) if is_curve(m)],
+                         np.int64)
+        coarse = (_chords([motions[i] for i in curve], 0, mop, lut, grow, curve)
+                  if len(curve) else None)
+        for (ref, tri, idx), st in zip(refs, states):
+            sel = np.ones(len(ch.S), bool) if ref.ops is None else np.isin(ch.op, ref.ops)
+            if coarse is not None:
+                csel = (np.ones(len(coarse.S), bool) if ref.ops is None
+                        else np.isin(coarse.op, ref.ops))
+                cc = _take(coarse, csel)
+                near = near_chords(cc.S, cc.E, cc.slot, shapes, tri, idx, accuracy, grow)
+                skip = np.setdiff1d(curve, cc.motion[near])
+                sel &= ~np.isin(ch.motion, skip)
+            cs = np.flatnonzero(sel)
+            if len(cs):
+                res = gouge_chords(ch.S[cs], ch.E[cs], ch.slot[cs], shapes, tri, idx,
+                                   accuracy)
+                g = np.maximum(res.gouge, 0.0)
+                np.maximum.at(motion_g, ch.motion[cs], g)
+                c = int(np.argmax(g))
+                if g[c] > best_g:
+                    best_g = float(g[c])
+                    _, X = locate(ch.S[cs], ch.E[cs], ch.slot[cs], shapes, tri, res, c,
+                                  accuracy)
+                    mo = motions[int(ch.motion[cs[c]])]
+                    g_at = {"x": float(X[0]), "y": float(X[1]), "z": float(X[2]),
+                            "line": int(mo.line), "operation": int(ch.op[cs[c]])}
+            # material left on this reference, by all cutting chords: the rays near
+            # the design first
+            _shorten(st, np.arange(len(st.pts)), ch, cidx, shapes, accuracy)
+    # the full ray only where nothing cut within ``near``: a second pass over the chords
+    far = [np.flatnonzero((st.out >= st.near) & (st.cap > st.near)) for st in states]
+    for st, f in zip(states, far):
+        st.out[f] = st.cap[f]
+    if any(len(f) for f in far):
+        for _, ch in _blocks(motions, mop, lut, chord, block):
+            if not len(ch.S):
+                continue
+            cidx = _last_first(ch, shapes)
+            for st, f in zip(states, far):
+                if len(f):
+                    _shorten(st, f, ch, cidx, shapes, accuracy)
+    best_l, l_at = 0.0, None
+    op_left: dict[int, float] = {}
+    for (ref, tri, idx), st in zip(refs, states):
+        left = medial_cap(st.pts, st.nrm, st.own, tri, idx, margin, st.out)
+        if not len(left):
+            continue
+        q = int(np.argmax(left))
+        lq = float(left[q]) if left[q] >= accuracy / 2 else 0.0
+        for o in (ref.ops if ref.ops is not None else sorted(set(mop.tolist())) or [0]):
+            op_left[o] = max(op_left.get(o, 0.0), lq)
+        if lq > best_l:
+            best_l = lq
+            w = int(st.who[q])
+            l_at = {"x": float(st.pts[q, 0]), "y": float(st.pts[q, 1]),
+                    "z": float(st.pts[q, 2]),
+                    "line": int(motions[w].line) if w >= 0 else None,
+                    "operation": int(mop[w]) if w >= 0 else None}
     gouging = motion_g > accuracy
     op_g: dict[int, float] = {}
     op_n: dict[int, int] = {}
@@ -169,7 +271,29 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
         op_n[o] = int(gouging[m].sum())
     return ExactResult(best_g, best_l, int(gouging.sum()), g_at, l_at, motion_g, op_g, op_n,
                        op_left, [r.name for r in references], accuracy, float(spacing),
-                       int(len(S)))
+                       nchords)
+
+
+def _last_first(ch: _Chords, shapes: ToolShapes):
+    """The chords in reverse order (material-left rays meet the later, finishing
+    chords first) and their bucket index."""
+    S = np.ascontiguousarray(ch.S[::-1])
+    E = np.ascontiguousarray(ch.E[::-1])
+    slot = np.ascontiguousarray(ch.slot[::-1])
+    return S, E, slot, chord_index(S, E, slot, shapes)
+
+
+def _shorten(st: _LeftState, rows: np.ndarray, ch: _Chords, cidx,
+             shapes: ToolShapes, accuracy: float) -> None:
+    """Shorten the material-left rays ``rows`` of ``st`` by the chords ``ch``."""
+    S, E, slot, index = cidx
+    out, who = shorten_rays(st.pts[rows], st.nrm[rows], st.out[rows], S, E, slot, shapes,
+                            index, accuracy)
+    # (the chords were given last first, see ``_last_first``)
+    who = np.where(who >= 0, len(ch.S) - 1 - who, -1)
+    hit = who >= 0
+    st.who[rows[hit]] = ch.motion[who[hit]]
+    st.out[rows] = out
 
 
 def _thin(pts, nrm, own, cell: float):
@@ -179,6 +303,14 @@ def _thin(pts, nrm, own, cell: float):
         return pts, nrm, own
     key = np.concatenate([np.floor(pts / cell).astype(np.int64),
                           np.round(nrm * 4).astype(np.int64)], axis=1)
-    _, first = np.unique(key, axis=0, return_index=True)
+    key -= key.min(axis=0)
+    span = key.max(axis=0) + 1
+    if float(np.prod(span.astype(float))) < 2.0 ** 62:      # one integer per key row
+        flat = np.zeros(len(key), np.int64)
+        for a in range(key.shape[1]):
+            flat = flat * span[a] + key[:, a]
+        _, first = np.unique(flat, return_index=True)
+    else:
+        _, first = np.unique(key, axis=0, return_index=True)
     first.sort()
     return pts[first], nrm[first], own[first]

@@ -23,7 +23,7 @@ from numba import njit, prange
 
 from millpath.geometry.convex import (BALL, BULL, CYL, DRILL, FLAT, depth, meets, shape_rings,
                                       support_swept)
-from millpath.geometry.distance import ball_core, core_triangle_dist2
+from millpath.geometry.distance import ball_core, core_point_dist2, core_triangle_dist2
 from millpath.geometry.index import BoxIndex, bucket_range, first_bucket
 from millpath.model.tool import Tool
 
@@ -68,8 +68,64 @@ class ToolShapes:
         return self.kind, self.R, self.rc, self.k, self.zb, self.L, self.n
 
 
+@njit(cache=True)
+def underside(P0, P1, kind, R, rc, k, zb, box, grow):
+    """A height below every point of the tool (grown by ``grow``) swept along P0 -> P1
+    over the XY rectangle ``box`` (x0, y0, x1, y1) (+inf when the tool cannot reach
+    it): the lowest tip height plus the cutter's profile at a lower bound of the
+    horizontal distance between the chord and the rectangle."""
+    cx = 0.5 * (box[0] + box[2])
+    cy = 0.5 * (box[1] + box[3])
+    half = 0.5 * math.sqrt((box[2] - box[0]) ** 2 + (box[3] - box[1]) ** 2) * (1 + 1e-12)
+    dx = P1[0] - P0[0]
+    dy = P1[1] - P0[1]
+    ll = dx * dx + dy * dy
+    u = 0.0
+    if ll > 0.0:
+        u = min(max(((cx - P0[0]) * dx + (cy - P0[1]) * dy) / ll, 0.0), 1.0)
+    ex = P0[0] + u * dx - cx
+    ey = P0[1] + u * dy - cy
+    h = math.sqrt(ex * ex + ey * ey) - half - grow
+    z = min(P0[2], P1[2]) - grow
+    if h > R:
+        return np.inf
+    if h <= 0.0:
+        return z + (zb if kind == CYL else 0.0)
+    if kind == BALL:
+        return z + R - math.sqrt(R * R - h * h)
+    if kind == BULL and h > R - rc:
+        w = h - (R - rc)
+        return z + rc - math.sqrt(max(rc * rc - w * w, 0.0))
+    if kind == DRILL:
+        return z + min(h * k, k * R)
+    if kind == CYL:
+        return z + zb
+    return z
+
+
+def bucket_bounds(index: BoxIndex) -> np.ndarray:
+    """(nbuckets, 5): the XY box holding every item listed in each bucket (x0, y0, x1,
+    y1) and their highest point (empty buckets: -inf). A bucket whose items all lie
+    below a tool over that box can be passed over whole (items spread over several
+    buckets are taken in their first one only)."""
+    nb = len(index.start) - 1
+    out = np.zeros((nb, 5))
+    out[:, 4] = -np.inf
+    if len(index.items):
+        it = index.items
+        cnt = np.diff(index.start)
+        full = np.flatnonzero(cnt > 0)
+        st = index.start[full]
+        out[full, 0] = np.minimum.reduceat(index.lo[it, 0], st)
+        out[full, 1] = np.minimum.reduceat(index.lo[it, 1], st)
+        out[full, 2] = np.maximum.reduceat(index.hi[it, 0], st)
+        out[full, 3] = np.maximum.reduceat(index.hi[it, 1], st)
+        out[full, 4] = np.maximum.reduceat(index.hi[it, 2], st)
+    return out
+
+
 @njit(cache=True, parallel=True)
-def _gouge_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn,
+def _gouge_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, tc, tr, bzmax,
                   tlo, thi, start, items, bi0, bj0, x0, y0, bs, nbx, nby,
                   e0, tol, out_g, out_t, out_s):
     n = S.shape[0]
@@ -105,6 +161,9 @@ def _gouge_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn,
             for bj in range(ja, jb + 1):
                 for bi in range(ia, ib + 1):
                     b = bj * nbx + bi
+                    if bzmax[b, 4] < underside(P0, P1, kind[s, j], Rj, rc[s, j], k[s, j],
+                                               zb[s, j], bzmax[b], 0.0):
+                        continue
                     for p in range(start[b], start[b + 1]):
                         t = items[p]
                         if not first_bucket(bi, bj, bi0[t], bj0[t], ia, ja):
@@ -112,6 +171,14 @@ def _gouge_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn,
                         if (thi[t, 0] < qx0 or tlo[t, 0] > qx1 or thi[t, 1] < qy0
                                 or tlo[t, 1] > qy1 or thi[t, 2] < qz0 or tlo[t, 2] > qz1):
                             continue
+                        lo = e0 if e0 > best else best
+                        if is_ball:
+                            # a bound first: the core is at least (distance from the
+                            # triangle's centre) - (its radius) from the triangle
+                            far = Rj - lo + tr[t]
+                            if core_point_dist2(tc[t, 0], tc[t, 1], tc[t, 2], flat_core,
+                                                Q1, Q2) > far * far:
+                                continue
                         # the plane of t must cut the solid's C_e0, else no point of t
                         # can be e0 deep in it (one support point each way)
                         nx, ny, nz = tn[t, 0], tn[t, 1], tn[t, 2]
@@ -122,7 +189,6 @@ def _gouge_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn,
                         support_swept(P0, P1, nr0, rr, rh, rho0, -nx, -ny, -nz, sp)
                         if sp[0] * nx + sp[1] * ny + sp[2] * nz > pd:
                             continue
-                        lo = e0 if e0 > best else best
                         if is_ball:     # exact: R - distance to the swept core
                             d2 = core_triangle_dist2(tri[t], flat_core, Q1, Q2)
                             d = Rj - math.sqrt(d2)
@@ -138,6 +204,67 @@ def _gouge_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn,
         out_g[c] = best
         out_t[c] = bt
         out_s[c] = bsh
+
+
+@njit(cache=True, parallel=True)
+def _near_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, bzmax, tlo, thi,
+                 start, items, bi0, bj0, x0, y0, bs, nbx, nby, e0, grow, out):
+    """out[c] = 1 when some triangle comes within ``grow`` of the part of chord c's
+    swept tool that is ``e0`` deep (one GJK test per triangle, no bisection)."""
+    n = S.shape[0]
+    for c in prange(n):
+        rr = np.empty(3)
+        rh = np.empty(3)
+        sp = np.empty(3)
+        s = slot[c]
+        P0 = S[c]
+        P1 = E[c]
+        hit = 0
+        for j in range(nshape[s]):
+            if hit:
+                break
+            Rj = R[s, j]
+            nr, rho = shape_rings(kind[s, j], Rj, rc[s, j], k[s, j], zb[s, j], L[s, j], e0,
+                                  rr, rh)
+            if nr == 0:
+                continue
+            g = grow
+            qx0 = min(P0[0], P1[0]) - Rj - g
+            qx1 = max(P0[0], P1[0]) + Rj + g
+            qy0 = min(P0[1], P1[1]) - Rj - g
+            qy1 = max(P0[1], P1[1]) + Rj + g
+            qz0 = min(P0[2], P1[2]) + zb[s, j] - g - 1e-9
+            qz1 = max(P0[2], P1[2]) + L[s, j] + g + 1e-9
+            ia, ib, ja, jb = bucket_range(x0, y0, bs, nbx, nby, qx0, qy0, qx1, qy1)
+            for bj in range(ja, jb + 1):
+                if hit:
+                    break
+                for bi in range(ia, ib + 1):
+                    if hit:
+                        break
+                    b = bj * nbx + bi
+                    if bzmax[b, 4] < underside(P0, P1, kind[s, j], Rj, rc[s, j], k[s, j],
+                                               zb[s, j], bzmax[b], g):
+                        continue
+                    for p in range(start[b], start[b + 1]):
+                        t = items[p]
+                        if not first_bucket(bi, bj, bi0[t], bj0[t], ia, ja):
+                            continue
+                        if (thi[t, 0] < qx0 or tlo[t, 0] > qx1 or thi[t, 1] < qy0
+                                or tlo[t, 1] > qy1 or thi[t, 2] < qz0 or tlo[t, 2] > qz1):
+                            continue
+                        nx, ny, nz = tn[t, 0], tn[t, 1], tn[t, 2]
+                        pd = nx * tri[t, 0, 0] + ny * tri[t, 0, 1] + nz * tri[t, 0, 2]
+                        support_swept(P0, P1, nr, rr, rh, rho + g, nx, ny, nz, sp)
+                        if sp[0] * nx + sp[1] * ny + sp[2] * nz < pd:
+                            continue
+                        support_swept(P0, P1, nr, rr, rh, rho + g, -nx, -ny, -nz, sp)
+                        if sp[0] * nx + sp[1] * ny + sp[2] * nz > pd:
+                            continue
+                        if meets(tri[t], P0, P1, nr, rr, rh, rho, g):
+                            hit = 1
+                            break
+        out[c] = hit
 
 
 @njit(cache=True)
@@ -203,6 +330,13 @@ def _normals(tri: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(n / np.where(ln > 0, ln, 1.0)[:, None])
 
 
+def _spheres(tri: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Centre (centroid) and radius of a sphere holding each triangle."""
+    c = np.ascontiguousarray(tri.mean(axis=1))
+    r = np.sqrt(((tri - c[:, None, :]) ** 2).sum(axis=2).max(axis=1)) * (1 + 1e-12) + 1e-12
+    return c, np.ascontiguousarray(r)
+
+
 def gouge_chords(S: np.ndarray, E: np.ndarray, slot: np.ndarray, shapes: ToolShapes,
                  triangles: np.ndarray, index: BoxIndex, accuracy: float) -> GougeResult:
     """Penetration of the design into each chord's swept tool (see the module doc)."""
@@ -213,8 +347,8 @@ def gouge_chords(S: np.ndarray, E: np.ndarray, slot: np.ndarray, shapes: ToolSha
     if n and len(triangles):
         _gouge_chords(np.ascontiguousarray(S, float), np.ascontiguousarray(E, float),
                       np.ascontiguousarray(slot, np.int64), *shapes.arrays(),
-                      triangles, _normals(triangles), *index.arrays(), accuracy / 2.0,
-                      accuracy * 1e-4, g, t, s)
+                      triangles, _normals(triangles), *_spheres(triangles),
+                      bucket_bounds(index), *index.arrays(), accuracy / 2.0, accuracy * 1e-4, g, t, s)
     return GougeResult(g, t, s)
 
 
@@ -227,3 +361,17 @@ def locate(S, E, slot, shapes: ToolShapes, triangles, res: GougeResult, c: int,
                    float(shapes.rc[s, j]), float(shapes.k[s, j]), float(shapes.zb[s, j]),
                    float(shapes.L[s, j]), float(res.gouge[c]), accuracy / 20.0)
     return P, X
+
+
+def near_chords(S: np.ndarray, E: np.ndarray, slot: np.ndarray, shapes: ToolShapes,
+                triangles: np.ndarray, index: BoxIndex, accuracy: float,
+                grow: float) -> np.ndarray:
+    """Chords that may gouge by ``accuracy / 2`` or more with the tool anywhere within
+    ``grow`` of them (a conservative test: a chord not flagged cannot; a curve cut into
+    chords within ``grow`` of it needs fine chords only where a chord is flagged)."""
+    out = np.zeros(len(S), np.int8)
+    if len(S) and len(triangles):
+        _near_chords(np.ascontiguousarray(S, float), np.ascontiguousarray(E, float),
+                     np.ascontiguousarray(slot, np.int64), *shapes.arrays(), triangles,
+                     _normals(triangles), bucket_bounds(index), *index.arrays(), accuracy / 2.0, float(grow), out)
+    return out.astype(bool)

@@ -17,7 +17,7 @@ import numpy as np
 from numba import njit, prange
 
 from millpath.geometry.convex import BALL, meets, shape_rings
-from millpath.geometry.distance import ball_core, core_segment_dist2
+from millpath.geometry.distance import ball_core, core_segment_dist2, segment_segment_dist2
 from millpath.geometry.index import BoxIndex, bucket_range, first_bucket
 
 
@@ -202,6 +202,12 @@ def _medial(P, N, own, tri, tlo, thi, start, items, bi0, bj0, x0, y0, bs, nbx, n
         out[q] = U
 
 
+@njit(cache=True, inline="always")
+def _xy_seg_dist2(ax, ay, bx, by, cx, cy, dx, dy):
+    """Squared distance between 2D segments a-b and c-d."""
+    return segment_segment_dist2(ax, ay, 0.0, bx, by, 0.0, cx, cy, 0.0, dx, dy, 0.0)
+
+
 @njit(cache=True, parallel=True)
 def _left(P, N, U0, S, E, slot, kind, R, rc, k, zb, L, clo, chi, start, items, bi0, bj0,
           x0, y0, bs, nbx, nby, tol, out, out_c):
@@ -238,6 +244,11 @@ def _left(P, N, U0, S, E, slot, kind, R, rc, k, zb, L, clo, chi, start, items, b
                                 or clo[c, 1] > qy1 or chi[c, 2] < qz0 or clo[c, 2] > qz1):
                             continue
                         s = slot[c]
+                        # the cutter lies within R of its axis: a chord whose XY path
+                        # stays more than R from the ray's XY path cannot reach it
+                        if _xy_seg_dist2(p[0], p[1], ex[0], ex[1], S[c, 0], S[c, 1],
+                                         E[c, 0], E[c, 1]) > R[s, 0] * R[s, 0]:
+                            continue
                         if kind[s, 0] == BALL:      # exact distances to the swept core
                             Rb = R[s, 0]
                             R2 = Rb * Rb
@@ -262,6 +273,14 @@ def _left(P, N, U0, S, E, slot, kind, R, rc, k, zb, L, clo, chi, start, items, b
                                 else:
                                     lo = mid
                             U = hi
+                            for a in range(3):          # the shorter ray: a smaller box
+                                ex[a] = p[a] + n[a] * U
+                            qx0 = min(p[0], ex[0])
+                            qx1 = max(p[0], ex[0])
+                            qy0 = min(p[1], ex[1])
+                            qy1 = max(p[1], ex[1])
+                            qz0 = min(p[2], ex[2])
+                            qz1 = max(p[2], ex[2])
                             continue
                         nr, rho = shape_rings(kind[s, 0], R[s, 0], rc[s, 0], k[s, 0], 0.0,
                                               L[s, 0], 0.0, rr, rh)
@@ -292,34 +311,34 @@ def _left(P, N, U0, S, E, slot, kind, R, rc, k, zb, L, clo, chi, start, items, b
                             else:
                                 lo = mid
                         U = hi
+                        for a in range(3):          # the shorter ray: a smaller box
+                            ex[a] = p[a] + n[a] * U
+                        qx0 = min(p[0], ex[0])
+                        qx1 = max(p[0], ex[0])
+                        qy0 = min(p[1], ex[1])
+                        qy1 = max(p[1], ex[1])
+                        qz0 = min(p[2], ex[2])
+                        qz1 = max(p[2], ex[2])
         out[q] = U
         out_c[q] = who
 
 
-def material_left(points, normals, owner, stock_box, triangles, tri_index: BoxIndex,
-                  S, E, slot, shapes, accuracy: float, reach: float,
-                  margin: float) -> tuple[np.ndarray, np.ndarray]:
-    """Material left along the normal at each point (see the module doc), and the
-    chord that bounds it (-1: the stock box or the design does); ``reach`` caps the
-    figure (a point nothing came near reports at most ``reach``)."""
+def ray_caps(points, normals, owner, stock_box, triangles, tri_index: BoxIndex,
+             reach: float) -> np.ndarray:
+    """Length of each ray before it leaves the stock box or meets another triangle of
+    the design, at most ``reach``."""
     m = len(points)
     U0 = np.zeros(m)
-    out = np.zeros(m)
-    who = np.full(m, -1, np.int64)
-    if m == 0:
-        return out, who
-    P = np.ascontiguousarray(points, float)
-    N = np.ascontiguousarray(normals, float)
-    blo = np.asarray(stock_box[:3], float)
-    bhi = np.asarray(stock_box[3:], float)
-    _caps(P, N, np.ascontiguousarray(owner, np.int64), blo, bhi, triangles,
-          *tri_index.arrays(), float(reach), U0)
-    if len(S) == 0:
-        _medial(P, N, np.ascontiguousarray(owner, np.int64), triangles, *tri_index.arrays(),
-                margin, U0)
-        return U0, who
-    S = np.ascontiguousarray(S, float)
-    E = np.ascontiguousarray(E, float)
+    if m:
+        _caps(np.ascontiguousarray(points, float), np.ascontiguousarray(normals, float),
+              np.ascontiguousarray(owner, np.int64), np.asarray(stock_box[:3], float),
+              np.asarray(stock_box[3:], float), triangles, *tri_index.arrays(),
+              float(reach), U0)
+    return U0
+
+
+def chord_index(S, E, slot, shapes) -> BoxIndex:
+    """Bucket index over the boxes of the cutters swept along chords S -> E."""
     Rc = shapes.R[slot, 0]
     Lc = shapes.L[slot, 0]
     clo = np.minimum(S, E)
@@ -327,25 +346,34 @@ def material_left(points, normals, owner, stock_box, triangles, tri_index: BoxIn
     clo[:, :2] -= Rc[:, None]
     chi[:, :2] += Rc[:, None]
     chi[:, 2] += Lc
-    cidx = BoxIndex.build(clo, chi)
-    slot = np.ascontiguousarray(slot, np.int64)
-    # rays near the design first (few chords near a short ray), then the full length
-    # only where nothing cut within ``near``
-    near = margin / 4.0
-    U1 = np.minimum(U0, near)
-    _left(P, N, U1, S, E, slot, *shapes.arrays()[:6],
-          cidx.lo, cidx.hi, cidx.start, cidx.items, cidx.bi0, cidx.bj0, cidx.x0, cidx.y0,
-          cidx.bs, cidx.nbx, cidx.nby, accuracy / 20.0, out, who)
-    far = np.flatnonzero((out >= U1) & (U0 > U1))
-    if len(far):
-        o2 = np.zeros(len(far))
-        w2 = np.full(len(far), -1, np.int64)
-        _left(np.ascontiguousarray(P[far]), np.ascontiguousarray(N[far]), U0[far], S, E,
-              slot, *shapes.arrays()[:6], cidx.lo, cidx.hi, cidx.start, cidx.items,
-              cidx.bi0, cidx.bj0, cidx.x0, cidx.y0, cidx.bs, cidx.nbx, cidx.nby,
-              accuracy / 20.0, o2, w2)
-        out[far] = o2
-        who[far] = w2
-    _medial(P, N, np.ascontiguousarray(owner, np.int64), triangles, *tri_index.arrays(),
-            margin, out)
+    return BoxIndex.build(clo, chi)
+
+
+def shorten_rays(points, normals, lengths, S, E, slot, shapes, cidx: BoxIndex,
+                 accuracy: float) -> tuple[np.ndarray, np.ndarray]:
+    """Each ray ``points + t normals`` (``0 <= t <= lengths``) cut back to where it first
+    enters a cutter swept along a chord (to ``accuracy / 20``), and that chord (-1:
+    none)."""
+    m = len(points)
+    out = np.zeros(m)
+    who = np.full(m, -1, np.int64)
+    if m == 0 or len(S) == 0:
+        return np.asarray(lengths, float).copy(), who
+    _left(np.ascontiguousarray(points, float), np.ascontiguousarray(normals, float),
+          np.ascontiguousarray(lengths, float), np.ascontiguousarray(S, float),
+          np.ascontiguousarray(E, float), np.ascontiguousarray(slot, np.int64),
+          *shapes.arrays()[:6], cidx.lo, cidx.hi, cidx.start, cidx.items, cidx.bi0,
+          cidx.bj0, cidx.x0, cidx.y0, cidx.bs, cidx.nbx, cidx.nby, accuracy / 20.0, out, who)
     return out, who
+
+
+def medial_cap(points, normals, owner, triangles, tri_index: BoxIndex, margin: float,
+               lengths) -> np.ndarray:
+    """``lengths`` shortened to where another triangle of the design becomes nearer
+    than the design point (see :func:`_medial`)."""
+    out = np.array(lengths, float)
+    if len(out):
+        _medial(np.ascontiguousarray(points, float), np.ascontiguousarray(normals, float),
+                np.ascontiguousarray(owner, np.int64), triangles, *tri_index.arrays(),
+                margin, out)
+    return out
