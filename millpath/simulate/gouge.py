@@ -22,7 +22,7 @@ import numpy as np
 from numba import njit, prange
 
 from millpath.geometry.convex import (BALL, BULL, CYL, DRILL, FLAT, depth, meets, shape_rings,
-                                      support_swept)
+                                      support_swept, underside)
 from millpath.geometry.distance import ball_core, core_point_dist2, core_triangle_dist2
 from millpath.geometry.index import BoxIndex, bucket_range, first_bucket
 from millpath.model.tool import Tool
@@ -66,41 +66,6 @@ class ToolShapes:
 
     def arrays(self):
         return self.kind, self.R, self.rc, self.k, self.zb, self.L, self.n
-
-
-@njit(cache=True)
-def underside(P0, P1, kind, R, rc, k, zb, box, grow):
-    """A height below every point of the tool (grown by ``grow``) swept along P0 -> P1
-    over the XY rectangle ``box`` (x0, y0, x1, y1) (+inf when the tool cannot reach
-    it): the lowest tip height plus the cutter's profile at a lower bound of the
-    horizontal distance between the chord and the rectangle."""
-    cx = 0.5 * (box[0] + box[2])
-    cy = 0.5 * (box[1] + box[3])
-    half = 0.5 * math.sqrt((box[2] - box[0]) ** 2 + (box[3] - box[1]) ** 2) * (1 + 1e-12)
-    dx = P1[0] - P0[0]
-    dy = P1[1] - P0[1]
-    ll = dx * dx + dy * dy
-    u = 0.0
-    if ll > 0.0:
-        u = min(max(((cx - P0[0]) * dx + (cy - P0[1]) * dy) / ll, 0.0), 1.0)
-    ex = P0[0] + u * dx - cx
-    ey = P0[1] + u * dy - cy
-    h = math.sqrt(ex * ex + ey * ey) - half - grow
-    z = min(P0[2], P1[2]) - grow
-    if h > R:
-        return np.inf
-    if h <= 0.0:
-        return z + (zb if kind == CYL else 0.0)
-    if kind == BALL:
-        return z + R - math.sqrt(R * R - h * h)
-    if kind == BULL and h > R - rc:
-        w = h - (R - rc)
-        return z + rc - math.sqrt(max(rc * rc - w * w, 0.0))
-    if kind == DRILL:
-        return z + min(h * k, k * R)
-    if kind == CYL:
-        return z + zb
-    return z
 
 
 def bucket_bounds(index: BoxIndex) -> np.ndarray:

@@ -16,8 +16,9 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from millpath.geometry.convex import BALL, meets, shape_rings
-from millpath.geometry.distance import ball_core, core_segment_dist2, segment_segment_dist2
+from millpath.geometry.convex import BALL, meets, shape_rings, underside
+from millpath.geometry.distance import (ball_core, core_point_dist2, core_segment_dist2,
+                                        segment_segment_dist2)
 from millpath.geometry.index import BoxIndex, bucket_range, first_bucket
 
 
@@ -50,6 +51,9 @@ def sample_triangles(tri: np.ndarray, spacing: float) -> tuple[np.ndarray, np.nd
         z = np.zeros((0, 3))
         return z, z.copy(), np.zeros(0, np.int64)
     return np.vstack(pts), np.vstack(nor), np.concatenate(own)
+
+
+SLACK = 1.0 - 1e-9          # "nearer" in _medial: by more than rounding (relative, squared)
 
 
 @njit(cache=True)
@@ -185,13 +189,16 @@ def _medial(P, N, own, tri, tlo, thi, start, items, bi0, bj0, x0, y0, bs, nbx, n
                     if (thi[t, 0] < qx0 or tlo[t, 0] > qx1 or thi[t, 1] < qy0
                             or tlo[t, 1] > qy1 or thi[t, 2] < qz0 or tlo[t, 2] > qz1):
                         continue
-                    if _tri_dist2(p + n * U, tri[t, 0], tri[t, 1], tri[t, 2]) >= U * U:
+                    # strictly nearer (a neighbour across a convex edge is exactly as
+                    # near as the design point: rounding must not cap the ray there)
+                    if _tri_dist2(p + n * U, tri[t, 0], tri[t, 1], tri[t, 2]) >= U * U * SLACK:
                         continue
                     lo = 0.0
                     hi = U
                     for _ in range(40):
                         mid = 0.5 * (lo + hi)
-                        if _tri_dist2(p + n * mid, tri[t, 0], tri[t, 1], tri[t, 2]) < mid * mid:
+                        if (_tri_dist2(p + n * mid, tri[t, 0], tri[t, 1], tri[t, 2])
+                                < mid * mid * SLACK):
                             hi = mid
                         else:
                             lo = mid
@@ -218,6 +225,7 @@ def _left(P, N, U0, S, E, slot, kind, R, rc, k, zb, L, clo, chi, start, items, b
         T = np.empty((3, 3))
         Q1 = np.empty((3, 3))
         Q2 = np.empty((3, 3))
+        box = np.empty(4)
         p = P[q]
         n = N[q]
         U = U0[q]
@@ -244,6 +252,14 @@ def _left(P, N, U0, S, E, slot, kind, R, rc, k, zb, L, clo, chi, start, items, b
                                 or clo[c, 1] > qy1 or chi[c, 2] < qz0 or clo[c, 2] > qz1):
                             continue
                         s = slot[c]
+                        # the tool's underside over the ray's box is above the ray
+                        box[0] = qx0
+                        box[1] = qy0
+                        box[2] = qx1
+                        box[3] = qy1
+                        if qz1 < underside(S[c], E[c], kind[s, 0], R[s, 0], rc[s, 0], k[s, 0],
+                                           0.0, box, 0.0):
+                            continue
                         # the cutter lies within R of its axis: a chord whose XY path
                         # stays more than R from the ray's XY path cannot reach it
                         if _xy_seg_dist2(p[0], p[1], ex[0], ex[1], S[c, 0], S[c, 1],
@@ -264,6 +280,26 @@ def _left(P, N, U0, S, E, slot, kind, R, rc, k, zb, L, clo, chi, start, items, b
                                 break
                             lo = 0.0
                             hi = U
+                            # safe steps first (the distance to the core changes no
+                            # faster than t): a ray meeting the ball head-on ends in one
+                            t = 0.0
+                            for _ in range(8):
+                                dd = math.sqrt(core_point_dist2(p[0] + n[0] * t,
+                                                                p[1] + n[1] * t,
+                                                                p[2] + n[2] * t, fc, Q1,
+                                                                Q2)) - Rb
+                                if dd <= tol:
+                                    break
+                                t += dd
+                                if t >= hi:
+                                    break
+                            if t < hi:
+                                lo = t
+                                mid = min(t + tol, hi)
+                                if core_segment_dist2(p[0], p[1], p[2], p[0] + n[0] * mid,
+                                                      p[1] + n[1] * mid, p[2] + n[2] * mid,
+                                                      fc, Q1, Q2) <= R2:
+                                    hi = mid
                             while hi - lo > tol:
                                 mid = 0.5 * (lo + hi)
                                 if core_segment_dist2(p[0], p[1], p[2], p[0] + n[0] * mid,
