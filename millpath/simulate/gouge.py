@@ -23,7 +23,8 @@ from numba import njit, prange
 
 from millpath.geometry.convex import (BALL, BULL, CYL, DRILL, FLAT, depth, meets, shape_rings,
                                       support_swept, underside)
-from millpath.geometry.distance import ball_core, core_point_dist2, core_triangle_dist2
+from millpath.geometry.distance import (ball_core, core_point_dist2, core_triangle_dist2,
+                                        point_triangle_dist2)
 from millpath.geometry.index import BoxIndex, bucket_range, first_bucket
 from millpath.model.tool import Tool
 
@@ -89,10 +90,53 @@ def bucket_bounds(index: BoxIndex) -> np.ndarray:
     return out
 
 
+@njit(cache=True)
+def in_triangle(T, q):
+    """True when point ``q`` (in the plane of ``T``) lies in triangle ``T``."""
+    e1 = T[1] - T[0]
+    e2 = T[2] - T[0]
+    w = q - T[0]
+    d11 = np.dot(e1, e1)
+    d12 = np.dot(e1, e2)
+    d22 = np.dot(e2, e2)
+    den = d11 * d22 - d12 * d12
+    if den <= 0.0:
+        return False
+    w1 = np.dot(w, e1)
+    w2 = np.dot(w, e2)
+    u = (d22 * w1 - d12 * w2) / den
+    v = (d11 * w2 - d12 * w1) / den
+    eps = 1e-9
+    return u >= -eps and v >= -eps and u + v <= 1.0 + eps
+
+
+@njit(cache=True)
+def surface_dist2(X, r, tri, tlo, thi, start, items, bi0, bj0, x0, y0, bs, nbx, nby):
+    """Squared distance from point X to the nearest triangle, at most ``r**2``."""
+    best = r * r
+    ia, ib, ja, jb = bucket_range(x0, y0, bs, nbx, nby, X[0] - r, X[1] - r, X[0] + r,
+                                  X[1] + r)
+    for bj in range(ja, jb + 1):
+        for bi in range(ia, ib + 1):
+            b = bj * nbx + bi
+            for p in range(start[b], start[b + 1]):
+                t = items[p]
+                if not first_bucket(bi, bj, bi0[t], bj0[t], ia, ja):
+                    continue
+                if (thi[t, 0] < X[0] - r or tlo[t, 0] > X[0] + r or thi[t, 1] < X[1] - r
+                        or tlo[t, 1] > X[1] + r or thi[t, 2] < X[2] - r
+                        or tlo[t, 2] > X[2] + r):
+                    continue
+                d = point_triangle_dist2(X[0], X[1], X[2], tri[t])
+                if d < best:
+                    best = d
+    return best
+
+
 @njit(cache=True, parallel=True)
 def _gouge_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, tc, tr, bzmax,
                   tlo, thi, start, items, bi0, bj0, x0, y0, bs, nbx, nby,
-                  e0, tol, out_g, out_t, out_s):
+                  e0, tol, out_g, out_t, out_s, out_r, out_x):
     n = S.shape[0]
     for c in prange(n):
         rr = np.empty(3)
@@ -106,9 +150,16 @@ def _gouge_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, tc, tr, bz
         sp = np.empty(3)
         Q1 = np.empty((3, 3))
         Q2 = np.empty((3, 3))
+        rrf = np.empty(3)
+        rhf = np.empty(3)
+        qp = np.empty(3)
+        xs = np.zeros(3)
+        on_rim = 0
         for j in range(nshape[s]):
             Rj = R[s, j]
             is_ball = kind[s, j] == BALL
+            nrf, rhof = shape_rings(kind[s, j], Rj, rc[s, j], k[s, j], zb[s, j], L[s, j], 0.0,
+                                    rrf, rhf)
             flat_core = False
             if is_ball:
                 flat_core = ball_core(P0, P1, Rj, L[s, j], Q1, Q2)
@@ -154,6 +205,26 @@ def _gouge_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, tc, tr, bz
                         support_swept(P0, P1, nr0, rr, rh, rho0, -nx, -ny, -nz, sp)
                         if sp[0] * nx + sp[1] * ny + sp[2] * nz > pd:
                             continue
+                        if not is_ball and nrf > 0:
+                            # the tool's deepest point along the design's normal: a
+                            # sharp rim or point goes deeper into the part than any
+                            # ball inside the tool reaches out of it
+                            support_swept(P0, P1, nrf, rrf, rhf, rhof, -nx, -ny, -nz, sp)
+                            dp = pd - (sp[0] * nx + sp[1] * ny + sp[2] * nz)
+                            if dp > lo and dp > best:
+                                for a in range(3):
+                                    qp[a] = sp[a] + dp * tn[t, a]
+                                if in_triangle(tri[t], qp):
+                                    ds = math.sqrt(surface_dist2(sp, dp, tri, tlo, thi, start,
+                                                                 items, bi0, bj0, x0, y0, bs,
+                                                                 nbx, nby))
+                                    if ds >= lo and ds > best:
+                                        best = ds
+                                        bt = t
+                                        bsh = j
+                                        on_rim = 1
+                                        for a in range(3):
+                                            xs[a] = qp[a]
                         if is_ball:     # exact: R - distance to the swept core
                             d2 = core_triangle_dist2(tri[t], flat_core, Q1, Q2)
                             d = Rj - math.sqrt(d2)
@@ -166,9 +237,13 @@ def _gouge_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, tc, tr, bz
                             best = d
                             bt = t
                             bsh = j
+                            on_rim = 0
         out_g[c] = best
         out_t[c] = bt
         out_s[c] = bsh
+        out_r[c] = on_rim
+        for a in range(3):
+            out_x[c, a] = xs[a]
 
 
 @njit(cache=True, parallel=True)
@@ -287,6 +362,8 @@ class GougeResult:
     gouge: np.ndarray
     triangle: np.ndarray
     shape: np.ndarray
+    rim: np.ndarray | None = None      # 1: the tool's deepest point along the normal
+    point: np.ndarray | None = None    # (n, 3) its foot on the design, where rim is 1
 
 
 def _normals(tri: np.ndarray) -> np.ndarray:
@@ -309,18 +386,23 @@ def gouge_chords(S: np.ndarray, E: np.ndarray, slot: np.ndarray, shapes: ToolSha
     g = np.full(n, -1.0)
     t = np.full(n, -1, np.int64)
     s = np.full(n, -1, np.int64)
+    rim = np.zeros(n, np.int8)
+    pt = np.zeros((n, 3))
     if n and len(triangles):
         _gouge_chords(np.ascontiguousarray(S, float), np.ascontiguousarray(E, float),
                       np.ascontiguousarray(slot, np.int64), *shapes.arrays(),
                       triangles, _normals(triangles), *_spheres(triangles),
-                      bucket_bounds(index), *index.arrays(), accuracy / 2.0, accuracy * 1e-4, g, t, s)
-    return GougeResult(g, t, s)
+                      bucket_bounds(index), *index.arrays(), accuracy / 2.0,
+                      accuracy * 1e-4, g, t, s, rim, pt)
+    return GougeResult(g, t, s, rim, pt)
 
 
 def locate(S, E, slot, shapes: ToolShapes, triangles, res: GougeResult, c: int,
            accuracy: float) -> tuple[np.ndarray, np.ndarray]:
     """(tool tip, design point) of chord ``c``'s deepest penetration."""
     s, j = int(slot[c]), int(res.shape[c])
+    if res.rim is not None and res.rim[c]:
+        return np.asarray(S[c], float), res.point[c].copy()
     P, X = _locate(triangles[res.triangle[c]], np.asarray(S[c], float),
                    np.asarray(E[c], float), int(shapes.kind[s, j]), float(shapes.R[s, j]),
                    float(shapes.rc[s, j]), float(shapes.k[s, j]), float(shapes.zb[s, j]),

@@ -207,3 +207,22 @@ def test_cli_bad_design(tmp_path, case):
     out = res.output.strip()
     assert "Traceback" not in out and len(out.splitlines()) == 1, out
     assert out.startswith("millpath: error: ") and "part.stl" in out
+
+
+@pytest.mark.parametrize("kind,alpha", [("flat", 30.0), ("flat", 80.0), ("drill", 30.0)])
+def test_sharp_edge_on_slope(kind, alpha):
+    """A flat end mill's rim, or a drill's point, 0.02 below a slope along its normal:
+    the gouge is 0.02 (not the depth of the largest ball inside the tool, which is
+    smaller by the factor sin a + cos a at a rim)."""
+    tri, n, t = _slope(alpha)
+    tool = TOOLS[kind] if kind in TOOLS else Tool(1, "drill", 6.0, flute_length=20,
+                                                  stickout=30, point_angle=118.0)
+    deepest = -0.02 * n                        # the rim / point, 0.02 inside the part
+    # a flat mill's lowest point along n is the rim point downhill of its axis
+    tip = deepest + (np.array([tool.radius, 0.0, 0.0]) if kind == "flat" else 0.0)
+    mo = [Motion("feed", 5, tuple(tip + [0, -3, 0]), tuple(tip + [0, 3, 0]), 500, tool=1)]
+    stock = Stock(-10, -10, -10, 10, 10, 10)
+    r = verify_exact(mo, {1: tool}, stock, [Reference(tri, "slope")])
+    assert r.max_gouge == pytest.approx(0.02, abs=TOL)
+    assert r.gouge_at["line"] == 5
+    assert np.allclose([r.gouge_at[k] for k in "xz"], [0.0, 0.0], atol=1e-6)
