@@ -25,39 +25,63 @@ from millpath.model.stock import Machine
 RAPID = {"mm": 5000.0, "inch": 200.0}
 
 
-def _arc_points(a: dict[str, np.ndarray]) -> np.ndarray:
-    """Quadrant points that arcs pass through (for the bounding box)."""
+#: (first, second, normal) axis of each plane code (XY, XZ, YZ)
+PLANE_AXES = ((0, 1, 2), (2, 0, 1), (1, 2, 0))
+
+
+def _arc_planes(a: dict[str, np.ndarray]):
+    """The arcs by plane: (indices, axes, start, end, center, s1, s2, e1, e2) for each plane
+    that has arcs, in the plane's (first, second) coordinates relative to the center."""
     idx = np.nonzero(a["kind"] == KINDS.index("arc"))[0]
-    if len(idx) == 0:
-        return np.zeros((0, 3))
-    axes = np.array([(0, 1, 2), (2, 0, 1), (1, 2, 0)])[a["plane"][idx]]
-    rows = np.arange(len(idx))
-    st, en, ce = a["start"][idx], a["end"][idx], a["center"][idx]
-    s1 = st[rows, axes[:, 0]] - ce[rows, axes[:, 0]]
-    s2 = st[rows, axes[:, 1]] - ce[rows, axes[:, 1]]
-    e1 = en[rows, axes[:, 0]] - ce[rows, axes[:, 0]]
-    e2 = en[rows, axes[:, 1]] - ce[rows, axes[:, 1]]
-    r = np.hypot(s1, s2)
-    t0 = np.arctan2(s2, s1)
-    t1 = np.arctan2(e2, e1)
-    rot = a["rotation"][idx]
-    ccw = rot > 0
-    sweep = np.where(ccw, t1 - t0, t1 - t0)
-    sweep = np.where(ccw & (sweep <= 0), sweep + 2 * np.pi, sweep)
-    sweep = np.where(~ccw & (sweep >= 0), sweep - 2 * np.pi, sweep)
-    sweep = sweep + np.sign(rot) * 2 * np.pi * (np.abs(rot) - 1)
-    # end points are in the box already; add the quadrant points the arc passes
+    if not len(idx):
+        return
+    plane = a["plane"][idx]
+    for p, (i1, i2, i3) in enumerate(PLANE_AXES):
+        sel = idx if p == 0 and not plane.any() else idx[plane == p]
+        if not len(sel):
+            continue
+        st, en, ce = a["start"][sel], a["end"][sel], a["center"][sel]
+        yield (sel, (i1, i2, i3), st, en, ce, st[:, i1] - ce[:, i1], st[:, i2] - ce[:, i2],
+               en[:, i1] - ce[:, i1], en[:, i2] - ce[:, i2])
+
+
+def _arc_points(a: dict[str, np.ndarray], lo: np.ndarray | None = None,
+                hi: np.ndarray | None = None) -> np.ndarray:
+    """Quadrant points that arcs pass through (for the bounding box). With the box
+    ``lo``, ``hi`` of the other points: only those of arcs whose circle leaves it, or
+    that are helical (the others cannot change the box: their quadrant points lie
+    between center - radius and center + radius, which are exactly the extreme ones)."""
+    out = [np.zeros((0, 3))]
     quads = np.array([0.0, 0.5, 1.0, 1.5]) * np.pi
-    d = np.where(ccw[:, None], (quads[None, :] - t0[:, None]) % (2 * np.pi),
-                 (t0[:, None] - quads[None, :]) % (2 * np.pi))
-    inside = d <= np.abs(sweep)[:, None]
-    frac = np.clip(d / np.maximum(np.abs(sweep), 1e-12)[:, None], 0.0, 1.0)
-    pts = np.empty((len(idx), 4, 3))
-    pts[rows, :, axes[:, 0]] = ce[rows, axes[:, 0]][:, None] + r[:, None] * np.cos(quads)[None, :]
-    pts[rows, :, axes[:, 1]] = ce[rows, axes[:, 1]][:, None] + r[:, None] * np.sin(quads)[None, :]
-    sn = st[rows, axes[:, 2]]
-    pts[rows, :, axes[:, 2]] = sn[:, None] + (en[rows, axes[:, 2]] - sn)[:, None] * frac
-    return pts[inside]
+    for sel, (i1, i2, i3), st, en, ce, s1, s2, e1, e2 in _arc_planes(a):
+        r = np.hypot(s1, s2)
+        if lo is not None:
+            c1, c2 = ce[:, i1], ce[:, i2]
+            keep = ((st[:, i3] != en[:, i3]) | (c1 + r > hi[i1]) | (c1 - r < lo[i1])
+                    | (c2 + r > hi[i2]) | (c2 - r < lo[i2]))
+            if not keep.all():
+                sel, st, en, ce, s1, s2, e1, e2, r = (
+                    v[keep] for v in (sel, st, en, ce, s1, s2, e1, e2, r))
+        t0 = np.arctan2(s2, s1)
+        t1 = np.arctan2(e2, e1)
+        rot = a["rotation"][sel]
+        ccw = rot > 0
+        sweep = t1 - t0
+        sweep = np.where(ccw & (sweep <= 0), sweep + 2 * np.pi, sweep)
+        sweep = np.where(~ccw & (sweep >= 0), sweep - 2 * np.pi, sweep)
+        sweep = sweep + np.sign(rot) * 2 * np.pi * (np.abs(rot) - 1)
+        # end points are in the box already; add the quadrant points the arc passes
+        d = np.where(ccw[:, None], (quads[None, :] - t0[:, None]) % (2 * np.pi),
+                     (t0[:, None] - quads[None, :]) % (2 * np.pi))
+        inside = d <= np.abs(sweep)[:, None]
+        frac = np.clip(d / np.maximum(np.abs(sweep), 1e-12)[:, None], 0.0, 1.0)
+        pts = np.empty((len(sel), 4, 3))
+        pts[:, :, i1] = ce[:, i1][:, None] + r[:, None] * np.cos(quads)[None, :]
+        pts[:, :, i2] = ce[:, i2][:, None] + r[:, None] * np.sin(quads)[None, :]
+        sn = st[:, i3]
+        pts[:, :, i3] = sn[:, None] + (en[:, i3] - sn)[:, None] * frac
+        out.append(pts[inside])
+    return np.vstack(out)
 
 
 def _lengths(a: dict[str, np.ndarray], controls: dict[int, tuple]) -> np.ndarray:
@@ -69,23 +93,15 @@ def _lengths(a: dict[str, np.ndarray], controls: dict[int, tuple]) -> np.ndarray
     d = end - start
     # hypot: no overflow for coordinates near the float limit
     length = np.hypot(np.hypot(d[:, 0], d[:, 1]), d[:, 2]) if n else np.zeros(0)
-    idx = np.nonzero(kind == KINDS.index("arc"))[0]
-    if len(idx):
-        axes = np.array([(0, 1, 2), (2, 0, 1), (1, 2, 0)])[plane[idx]]
-        rows = np.arange(len(idx))
-        st, en, ce = start[idx], end[idx], center[idx]
-        s1 = st[rows, axes[:, 0]] - ce[rows, axes[:, 0]]
-        s2 = st[rows, axes[:, 1]] - ce[rows, axes[:, 1]]
-        e1 = en[rows, axes[:, 0]] - ce[rows, axes[:, 0]]
-        e2 = en[rows, axes[:, 1]] - ce[rows, axes[:, 1]]
+    for sel, (i1, i2, i3), st, en, ce, s1, s2, e1, e2 in _arc_planes(a):
         r = np.hypot(s1, s2)
         t0, t1 = np.arctan2(s2, s1), np.arctan2(e2, e1)
-        turn = rot[idx].astype(np.float64)
+        turn = rot[sel].astype(np.float64)
         ccw = turn > 0
         sweep = np.where(ccw, t1 - t0, t0 - t1)
         sweep = np.where(sweep <= 0, sweep + 2 * np.pi, sweep)
         sweep = sweep + 2 * np.pi * (np.abs(turn) - 1)
-        length[idx] = np.hypot(r * sweep, en[rows, axes[:, 2]] - st[rows, axes[:, 2]])
+        length[sel] = np.hypot(r * sweep, en[:, i3] - st[:, i3])
     for i in np.nonzero(kind == KINDS.index("cubic"))[0]:
         c = controls.get(int(i))
         if c is None:
@@ -142,23 +158,38 @@ class Summary:
         length = _lengths(a, controls)
         self.counts += np.bincount(kind, minlength=len(KINDS))
         moving = kind != KINDS.index("dwell")
-        if np.any(moving):
+        all_moving = bool(moving.all())
+        if all_moving or np.any(moving):
             # the box of the motion: the point where the machine starts is not part of it
-            starts = moving.copy()
-            if self.first:
-                starts[np.flatnonzero(moving)[0]] = False
-                self.first = False
-            pts = np.vstack([a["start"][starts], a["end"][moving], _arc_points(a),
-                             _nurbs_points(a, controls)])
-            self.lo = np.minimum(self.lo, pts.min(axis=0))
-            self.hi = np.maximum(self.hi, pts.max(axis=0))
+            # (min and max part by part: the same as over all the points at once)
+            if all_moving:
+                starts = a["start"][1:] if self.first else a["start"]
+                ends = a["end"]
+            else:
+                sel = moving.copy()
+                if self.first:
+                    sel[np.flatnonzero(moving)[0]] = False
+                starts = a["start"][sel]
+                ends = a["end"][moving]
+            self.first = False
+            for pts in (starts, ends, None, _nurbs_points(a, controls)):
+                if pts is None:
+                    pts = _arc_points(a, self.lo, self.hi)
+                if len(pts):
+                    self.lo = np.minimum(self.lo, pts.min(axis=0))
+                    self.hi = np.maximum(self.hi, pts.max(axis=0))
         traverse = kind == KINDS.index("traverse")
         cutting = moving & ~traverse
-        self.feed_length += float(length[cutting].sum())
+        lc = length[cutting]
+        self.feed_length += float(lc.sum())
         self.rapid_length += float(length[traverse].sum())
         inverse = np.array([st[3] == "inverse_time" for st in states], dtype=bool)
         f = a["feed"][cutting]
         inv = inverse[a["state"][cutting]]
+        any_inv = bool(inv.any())
+        positive = f > 0
+        with np.errstate(divide="ignore", invalid="ignore"):
+            per_inv = 60.0 / f if any_inv else None
         for u, cap in self.caps.items():
             over = ~inv & (f > cap)
             if np.any(over):
@@ -167,8 +198,10 @@ class Summary:
                     self.fast[u] = (int(a["line"][cutting][k]), float(f[k]))
                 self.fast_count[u] += int(over.sum())
             with np.errstate(divide="ignore", invalid="ignore"):
-                t = np.where(inv, 60.0 / f, length[cutting] / np.minimum(f, cap) * 60.0)
-            self.feed_seconds[u] += float(t[f > 0].sum())
+                t = lc / np.minimum(f, cap) * 60.0
+                if any_inv:
+                    t = np.where(inv, per_inv, t)
+            self.feed_seconds[u] += float(t[positive].sum())
         self.dwell_seconds += float(a["center"][kind == KINDS.index("dwell"), 0].sum())
 
     def result(self, units: str) -> dict:

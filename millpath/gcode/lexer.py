@@ -83,10 +83,16 @@ class Block:
         self.empty = False
 
 
+_BLANKS = str.maketrans("", "", " \t\r\n")
+_DIGITS = re.compile(r"[0-9.]*")
+
+
 def normalize(raw: str) -> tuple[str, str]:
     """Remove blanks outside comments, lowercase, replace comments by ``(``.
 
     Returns (text, last comment)."""
+    if "(" not in raw and ";" not in raw and raw.isascii():
+        return raw.translate(_BLANKS).lower(), ""     # no comment: the same, at once
     out = []
     comment = ""
     i = 0
@@ -138,7 +144,8 @@ class Reader:
         j = i
         if j < len(s) and s[j] in "+-":
             j += 1
-        while j < len(s) and (s[j].isdigit() or s[j] == "."):
+        j = _DIGITS.match(s, j).end()
+        while j < len(s) and (s[j].isdigit() or s[j] == "."):   # digits beyond ASCII
             j += 1
         tok = s[i:j]
         self.i = j

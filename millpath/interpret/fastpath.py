@@ -14,6 +14,7 @@ from __future__ import annotations
 import re
 from math import hypot
 
+from millpath.interpret.compfast import comp_run
 from millpath.interpret.errors import GCodeError
 from millpath.interpret.arcs import (RADIUS_TOLERANCE, SPIRAL_RELATIVE, SPIRAL_TOLERANCE,
                                      arc_center_r)
@@ -139,6 +140,14 @@ class FastPath:
         try:
             first, second = self.order(lines)
             while k < end_k:
+                if comp_line:
+                    # compensated G0-G3 in G17: a run of them with the state in locals
+                    k2 = comp_run(m, lines, k, end_k, first, second, base)
+                    if k2 != k:
+                        k = k2
+                        (cx, cy, cz, ox, oy, oz, feed, mode, simple, arcs_ok, pcode, state,
+                         rtol, stol, units) = load()
+                        continue
                 line = lines[k]
                 mt = first(line)
                 if mt is None:

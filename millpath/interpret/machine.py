@@ -46,6 +46,9 @@ class Machine(OffsetsMixin, CompMixin, CycleMixin):
         "cur", "out", "feed_rate", "motion_mode", "arc_not_allowed", "cycle_il_flag",
         # appended to: the recorded motion
         "store",
+        # read and written back by a compensated run (interpret/compfast.py): the queued
+        # move and the end point it is checked against
+        "queue", "endpoint", "endpoint_valid",
         # called: the motion executors
         "motion", "straight_comp2", "arc_comp2"})
 

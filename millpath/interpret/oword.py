@@ -29,8 +29,23 @@ _KEYWORDS = ("sub", "endsub", "call", "return", "if", "elseif", "else", "endif",
              "endwhile", "do", "repeat", "endrepeat", "break", "continue")
 
 
+_OWORD_START = re.compile(r"(?i)[ \t]*/?[ \t]*(?:n[ \t]*[\d.]+[ \t]*)?o[ \t]*[<\d]")
+
+
 def has_owords(text: str) -> bool:
-    return re.search(r"(?im)^[ \t]*/?[ \t]*(?:n[ \t]*[\d.]+[ \t]*)?o[ \t]*[<\d]", text) is not None
+    """Whether a line of ``text`` starts with an o-word (after an optional block delete
+    and line number). Only the lines holding an ``o`` or ``O`` are tried."""
+    for letter in "oO":
+        i = text.find(letter)
+        while i >= 0:
+            start = text.rfind("\n", 0, i) + 1
+            if _OWORD_START.match(text, start):
+                return True
+            end = text.find("\n", i)
+            if end < 0:
+                break
+            i = text.find(letter, end)
+    return False
 
 
 def parse_oline(raw: str):
