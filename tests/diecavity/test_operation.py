@@ -264,6 +264,13 @@ def test_inch_job_control_and_cam_interpret_alike(rs274):
     assert max(float(np.abs(np.subtract(x.end, y.end)).max()) for x, y in zip(a, b)) <= 1e-5
 
 
+@pytest.mark.xfail(strict=True, reason=(
+    "issue 15: the exact gouge check finds the finishing pass 0.0017 mm into the wall "
+    "near (85.45, 97.69) against a tolerance of 0.001 (confirmed against the true curve "
+    "sampled 20,000 per segment): LinuxCNC joins corners turning <= 0.05 rad straight, "
+    "starting each offset move r (1 - cos a) nearer the next chord, on top of the chord's "
+    "sagitta; the planner's own finish_max_undercut says 0.00168. A planner fix is "
+    "pending; the run is refused until then"))
 def test_millpath_run_writes_the_curve_analysis(tmp_path, rs274):
     import json
     from millpath.pipeline import run_job
