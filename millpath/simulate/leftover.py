@@ -23,30 +23,49 @@ from millpath.geometry.index import BoxIndex, bucket_range, first_bucket
 
 
 def sample_triangles(tri: np.ndarray, spacing: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Points on each triangle (barycentric lattice, edges at most ``spacing`` apart),
-    their triangle's unit normal (right-hand winding) and the triangle number."""
+    """Points on each triangle at most ``spacing`` apart, their triangle's unit normal
+    (right-hand winding) and the triangle number. Rows parallel to the longest edge,
+    ``spacing`` apart across it, points ``spacing`` apart along each row: about area /
+    spacing^2 + length / spacing points a triangle, slivers (a wall's tall thin
+    triangles) included."""
     tri = np.asarray(tri, float).reshape(-1, 3, 3)
-    e1 = tri[:, 1] - tri[:, 0]
-    e2 = tri[:, 2] - tri[:, 0]
-    nrm = np.cross(e1, e2)
+    nrm = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
     ln = np.linalg.norm(nrm, axis=1)
     ok = ln > 0
     nrm[ok] /= ln[ok, None]
-    edge = np.max(np.stack([np.linalg.norm(e1, axis=1), np.linalg.norm(e2, axis=1),
-                            np.linalg.norm(tri[:, 2] - tri[:, 1], axis=1)]), axis=0)
-    nsub = np.maximum(1, np.ceil(edge / spacing - 1e-9)).astype(np.int64)
+    # put the longest edge first: A -> B, C opposite
+    el = np.stack([np.linalg.norm(tri[:, 1] - tri[:, 0], axis=1),
+                   np.linalg.norm(tri[:, 2] - tri[:, 1], axis=1),
+                   np.linalg.norm(tri[:, 0] - tri[:, 2], axis=1)], axis=1)
+    k = np.argmax(el, axis=1)
+    idx = np.stack([k, (k + 1) % 3, (k + 2) % 3], axis=1)
+    T = np.take_along_axis(tri, idx[:, :, None], axis=1)
+    L = el[np.arange(len(tri)), k]
+    h = np.where(L > 0, ln / np.where(L > 0, L, 1.0), 0.0)
+    ns = np.maximum(1, np.ceil(L / spacing - 1e-9)).astype(np.int64)
+    nt = np.maximum(1, np.ceil(h / spacing - 1e-9)).astype(np.int64)
     pts, nor, own = [], [], []
-    for m in np.unique(nsub[ok]):
-        sel = np.flatnonzero(ok & (nsub == m))
-        i, j = np.meshgrid(np.arange(m + 1), np.arange(m + 1), indexing="ij")
-        keep = i + j <= m
-        u = (i[keep] / m)[None, :, None]
-        v = (j[keep] / m)[None, :, None]
-        T = tri[sel]
-        p = T[:, None, 0] + u * (T[:, None, 1] - T[:, None, 0]) + v * (T[:, None, 2] - T[:, None, 0])
+    key = ns * (int(nt.max(initial=1)) + 1) + nt
+    for kk in np.unique(key[ok]):
+        sel = np.flatnonzero(ok & (key == kk))
+        a, c = int(ns[sel[0]]), int(nt[sel[0]])
+        us, vs = [], []
+        for j in range(c + 1):
+            v = j / c
+            m = int(math.ceil((1.0 - v) * a - 1e-9))
+            if m <= 0:
+                us.append(0.0)
+                vs.append(v)
+                continue
+            us.extend(((1.0 - v) * np.arange(m + 1) / m).tolist())
+            vs.extend([v] * (m + 1))
+        u = np.asarray(us)[None, :, None]
+        v = np.asarray(vs)[None, :, None]
+        Ts = T[sel]
+        p = Ts[:, None, 0] + u * (Ts[:, None, 1] - Ts[:, None, 0]) + v * (Ts[:, None, 2] - Ts[:, None, 0])
         pts.append(p.reshape(-1, 3))
-        nor.append(np.repeat(nrm[sel], keep.sum(), axis=0))
-        own.append(np.repeat(sel, keep.sum()))
+        nor.append(np.repeat(nrm[sel], u.shape[1], axis=0))
+        own.append(np.repeat(sel, u.shape[1]))
     if not pts:
         z = np.zeros((0, 3))
         return z, z.copy(), np.zeros(0, np.int64)
