@@ -187,8 +187,7 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
     margin = float(spacing) * 4.0
     states = []
     for ref, tri, idx in refs:
-        pts, nrm, own = sample_triangles(tri, spacing)
-        pts, nrm, own = _thin(pts, nrm, own, spacing)
+        pts, nrm, own = _samples(tri, spacing)
         cap = ray_caps(pts, nrm, own, stock.box, tri, idx, reach)
         near = np.minimum(cap, margin / 4.0)
         states.append(_LeftState(pts, nrm, own, cap, near, near.copy(),
@@ -294,6 +293,20 @@ def _shorten(st: _LeftState, rows: np.ndarray, ch: _Chords, cidx,
     hit = who >= 0
     st.who[rows[hit]] = ch.motion[who[hit]]
     st.out[rows] = out
+
+
+def _samples(tri: np.ndarray, spacing: float, chunk: int = 10_000):
+    """Material-left sample points of ``tri`` (see :func:`_thin`), made ``chunk``
+    triangles at a time so memory stays bounded on large meshes."""
+    parts = []
+    for a in range(0, len(tri), chunk):
+        p, n, o = sample_triangles(tri[a:a + chunk], spacing)
+        p, n, o = _thin(p, n, o, spacing)
+        parts.append((p, n, o + a))
+    if len(parts) == 1:
+        return parts[0]
+    return _thin(np.vstack([p for p, _, _ in parts]), np.vstack([n for _, n, _ in parts]),
+                 np.concatenate([o for _, _, o in parts]), spacing)
 
 
 def _thin(pts, nrm, own, cell: float):
