@@ -14,6 +14,9 @@ import numpy as np
 from numba import njit
 
 
+MAX_ENTRIES = 8_000_000      # bucket entries of one index (8 bytes each, several arrays)
+
+
 @dataclass
 class BoxIndex:
     lo: np.ndarray          # (n, 3) box minima
@@ -44,13 +47,19 @@ class BoxIndex:
             bucket = max(float(np.median(ext.max(axis=1))) * 2.0,
                          math.sqrt((gx1 - gx0 + 1e-9) * (gy1 - gy0 + 1e-9) / n) * 1.5)
         bs = max(float(bucket), span / 2048.0, 1e-9)
-        nbx = max(1, int(math.ceil((gx1 - gx0) / bs)) + 1)
-        nby = max(1, int(math.ceil((gy1 - gy0) / bs)) + 1)
-        i0 = np.clip(np.floor((lo[:, 0] - gx0) / bs).astype(np.int64), 0, nbx - 1)
-        i1 = np.clip(np.floor((hi[:, 0] - gx0) / bs).astype(np.int64), 0, nbx - 1)
-        j0 = np.clip(np.floor((lo[:, 1] - gy0) / bs).astype(np.int64), 0, nby - 1)
-        j1 = np.clip(np.floor((hi[:, 1] - gy0) / bs).astype(np.int64), 0, nby - 1)
-        cnt = (i1 - i0 + 1) * (j1 - j0 + 1)
+        while True:
+            nbx = max(1, int(math.ceil((gx1 - gx0) / bs)) + 1)
+            nby = max(1, int(math.ceil((gy1 - gy0) / bs)) + 1)
+            i0 = np.clip(np.floor((lo[:, 0] - gx0) / bs).astype(np.int64), 0, nbx - 1)
+            i1 = np.clip(np.floor((hi[:, 0] - gx0) / bs).astype(np.int64), 0, nbx - 1)
+            j0 = np.clip(np.floor((lo[:, 1] - gy0) / bs).astype(np.int64), 0, nby - 1)
+            j1 = np.clip(np.floor((hi[:, 1] - gy0) / bs).astype(np.int64), 0, nby - 1)
+            cnt = (i1 - i0 + 1) * (j1 - j0 + 1)
+            # long thin items (slivers of a triangulated top) listed in thousands of
+            # buckets each: coarser buckets keep the index within MAX_ENTRIES
+            if int(cnt.sum()) <= max(MAX_ENTRIES, 4 * n) or bs >= span:
+                break
+            bs *= 2.0
         owner = np.repeat(np.arange(n), cnt)
         k = np.arange(int(cnt.sum())) - np.repeat(np.cumsum(cnt) - cnt, cnt)
         w = np.repeat(i1 - i0 + 1, cnt)
