@@ -11,15 +11,17 @@ CPU seconds include numba's start-up, the simulation and the report), on:
 - ``cavity``: ``ktoolcav.stl`` (inch) turned to open upwards (``rotate = [-90, 0, 0]``,
   ``place = "stock-top"``); rough 1/4 in flat, steep-shallow 1/8 in ball, scallop
   0.002 in;
-- ``cavity-0.001``: the same with scallop 0.001 in: refused before planning (the time
-  to the refusal would be the figure, but the estimate finds it plannable);
+- ``cavity-0.001``: the same with scallop 0.001 in (the issue's "more than 5000
+  passes" after 29 minutes): planned, about 350 pass lines;
 - ``cavity-refused``: scallop 0.000001 in, refused before planning (time to the refusal);
 - ``demo2``: ``demo2.stl`` (146,336 triangles); rough 12 mm bull r1, zigzag 6 mm ball,
   scallop 0.01 mm, tolerance 0.01 mm.
 
 The meshes are read from ``../shared/meshes`` (``--meshes DIR``). Prints one table row
 per job and, per operation, passes (pass lines or levels), pieces and CL points, with
-the verification's gouge, holder contacts and rapids through material.
+the verification's gouge, holder contacts and rapids through material. ``peak_mb`` is
+the largest child so far (``RUSAGE_CHILDREN``): run one ``--only`` row per invocation
+for each row's own peak.
 Run: ``python bench/real_meshes.py [--only NAME ...] [--meshes DIR] [--keep DIR]``.
 """
 

@@ -3,10 +3,13 @@ example job and ``check`` on a 10-line program (start-up cost).
 
 Each command is run ``--repeat`` times (3) in a fresh process; the median and best
 CPU (user + system of the child) and wall seconds are printed with the load average.
-The numba cache is warmed by one untimed ``run`` first (``--no-warm`` to time a cold
-first run too).
+The numba cache is warmed by one untimed ``run`` (and ``check``) first (``--no-warm``
+to time a cold first run too). Children compile and keep Python byte code as an
+installed package does (``PYTHONDONTWRITEBYTECODE`` is dropped for them, the byte code
+goes to a folder in the bench's temporary directory, filled by the warm run);
+``--no-bytecode`` times them recompiling millpath's modules on every start instead.
 
-    python bench/run_speed.py [--repeat 3] [--only NAME ...] [--no-warm]
+    python bench/run_speed.py [--repeat 3] [--only NAME ...] [--no-warm] [--no-bytecode]
 """
 
 from __future__ import annotations
@@ -27,11 +30,14 @@ TEN_LINES = ("G21 G17 G90 G94\nT1 M6\nG43 H1\nS10000 M3\nF600\nG0 X0 Y0 Z5\nG1 Z
 TOOLS = "T1 P1 D0.25 Z1.5\n"
 
 
+ENV = dict(os.environ)
+
+
 def measure(cmd: list[str], cwd: Path) -> dict:
     """CPU (user + system) and wall seconds and exit status of one child process."""
     t0 = time.perf_counter()
     p = subprocess.Popen(cmd, cwd=cwd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
-                         stdin=subprocess.DEVNULL)
+                         stdin=subprocess.DEVNULL, env=ENV)
     err = p.stderr.read().decode(errors="replace")
     _, status, ru = os.wait4(p.pid, 0)
     return {"cpu": ru.ru_utime + ru.ru_stime, "wall": time.perf_counter() - t0,
@@ -55,17 +61,28 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--only", action="append", help="example names (and/or 'check')")
     ap.add_argument("--no-warm", action="store_true")
+    ap.add_argument("--no-bytecode", action="store_true",
+                    help="children do not keep byte code (PYTHONDONTWRITEBYTECODE=1)")
     ns = ap.parse_args()
     exe = [sys.executable, "-m", "millpath.cli.main"]
     print(f"load average at start: {' '.join(f'{v:.2f}' for v in os.getloadavg())} "
           f"({os.cpu_count()} CPUs); {ns.repeat} runs each")
     with tempfile.TemporaryDirectory(prefix="run-speed-") as d:
         work = Path(d)
+        if ns.no_bytecode:
+            ENV["PYTHONDONTWRITEBYTECODE"] = "1"
+            ENV.pop("PYTHONPYCACHEPREFIX", None)
+        else:
+            ENV.pop("PYTHONDONTWRITEBYTECODE", None)
+            ENV["PYTHONPYCACHEPREFIX"] = str(work / "pycache")
+        print(f"byte code: {'recompiled every start' if ns.no_bytecode else 'kept'}")
         (work / "ten.ngc").write_text(TEN_LINES)
         (work / "ten.tbl").write_text(TOOLS)
         if not ns.only or "check" in ns.only:
-            timed("check (10 lines)", exe + ["check", "ten.ngc", "--tools", "ten.tbl"], work,
-                  ns.repeat)
+            check = exe + ["check", "ten.ngc", "--tools", "ten.tbl"]
+            if not ns.no_warm:
+                measure(check, work)
+            timed("check (10 lines)", check, work, ns.repeat)
         names = sorted(p.name for p in EXAMPLES.iterdir() if (p / "job.toml").exists())
         for name in names:
             if ns.only and name not in ns.only:

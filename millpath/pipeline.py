@@ -223,7 +223,7 @@ def _run(job_path: str | Path, outdir: str | Path, prog: Progress, force: bool) 
                        fit={"mode": job.fit, "tolerance": job.fit_tolerance},
                        reference=job.reference or None)
     from millpath.simulate import motion_times
-    from millpath.verify.approach import approach_from_above
+    from millpath.simulate.approach import approach_from_above
     motions = approach_from_above(motions, stock.zmax)
     times = motion_times(motions, job.machine)
     op_secs = _seconds_per_operation(tp, move_lines, motions, times)

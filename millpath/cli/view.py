@@ -32,7 +32,7 @@ def command(program: Path, tools_path: Path | None, stock_text: str,
     """Write an interactive 3D view of PROGRAM: tool path, stock, simulated stock
     coloured by deviation from the design, and a player that runs it move by move."""
     from millpath.report.viewer import write_view
-    from millpath.verify.approach import approach_from_above
+    from millpath.simulate.approach import approach_from_above
 
     if tolerance is not None and not tolerance >= 0:
         raise MillpathError(f"--tolerance must be a length >= 0, not {tolerance}")

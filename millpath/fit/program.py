@@ -361,6 +361,19 @@ class _Emitter:
         self._emit(words)
 
 
+def _run_points(start: list[float], run: list[_Block]) -> list[list[float]]:
+    """The positions a run of moves passes through: ``start``, then the end of each
+    block (axes a block does not name keep their value)."""
+    pts = [list(start)]
+    for b in run:
+        p = list(pts[-1])
+        for a in "XYZ":
+            if a in b.words:
+                p["XYZ".index(a)] = b.words[a]
+        pts.append(p)
+    return pts
+
+
 def _fit_run(st: _State, run: list[_Block], tol: float, mode: str,
              min_radius: float) -> "_Emitter | None":
     """The emitter holding a run's rewritten blocks (None: keep the run as written).
@@ -372,13 +385,7 @@ def _fit_run(st: _State, run: list[_Block], tol: float, mode: str,
             if a in b.text:
                 d = max(d, _decimals(b.text[a]))
     d = min(d, 6)
-    pts = [list(st.pos)]
-    for b in run:
-        p = list(pts[-1])
-        for a in "XYZ":
-            if a in b.words:
-                p["XYZ".index(a)] = b.words[a]
-        pts.append(p)
+    pts = _run_points(st.pos, run)
     s = FitSettings("inch" if st.units != "mm" else "mm", tol, mode, min_radius, decimals=d)
     P, idx, kinds, ends, par = fit_points(np.array(pts, dtype=float), s)
     if len(kinds) >= len(run):
@@ -448,14 +455,7 @@ def fit_program(text: str, tolerance: float, mode: str = "arcs", *,
                 fs.skip("single moves between other blocks")
             elif em is None:
                 fs.kept += len(run)
-                pts = [list(start_state.pos)]
-                for rb in run:
-                    p = list(pts[-1])
-                    for a in "XYZ":
-                        if a in rb.words:
-                            p["XYZ".index(a)] = rb.words[a]
-                    pts.append(p)
-                fs._sags.append(_merge_sag(pts))
+                fs._sags.append(_merge_sag(_run_points(start_state.pos, run)))
             else:
                 fs.rewritten += len(run)
             if em is None:

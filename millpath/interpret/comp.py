@@ -5,7 +5,8 @@ XZ = (Z, X, Y). The first move after G41/G42 is the entry move (the tool ends a 
 to the side of the programmed end point). Later moves are queued: each new move fixes
 the end of the queued ones, which is how convex corners get an arc around the
 programmed corner point and concave corners get trimmed. Lengths are program units.
-Errors use rs274's messages.
+Errors use rs274's messages. The usual XY case also runs in :mod:`compfast` (the same
+computation with the state in locals); the two must stay in step.
 """
 
 from __future__ import annotations
@@ -32,52 +33,56 @@ def _inside(side: int, turn: int) -> bool:
     return (side == LEFT and turn > 0) or (side == RIGHT and turn < 0)
 
 
-class CompMixin:
-    """Compensation state and moves; mixed into the interpreter's Machine."""
+class Compensation:
+    """The compensation executor: its state (side, radius, whether the entry move is
+    next, the programmed point ``prog``, the queued moves and the end point they are
+    checked against) and its moves, run on machine ``m``'s state (position ``cur`` and
+    ``out``, plane, units, tool table, motion store)."""
 
-    def comp_init(self) -> None:
-        self.comp_side = 0
-        self.comp_radius = 0.0
-        self.comp_first = True
-        self.prog = [0.0, 0.0, 0.0]
+    def __init__(self, machine) -> None:
+        self.m = machine
+        self.side = 0                   # 0 off, LEFT (G41), RIGHT (G42)
+        self.radius = 0.0               # tool radius, program units
+        self.first = True               # the next move is the entry move
+        self.prog = [0.0, 0.0, 0.0]     # programmed (uncompensated) point
         self.queue: list[list] = []
         self.endpoint = [0.0, 0.0]
         self.endpoint_valid = False
-        self.arc_not_allowed = False
+        self.arc_not_allowed = False    # just left compensation: the next move is straight
 
     # --- plane mapping ----------------------------------------------------------------
     def _pc(self, v) -> tuple[float, float, float]:
-        a1, a2, an = self.axes
+        a1, a2, an = self.m.axes
         return v[a1], v[a2], v[an]
 
     def _xyz(self, p1: float, p2: float, p3: float) -> list[float]:
-        a1, a2, an = self.axes
+        a1, a2, an = self.m.axes
         out = [0.0, 0.0, 0.0]
         out[a1], out[a2], out[an] = p1, p2, p3
         return out
 
     def _set_current(self, p1: float, p2: float, p3: float) -> None:
-        self.cur = self._xyz(p1, p2, p3)
+        self.m.cur = self._xyz(p1, p2, p3)
 
     def _set_program(self, p1: float, p2: float, p3: float) -> None:
         self.prog = self._xyz(p1, p2, p3)
 
     # --- G40 / G41 / G42 --------------------------------------------------------------
-    def comp_on_off(self, code: int, w: dict) -> None:
+    def on_off(self, code: int, w: dict) -> None:
         if code == 400:
-            if self.comp_side and self.comp_radius > 0.0 and not self.comp_first:
-                cx, cy, _ = self._pc(self.cur)
+            if self.side and self.radius > 0.0 and not self.first:
+                cx, cy, _ = self._pc(self.m.cur)
                 self.move_endpoint_and_flush(cx, cy)
                 self.dequeue()
-                self.cur = list(self.prog)
+                self.m.cur = list(self.prog)
                 self.arc_not_allowed = True
-            self.comp_side = 0
-            self.comp_first = True
+            self.side = 0
+            self.first = True
             return
         side = LEFT if code in (410, 411) else RIGHT
-        if self.plane not in ("XY", "XZ"):
+        if self.m.plane not in ("XY", "XZ"):
             raise GCodeError("Cutter radius compensation allowed only in XY, XZ planes")
-        if self.comp_side:
+        if self.side:
             raise GCodeError("Cannot turn cutter radius comp on when on")
         if code in (411, 421):
             if "d" not in w:
@@ -91,17 +96,17 @@ class CompMixin:
                     raise GCodeError(f"G{code // 10} requires D word to be a whole number")
                 if tool < 0:
                     raise GCodeError("Negative d word tool radius index used")
-                if tool != 0 and tool not in self.tools:
+                if tool != 0 and tool not in self.m.tools:
                     raise GCodeError(f"Requested tool {tool} not found in the tool table")
-                data = self.tool_data(tool)
+                data = self.m.tool_data(tool)
             else:
-                data = self.tool_data(0)
-            radius = self.user_to_prog(data[0]) / 2.0
+                data = self.m.tool_data(0)
+            radius = self.m.user_to_prog(data[0]) / 2.0
         if radius < 0.0:
             radius = -radius
             side = LEFT if side == RIGHT else RIGHT
-        self.comp_radius = radius
-        self.comp_side = side
+        self.radius = radius
+        self.side = side
 
     # --- the queue --------------------------------------------------------------------
     def set_endpoint(self, x: float, y: float) -> None:
@@ -110,27 +115,27 @@ class CompMixin:
 
     def enqueue_straight(self, kind: int, line: int, d, x: float, y: float, z: float,
                          feed: float) -> None:
-        self.queue.append(["S", kind, line, d[0], d[1], d[2], x, y, z, feed, self._state_idx])
+        self.queue.append(["S", kind, line, d[0], d[1], d[2], x, y, z, feed, self.m.state_index])
 
     def enqueue_arc(self, line: int, original: float, e1: float, e2: float, c1: float,
                     c2: float, turn: int, e3: float, feed: float) -> None:
         self.queue.append(["A", line, original, e1, e2, c1, c2, turn, e3, feed,
-                           self._state_idx])
+                           self.m.state_index])
 
     def enqueue_dwell(self, line: int, seconds: float) -> None:
         if not self.queue:
-            self.emit_dwell(line, seconds)
+            self.m.emit_dwell(line, seconds)
         else:
-            self.queue.append(["D", line, seconds, self._state_idx])
+            self.queue.append(["D", line, seconds, self.m.state_index])
 
     def dequeue(self) -> None:
         self.endpoint_valid = False
         if not self.queue:
             return
-        a1, a2, an = self.axes
-        pcode = PLANE_CODE[self.plane]
-        buf = self.store.buf
-        o = self.out
+        a1, a2, an = self.m.axes
+        pcode = PLANE_CODE[self.m.plane]
+        buf = self.m.store.buf
+        o = self.m.out
         if a1 == 0:
             # XY: plane coordinates are x, y, z; pack the queued moves as they are
             o0, o1, o2 = o
@@ -147,7 +152,7 @@ class CompMixin:
                 else:
                     buf += PACK(o0, o1, o2, o0, o1, o2, 0.0, q[2], 0.0, 0.0,
                                 T_DWELL, q[1], 0, pcode, q[3])
-            self.out = [o0, o1, o2]
+            self.m.out = [o0, o1, o2]
             self.queue = []
             return
         for q in self.queue:
@@ -168,7 +173,7 @@ class CompMixin:
             else:
                 buf += PACK(o[0], o[1], o[2], o[0], o[1], o[2], 0.0, q[2], 0.0, 0.0,
                             T_DWELL, q[1], 0, pcode, q[3])
-        self.out = o
+        self.m.out = o
         self.queue = []
 
     def move_endpoint_and_flush(self, x: float, y: float) -> None:
@@ -180,17 +185,17 @@ class CompMixin:
         e0, e1 = self.endpoint
         valid = self.endpoint_valid
         dx, dy = x - e0, y - e1
-        if len(queue) == 1 and self.axes[0] == 0:
+        if len(queue) == 1 and self.m.axes[0] == 0:
             # the usual case in XY: one queued move, moved and packed in one step
             q = queue[0]
             t = q[0]
-            o0, o1, o2 = self.out
+            o0, o1, o2 = self.m.out
             if t == "S":
                 if valid and q[3] * dx + q[4] * dy < 0:
                     self._gouge_straight(q[1])
-                self.store.buf += PACK(o0, o1, o2, x, y, q[8], q[9], 0.0, 0.0, 0.0,
-                                       q[1], q[2], 0, PLANE_CODE[self.plane], q[10])
-                self.out = [x, y, q[8]]
+                self.m.store.buf += PACK(o0, o1, o2, x, y, q[8], q[9], 0.0, 0.0, 0.0,
+                                       q[1], q[2], 0, PLANE_CODE[self.m.plane], q[10])
+                self.m.out = [x, y, q[8]]
                 self.queue = []
                 self.endpoint = [x, y]
                 self.endpoint_valid = True
@@ -201,9 +206,9 @@ class CompMixin:
                 r2 = _hypot(x - c1, y - c2)
                 if abs(r1 - r2) > 0.01 or (q[2] and valid):
                     self._check_arc(q, e0, e1, x, y, valid)     # raises if invalid
-                self.store.buf += PACK(o0, o1, o2, x, y, q[8], q[9], q[5], q[6], o2,
-                                       T_ARC, q[1], q[7], PLANE_CODE[self.plane], q[10])
-                self.out = [x, y, q[8]]
+                self.m.store.buf += PACK(o0, o1, o2, x, y, q[8], q[9], q[5], q[6], o2,
+                                       T_ARC, q[1], q[7], PLANE_CODE[self.m.plane], q[10])
+                self.m.out = [x, y, q[8]]
                 self.queue = []
                 self.endpoint = [x, y]
                 self.endpoint_valid = True
@@ -240,19 +245,19 @@ class CompMixin:
             raise GCodeError("BUG: cutter compensation has generated an invalid arc "
                              f"with mismatched radii r1 {r1:f} r2 {r2:f}\n")
         # rs274 2.9 allows 0.001 rad in inch programs, 0.0254 in mm programs
-        slack = 0.0254 if self.units == "mm" else 0.001
+        slack = 0.0254 if self.m.units == "mm" else 0.001
         if l1 and valid and abs(l2) > abs(l1) + slack:
             raise GCodeError("Arc move in concave corner cannot be reached by the "
                              "tool without gouging")
 
-    def flush_comp(self, line: int) -> None:
+    def flush(self, line: int) -> None:
         """M0/M1/M2/M30: emit what is queued."""
-        cx, cy, _ = self._pc(self.cur)
+        cx, cy, _ = self._pc(self.m.cur)
         self.move_endpoint_and_flush(cx, cy)
         self.dequeue()
 
-    def comp_scale(self, f: float) -> None:
-        self.comp_radius *= f
+    def scale(self, f: float) -> None:
+        self.radius *= f
         if not self.queue:
             return
         for q in self.queue:
@@ -267,10 +272,10 @@ class CompMixin:
                     q[k] *= f
 
     # --- straight moves ---------------------------------------------------------------
-    def straight_comp1(self, move: int, line: int, end, feed: float) -> None:
-        radius = self.comp_radius
-        side = self.comp_side
-        cx, cy, cz = self._pc(self.cur)
+    def straight1(self, move: int, line: int, end, feed: float) -> None:
+        radius = self.radius
+        side = self.side
+        cx, cy, cz = self._pc(self.m.cur)
         px, py, pz = self._pc(end)
         distance = math.hypot(px - cx, py - cy)
         if distance <= radius:
@@ -282,14 +287,14 @@ class CompMixin:
         self.set_endpoint(cx, cy)
         self.enqueue_straight(0 if move == 0 else 1, line, (math.cos(alpha), math.sin(alpha), 0.0),
                               end_x, end_y, pz, feed)
-        self.comp_first = False
+        self.first = False
         self._set_current(end_x, end_y, pz)
         self._set_program(px, py, pz)
 
-    def straight_comp2(self, move: int, line: int, end, feed: float) -> None:
+    def straight2(self, move: int, line: int, end, feed: float) -> None:
         kind = 0 if move == 0 else 1
-        a1, a2, an = self.axes
-        c, p = self.cur, self.prog
+        a1, a2, an = self.m.axes
+        c, p = self.m.cur, self.prog
         cx, cy, cz = c[a1], c[a2], c[an]
         end_x, end_y = cx, cy
         opx, opy, opz = p[a1], p[a2], p[an]
@@ -297,8 +302,8 @@ class CompMixin:
         if py == opy and px == opx:
             self.enqueue_straight(kind, line, (px - opx, py - opy, pz - opz), cx, cy, pz, feed)
         else:
-            side = self.comp_side
-            radius = self.comp_radius
+            side = self.side
+            radius = self.radius
             theta = _atan2(cy - opy, cx - opx)
             alpha = _atan2(py - opy, px - opx)
             if side == LEFT:
@@ -329,24 +334,24 @@ class CompMixin:
                 self.move_endpoint_and_flush(cx, cy)
                 if a1 == 0:
                     # XY, queue now empty: emit the corner move at once
-                    o0, o1, o2 = self.out
+                    o0, o1, o2 = self.m.out
                     if move == 10:
-                        self.store.buf += PACK(o0, o1, o2, mid_x, mid_y, cz, feed, opx, opy,
+                        self.m.store.buf += PACK(o0, o1, o2, mid_x, mid_y, cz, feed, opx, opy,
                                                o2, T_ARC, line, -1 if side == LEFT else 1,
-                                               PLANE_CODE[self.plane], self._state_idx)
+                                               PLANE_CODE[self.m.plane], self.m.state_index)
                     else:
-                        self.store.buf += PACK(o0, o1, o2, mid_x, mid_y, cz, 0.0, 0.0, 0.0,
-                                               0.0, 0, line, 0, PLANE_CODE[self.plane],
-                                               self._state_idx)
-                    self.out = [mid_x, mid_y, cz]
+                        self.m.store.buf += PACK(o0, o1, o2, mid_x, mid_y, cz, 0.0, 0.0, 0.0,
+                                               0.0, 0, line, 0, PLANE_CODE[self.m.plane],
+                                               self.m.state_index)
+                    self.m.out = [mid_x, mid_y, cz]
                 else:
                     if move == 10:
                         self.queue.append(["A", line, 0.0, mid_x, mid_y, opx, opy,
                                            -1 if side == LEFT else 1, cz, feed,
-                                           self._state_idx])
+                                           self.m.state_index])
                     else:
                         self.queue.append(["S", 0, line, 0.0, 0.0, 0.0, mid_x, mid_y, cz, 0.0,
-                                           self._state_idx])
+                                           self.m.state_index])
                     self.dequeue()
                 self.endpoint = [mid_x, mid_y]
                 self.endpoint_valid = True
@@ -394,24 +399,24 @@ class CompMixin:
                 self.dequeue()
                 self.set_endpoint(cx, cy)
             self.queue.append(["S", kind, line, px - opx, py - opy, pz - opz, end_x, end_y, pz,
-                               feed, self._state_idx])
+                               feed, self.m.state_index])
         if a1 == 0:                              # XY plane
-            self.cur = [end_x, end_y, pz]
+            self.m.cur = [end_x, end_y, pz]
             self.prog = [px, py, pz]
         else:
             c = [0.0, 0.0, 0.0]
             c[a1], c[a2], c[an] = end_x, end_y, pz
-            self.cur = c
+            self.m.cur = c
             p = [0.0, 0.0, 0.0]
             p[a1], p[a2], p[an] = px, py, pz
             self.prog = p
 
     # --- arcs -------------------------------------------------------------------------
-    def arc_comp1(self, move: int, blk, end, off1: float, off2: float, turn: int,
+    def arc1(self, move: int, blk, end, off1: float, off2: float, turn: int,
                   feed: float) -> None:
-        side = self.comp_side
-        radius = self.comp_radius
-        cx, cy, cz = self._pc(self.cur)
+        side = self.side
+        radius = self.radius
+        cx, cy, cz = self._pc(self.m.cur)
         ex, ey, ez = self._pc(end)
         if math.hypot(ex - cx, ey - cy) <= radius:
             raise GCodeError("Radius of cutter compensation entry arc is not greater than the "
@@ -420,17 +425,17 @@ class CompMixin:
         if "r" in w:
             if abs(w["r"]) <= radius and _inside(side, 1 if move == 30 else -1):
                 raise GCodeError("Tool radius not less than arc radius with comp")
-            center_x, center_y = arc_center_r(move == 20, self.units, cx, cy, ex, ey, w["r"])
+            center_x, center_y = arc_center_r(move == 20, self.m.units, cx, cy, ex, ey, w["r"])
         else:
             center_x, center_y, arc_radius, _ = arc_center_ijk(
-                self.plane, self.units, cx, cy, ex, ey, self.ijk_abs, off1, off2)
+                self.m.plane, self.m.units, cx, cy, ex, ey, self.m.ijk_abs, off1, off2)
             if arc_radius <= radius and _inside(side, 1 if move == 30 else -1):
                 raise GCodeError("Tool radius not less than arc radius with comp")
         if _inside(side, turn):
             gamma = math.atan2(center_y - ey, center_x - ex)
         else:
             gamma = math.atan2(ey - center_y, ex - center_x)
-        self.comp_first = False
+        self.first = False
         self._set_program(ex, ey, ez)
         ex += radius * math.cos(gamma)
         ey += radius * math.sin(gamma)
@@ -443,29 +448,29 @@ class CompMixin:
         center_x = ex + c_len * math.cos(ab_ang)
         center_y = ey + c_len * math.sin(ab_ang)
         if abs(math.hypot(center_x - ex, center_y - ey)
-               - math.hypot(center_x - cx, center_y - cy)) > SPIRAL_TOLERANCE[self.units]:
+               - math.hypot(center_x - cx, center_y - cy)) > SPIRAL_TOLERANCE[self.m.units]:
             raise GCodeError("Bug in tool radius comp")
         self.enqueue_arc(blk.line, find_turn(cx, cy, center_x, center_y, turn, ex, ey),
                          ex, ey, center_x, center_y, turn, ez, feed)
         self._set_current(ex, ey, ez)
 
-    def arc_comp2(self, move: int, line: int, r_word: float | None, end, off1: float,
+    def arc2(self, move: int, line: int, r_word: float | None, end, off1: float,
                   off2: float, turn: int, feed: float) -> None:
         """A compensated arc after the entry move (``r_word``: the R value, or None for
         I/J/K centers ``off1``, ``off2``), LinuxCNC's convert_arc_comp2."""
-        a1, a2, an = self.axes
-        p, c = self.prog, self.cur
+        a1, a2, an = self.m.axes
+        p, c = self.prog, self.m.cur
         opx, opy = p[a1], p[a2]
         cx, cy, cz = c[a1], c[a2], c[an]
         end_x, end_y, end_z = end[a1], end[a2], end[an]
         if r_word is not None:
-            centerx, centery = arc_center_r(move == 20, self.units, opx, opy, end_x, end_y,
+            centerx, centery = arc_center_r(move == 20, self.m.units, opx, opy, end_x, end_y,
                                             r_word)
         else:
-            centerx, centery, _, _ = arc_center_ijk(self.plane, self.units, opx, opy, end_x,
-                                                    end_y, self.ijk_abs, off1, off2)
-        side = self.comp_side
-        tool_radius = self.comp_radius
+            centerx, centery, _, _ = arc_center_ijk(self.m.plane, self.m.units, opx, opy, end_x,
+                                                    end_y, self.m.ijk_abs, off1, off2)
+        side = self.side
+        tool_radius = self.radius
         arc_radius = _hypot(centerx - end_x, centery - end_y)
         theta = _atan2(cy - opy, cx - opx)
         theta = theta - HALF_PI if side == LEFT else theta + HALF_PI
@@ -539,21 +544,21 @@ class CompMixin:
             self.dequeue()
             if a1 == 0:
                 # XY, queue now empty: emit the corner arc at once
-                o0, o1, o2 = self.out
-                self.store.buf += PACK(o0, o1, o2, midx, midy, cz, feed, opx, opy, o2, T_ARC,
+                o0, o1, o2 = self.m.out
+                self.m.store.buf += PACK(o0, o1, o2, midx, midy, cz, feed, opx, opy, o2, T_ARC,
                                        line, -1 if side == LEFT else 1,
-                                       PLANE_CODE[self.plane], self._state_idx)
-                self.out = [midx, midy, cz]
+                                       PLANE_CODE[self.m.plane], self.m.state_index)
+                self.m.out = [midx, midy, cz]
             else:
                 self.queue.append(["A", line, 0.0, midx, midy, opx, opy,
-                                   -1 if side == LEFT else 1, cz, feed, self._state_idx])
+                                   -1 if side == LEFT else 1, cz, feed, self.m.state_index])
                 self.dequeue()
             self.endpoint = [midx, midy]
             self.endpoint_valid = True
             self.queue.append(["A", line, find_turn(opx, opy, centerx, centery, turn, end_x,
                                                     end_y),
                                new_end_x, new_end_y, centerx, centery, turn, end_z, feed,
-                               self._state_idx])
+                               self.m.state_index])
         else:
             if self.queue:
                 self.dequeue()
@@ -564,10 +569,10 @@ class CompMixin:
             self.queue.append(["A", line, find_turn(opx, opy, centerx, centery, turn, end_x,
                                                     end_y),
                                new_end_x, new_end_y, centerx, centery, turn, end_z, feed,
-                               self._state_idx])
+                               self.m.state_index])
         if a1 == 0:
             self.prog = [end_x, end_y, end_z]
-            self.cur = [new_end_x, new_end_y, end_z]
+            self.m.cur = [new_end_x, new_end_y, end_z]
         else:
             self._set_program(end_x, end_y, end_z)
             self._set_current(new_end_x, new_end_y, end_z)

@@ -1,8 +1,8 @@
 """Compensated runs: G0-G3 lines under G41/G42 in G17, executed with the whole state in
 local variables (the hot loop of a compensated program).
 
-The same computation as :class:`millpath.interpret.comp.CompMixin`'s
-``straight_comp2``, ``arc_comp2`` and ``move_endpoint_and_flush`` (LinuxCNC's
+The same computation as :class:`millpath.interpret.comp.Compensation`'s
+``straight2``, ``arc2`` and ``move_endpoint_and_flush`` (LinuxCNC's
 convert_straight_comp2, convert_arc_comp2, move_endpoint_and_flush) for the usual case,
 XY with at most one queued move, written out in one function: no method calls, lists or
 queue entries per move. The queued move lives in a handful of locals and goes back to
@@ -20,14 +20,14 @@ from __future__ import annotations
 from math import acos, asin, atan2, cos, hypot, pi, sin, tan
 
 from millpath.interpret.arcs import (RADIUS_TOLERANCE, SPIRAL_RELATIVE, SPIRAL_TOLERANCE,
-                                     arc_center_r)
+                                     TINY)
 from millpath.interpret.comp import LEFT, RIGHT, SMALL
-from millpath.interpret.errors import GCodeError
 from millpath.interpret.store import KIND_CODE, PACK
 
 T_ARC = KIND_CODE["arc"]
 HALF_PI = pi / 2.0
 TWO_PI = 2 * pi
+ONE_MINUS_TINY = 1.0 - TINY
 #: queued move kinds (``machine.queue`` entries start with "S" or "A")
 NONE, STRAIGHT, ARC = 0, 1, 2
 
@@ -38,9 +38,9 @@ def comp_run(m, lines: list[str], k: int, end_k: int, first, second, base: int) 
     (g, x, y, z, i, j, k, r, f)); return the index of the first line not executed.
     Line ``k`` is source line ``base + k + 1``. Call only with compensation on and past
     its entry move (``comp_side``, ``comp_radius > 0``, not ``comp_first``)."""
-    if (m.plane != "XY" or not m.dist_abs or m.feed_mode != 0 or len(m.queue) > 1):
+    if (m.plane != "XY" or not m.dist_abs or m.feed_mode != 0 or len(m.comp.queue) > 1):
         return k
-    queue = m.queue
+    queue = m.comp.queue
     qt = NONE
     qkind = qline = qturn = qstate = 0
     qa = qb = qx = qy = qz = qc1 = qc2 = qfeed = qd2 = 0.0
@@ -57,17 +57,17 @@ def comp_run(m, lines: list[str], k: int, end_k: int, first, second, base: int) 
         else:
             return k                               # a queued dwell: the machine's code
     cx, cy, cz = m.cur
-    px, py, pz = m.prog
+    px, py, pz = m.comp.prog
     ox, oy, oz = m.out
-    e0, e1 = m.endpoint
-    evalid = m.endpoint_valid
+    e0, e1 = m.comp.endpoint
+    evalid = m.comp.endpoint_valid
     feed_rate = m.feed_rate
     mode = m.motion_mode
-    arcs_ok = not m.ijk_abs and not m.arc_not_allowed
-    side = m.comp_side
+    arcs_ok = not m.ijk_abs and not m.comp.arc_not_allowed
+    side = m.comp.side
     left = side == LEFT
     right = side == RIGHT
-    radius = m.comp_radius
+    radius = m.comp.radius
     units = m.units
     rtol = RADIUS_TOLERANCE[units]
     stol = SPIRAL_TOLERANCE[units]
@@ -99,6 +99,10 @@ def comp_run(m, lines: list[str], k: int, end_k: int, first, second, base: int) 
             ey = py if y is None else float(y)
             ez = pz if z is None else float(z)
             n = base + k + 1
+            # Each move decides (1) where the queued move ends: ``ux, uy`` (the queued
+            # move is checked there first when ``check``), (2) a corner move to
+            # ``mid_x, mid_y``: 0 none, 1 arc, 2 traverse, (3) the new end point
+            # (``set_end``: ``ne0, ne1``), (4) the new current point ``nx, ny``.
             if code == 0 or code == 10:
                 # --- convert_straight_comp2 ---------------------------------------
                 if i is not None or j is not None or r is not None:
@@ -107,10 +111,8 @@ def comp_run(m, lines: list[str], k: int, end_k: int, first, second, base: int) 
                     if fr == 0.0:
                         return k
                     mfeed = fr
-                    kind = 1
                 else:
                     mfeed = 0.0
-                    kind = 0
                 if ey == py and ex == px:
                     return k                       # queued without a flush: the machine's
                 theta = atan2(cy - py, cx - px)
@@ -127,8 +129,8 @@ def comp_run(m, lines: list[str], k: int, end_k: int, first, second, base: int) 
                     gamma = -HALF_PI
                 rc = radius * cos(alpha + gamma)
                 rs = radius * sin(alpha + gamma)
-                end_x = ex + rc
-                end_y = ey + rs
+                nx = ex + rc
+                ny = ey + rs
                 if beta < -SMALL or beta > pi + SMALL:
                     concave = True
                 elif (beta > pi - SMALL and qt == ARC
@@ -139,21 +141,20 @@ def comp_run(m, lines: list[str], k: int, end_k: int, first, second, base: int) 
                 if not concave and beta > SMALL:
                     # convex corner: flush to the current point, then an arc around the
                     # programmed corner (a traverse for G0)
-                    fx, fy = cx, cy
+                    ux, uy = cx, cy
+                    check = qt != NONE
+                    corner = 1 if code == 10 else 2
                     mid_x = px + rc
                     mid_y = py + rs
-                    corner = True
-                    flush = qt != NONE
+                    set_end, ne0, ne1 = True, mid_x, mid_y
                 elif concave:
-                    corner = False
-                    flush = qt != NONE
                     if qt != ARC:
                         halfcorner = (beta + pi) / 2.0
                         if halfcorner == 0.0:
                             return k
                         retreat = radius / tan(halfcorner)
-                        fx = cx + retreat * cos(theta + gamma)
-                        fy = cy + retreat * sin(theta + gamma)
+                        ux = cx + retreat * cos(theta + gamma)
+                        uy = cy + retreat * sin(theta + gamma)
                     else:
                         oldrad = hypot(qc2 - qy, qc1 - qx)
                         base_dir = atan2(ey - py, ex - px)
@@ -178,82 +179,49 @@ def comp_run(m, lines: list[str], k: int, end_k: int, first, second, base: int) 
                                 ang = acos(lv) + th + pi
                             else:
                                 ang = -acos(lv) + th + pi
-                        fx = qc1 + oldrad * cos(ang)
-                        fy = qc2 + oldrad * sin(ang)
+                        ux = qc1 + oldrad * cos(ang)
+                        uy = qc2 + oldrad * sin(ang)
+                    check = qt != NONE
+                    corner = 0
+                    set_end, ne0, ne1 = check, ux, uy      # unchanged with nothing queued
                 else:
-                    corner = flush = False
-                    fx = fy = 0.0
-                if flush:
-                    # move_endpoint_and_flush(fx, fy), checked before anything is packed
-                    if qt == STRAIGHT:
-                        if evalid and qa * (fx - e0) + qb * (fy - e1) < 0:
-                            return k
-                    else:
-                        # the queued arc's end moves to fx, fy: LinuxCNC's checks
-                        if abs(hypot(qx - qc1, qy - qc2) - hypot(fx - qc1, fy - qc2)) > 0.01:
-                            return k
-                        if qa and evalid:
-                            a0 = atan2(e1 - qc2, e0 - qc1)
-                            a1 = atan2(fy - qc2, fx - qc1)
-                            if qturn > 0:
-                                if a1 <= a0:
-                                    a1 += TWO_PI
-                            elif a0 <= a1:
-                                a0 += TWO_PI
-                            if abs(a1 - a0) > abs(qa) + slack:
-                                return k
-                # --- commit: nothing below can fail -------------------------------
-                if flush:
-                    if qt == STRAIGHT:
-                        buf += pack(ox, oy, oz, fx, fy, qz, qfeed, 0.0, 0.0, 0.0,
-                                    qkind, qline, 0, 0, qstate)
-                    else:
-                        buf += pack(ox, oy, oz, fx, fy, qz, qfeed, qc1, qc2, oz,
-                                    T_ARC, qline, qturn, 0, qstate)
-                    ox, oy, oz = fx, fy, qz
-                    e0, e1 = fx, fy
-                    evalid = True
-                if corner:
-                    if code == 10:
-                        buf += pack(ox, oy, oz, mid_x, mid_y, cz, mfeed, px, py, oz,
-                                    T_ARC, n, corner_turn, 0, state)
-                    else:
-                        buf += pack(ox, oy, oz, mid_x, mid_y, cz, 0.0, 0.0, 0.0, 0.0,
-                                    0, n, 0, 0, state)
-                    ox, oy, oz = mid_x, mid_y, cz
-                    e0, e1 = mid_x, mid_y
-                    evalid = True
-                elif not concave:
                     # dequeue as it is, the end point is the current point
-                    if qt == STRAIGHT:
-                        buf += pack(ox, oy, oz, qx, qy, qz, qfeed, 0.0, 0.0, 0.0,
-                                    qkind, qline, 0, 0, qstate)
-                        ox, oy, oz = qx, qy, qz
-                    elif qt == ARC:
-                        buf += pack(ox, oy, oz, qx, qy, qz, qfeed, qc1, qc2, oz,
-                                    T_ARC, qline, qturn, 0, qstate)
-                        ox, oy, oz = qx, qy, qz
-                    e0, e1 = cx, cy
-                    evalid = True
-                qt = STRAIGHT
-                qkind, qline, qstate = kind, n, state
-                qa, qb, qd2 = ex - px, ey - py, ez - pz
-                qx, qy, qz, qfeed = end_x, end_y, ez, mfeed
-                arcs_ok = not m.ijk_abs
+                    ux, uy = qx, qy
+                    check = False
+                    corner = 0
+                    set_end, ne0, ne1 = True, cx, cy
             elif code == 20 or code == 30:
                 # --- convert_arc_comp2 --------------------------------------------
                 if not arcs_ok or (r is None) == (i is None and j is None):
                     return k
                 if fr == 0.0:
                     return k
+                mfeed = fr
                 if r is not None:
                     if x is None and y is None:
                         return k
-                    try:
-                        centerx, centery = arc_center_r(code == 20, units, px, py, ex, ey,
-                                                        float(r))
-                    except GCodeError:
+                    # arc_center_r(code == 20, units, px, py, ex, ey, R), written out;
+                    # its errors go to the machine's code
+                    if ex == px and ey == py:
                         return k
+                    radius_word = float(r)
+                    abs_r = abs(radius_word)
+                    mx = (ex + px) / 2.0
+                    my = (ey + py) / 2.0
+                    half = hypot(mx - ex, my - ey)
+                    if half - abs_r > rtol:
+                        return k
+                    if abs_r == 0.0 or half / abs_r > ONE_MINUS_TINY:
+                        half = abs_r
+                    theta = atan2(ey - py, ex - px)
+                    if ((code == 20 and radius_word > 0)
+                            or (code != 20 and radius_word < 0)):
+                        theta = theta - HALF_PI
+                    else:
+                        theta = theta + HALF_PI
+                    off = abs_r * cos(asin(half / abs_r) if abs_r else 0.0)
+                    centerx = mx + off * cos(theta)
+                    centery = my + off * sin(theta)
                 else:
                     centerx = px if i is None else px + float(i)
                     centery = py if j is None else py + float(j)
@@ -282,12 +250,12 @@ def comp_run(m, lines: list[str], k: int, end_k: int, first, second, base: int) 
                 else:
                     gamma = atan2(ey - centery, ex - centerx)
                     delta = delta + pi
-                new_end_x = ex + radius * cos(gamma)
-                new_end_y = ey + radius * sin(gamma)
+                nx = ex + radius * cos(gamma)
+                ny = ey + radius * sin(gamma)
                 inside = (left and turn > 0) or (right and turn < 0)
                 if beta < -SMALL or beta > pi + SMALL or (abs(beta - pi) < SMALL
                                                           and not inside):
-                    how = 0                        # concave: flush to a trimmed point
+                    # concave: flush to a trimmed point
                     if qt != ARC:
                         cyy = arc_radius * sin(beta - HALF_PI)
                         if inside:
@@ -305,8 +273,8 @@ def comp_run(m, lines: list[str], k: int, end_k: int, first, second, base: int) 
                                 ang = theta + pi - asin(lv)
                             else:
                                 ang = theta + pi + asin(lv)
-                        fx = centerx + dist_from_center * cos(ang)
-                        fy = centery + dist_from_center * sin(ang)
+                        ux = centerx + dist_from_center * cos(ang)
+                        uy = centery + dist_from_center * sin(ang)
                     else:
                         oldrad = hypot(qc2 - qy, qc1 - qx)
                         newrad = arc_radius - radius if inside else arc_radius + radius
@@ -322,63 +290,74 @@ def comp_run(m, lines: list[str], k: int, end_k: int, first, second, base: int) 
                             direction = cc_dir + pullback if turn > 0 else cc_dir - pullback
                         else:
                             direction = cc_dir - pullback if turn > 0 else cc_dir + pullback
-                        fx = qc1 + oldrad * cos(direction)
-                        fy = qc2 + oldrad * sin(direction)
-                    if qt == STRAIGHT:
-                        if evalid and qa * (fx - e0) + qb * (fy - e1) < 0:
-                            return k
-                    elif qt == ARC:
-                        if abs(hypot(qx - qc1, qy - qc2) - hypot(fx - qc1, fy - qc2)) > 0.01:
-                            return k
-                        if qa and evalid:
-                            a0 = atan2(e1 - qc2, e0 - qc1)
-                            a1 = atan2(fy - qc2, fx - qc1)
-                            if qturn > 0:
-                                if a1 <= a0:
-                                    a1 += TWO_PI
-                            elif a0 <= a1:
-                                a0 += TWO_PI
-                            if abs(a1 - a0) > abs(qa) + slack:
-                                return k
-                elif beta > SMALL:
-                    how = 1                        # convex: dequeue, corner arc
+                        ux = qc1 + oldrad * cos(direction)
+                        uy = qc2 + oldrad * sin(direction)
+                    check = qt != NONE
+                    corner = 0
+                    set_end, ne0, ne1 = check, ux, uy
                 else:
-                    how = 2                        # tangent: dequeue
-                # --- commit: nothing below can fail -------------------------------
-                if how == 0:
-                    if qt == STRAIGHT:
-                        buf += pack(ox, oy, oz, fx, fy, qz, qfeed, 0.0, 0.0, 0.0,
-                                    qkind, qline, 0, 0, qstate)
-                        ox, oy, oz = fx, fy, qz
-                        e0, e1 = fx, fy
-                        evalid = True
-                    elif qt == ARC:
-                        buf += pack(ox, oy, oz, fx, fy, qz, qfeed, qc1, qc2, oz,
-                                    T_ARC, qline, qturn, 0, qstate)
-                        ox, oy, oz = fx, fy, qz
-                        e0, e1 = fx, fy
-                        evalid = True
-                else:
-                    if qt == STRAIGHT:
-                        buf += pack(ox, oy, oz, qx, qy, qz, qfeed, 0.0, 0.0, 0.0,
-                                    qkind, qline, 0, 0, qstate)
-                        ox, oy, oz = qx, qy, qz
-                    elif qt == ARC:
-                        buf += pack(ox, oy, oz, qx, qy, qz, qfeed, qc1, qc2, oz,
-                                    T_ARC, qline, qturn, 0, qstate)
-                        ox, oy, oz = qx, qy, qz
-                    if how == 1:
-                        midx = px + radius * cos(delta)
-                        midy = py + radius * sin(delta)
-                        buf += pack(ox, oy, oz, midx, midy, cz, fr, px, py, oz, T_ARC, n,
-                                    corner_turn, 0, state)
-                        ox, oy, oz = midx, midy, cz
-                        e0, e1 = midx, midy
+                    # convex (a corner arc) or tangent: dequeue as it is
+                    ux, uy = qx, qy
+                    check = False
+                    if beta > SMALL:
+                        corner = 1
+                        mid_x = px + radius * cos(delta)
+                        mid_y = py + radius * sin(delta)
+                        set_end, ne0, ne1 = True, mid_x, mid_y
                     else:
-                        e0, e1 = cx, cy
-                    evalid = True
+                        corner = 0
+                        set_end, ne0, ne1 = True, cx, cy
+            else:
+                return k
+            if check:
+                # move_endpoint_and_flush(ux, uy): the queued move's checks
+                if qt == STRAIGHT:
+                    if evalid and qa * (ux - e0) + qb * (uy - e1) < 0:
+                        return k
+                else:
+                    if abs(hypot(qx - qc1, qy - qc2) - hypot(ux - qc1, uy - qc2)) > 0.01:
+                        return k
+                    if qa and evalid:
+                        a0 = atan2(e1 - qc2, e0 - qc1)
+                        a1 = atan2(uy - qc2, ux - qc1)
+                        if qturn > 0:
+                            if a1 <= a0:
+                                a1 += TWO_PI
+                        elif a0 <= a1:
+                            a0 += TWO_PI
+                        if abs(a1 - a0) > abs(qa) + slack:
+                            return k
+            # --- commit: nothing below can fail -----------------------------------
+            if qt == STRAIGHT:
+                buf += pack(ox, oy, oz, ux, uy, qz, qfeed, 0.0, 0.0, 0.0,
+                            qkind, qline, 0, 0, qstate)
+                ox, oy, oz = ux, uy, qz
+            elif qt == ARC:
+                buf += pack(ox, oy, oz, ux, uy, qz, qfeed, qc1, qc2, oz,
+                            T_ARC, qline, qturn, 0, qstate)
+                ox, oy, oz = ux, uy, qz
+            if corner == 1:
+                buf += pack(ox, oy, oz, mid_x, mid_y, cz, mfeed, px, py, oz, T_ARC, n,
+                            corner_turn, 0, state)
+                ox, oy, oz = mid_x, mid_y, cz
+            elif corner == 2:
+                buf += pack(ox, oy, oz, mid_x, mid_y, cz, 0.0, 0.0, 0.0, 0.0, 0, n, 0, 0,
+                            state)
+                ox, oy, oz = mid_x, mid_y, cz
+            if set_end:
+                e0, e1 = ne0, ne1
+                evalid = True
+            qline, qstate, qz, qfeed = n, state, ez, mfeed
+            qx, qy = nx, ny
+            if code <= 10:
+                qt = STRAIGHT
+                qkind = 1 if code == 10 else 0
+                qa, qb, qd2 = ex - px, ey - py, ez - pz
+                arcs_ok = not m.ijk_abs
+            else:
                 qt = ARC
-                qline, qstate, qturn = n, state, turn
+                qturn = turn
+                qc1, qc2 = centerx, centery
                 # find_turn(px, py, centerx, centery, turn, ex, ey), written out
                 a0 = atan2(py - centery, px - centerx)
                 a1 = atan2(ey - centery, ex - centerx)
@@ -389,30 +368,27 @@ def comp_run(m, lines: list[str], k: int, end_k: int, first, second, base: int) 
                     if a0 <= a1:
                         a0 += TWO_PI
                 qa = (a1 - a0) + 0.0
-                qx, qy, qc1, qc2, qz, qfeed = new_end_x, new_end_y, centerx, centery, ez, fr
-            else:
-                return k
             feed_rate = fr
             mode = code
-            cx, cy, cz = (end_x, end_y, ez) if code <= 10 else (new_end_x, new_end_y, ez)
+            cx, cy, cz = nx, ny, ez
             px, py, pz = ex, ey, ez
             k += 1
         return k
     finally:
         if k > start:
             m.cur = [cx, cy, cz]
-            m.prog = [px, py, pz]
+            m.comp.prog = [px, py, pz]
             m.out = [ox, oy, oz]
-            m.endpoint = [e0, e1]
-            m.endpoint_valid = evalid
+            m.comp.endpoint = [e0, e1]
+            m.comp.endpoint_valid = evalid
             m.feed_rate = feed_rate
             m.motion_mode = mode
-            m.cycle_il_flag = False
-            m.arc_not_allowed = False      # arcs ran only when allowed; a straight allows
+            m.cycles.il_flag = False
+            m.comp.arc_not_allowed = False      # arcs ran only when allowed; a straight allows
             if qt == STRAIGHT:
-                m.queue = [["S", qkind, qline, qa, qb, qd2, qx, qy, qz, qfeed, qstate]]
+                m.comp.queue = [["S", qkind, qline, qa, qb, qd2, qx, qy, qz, qfeed, qstate]]
             elif qt == ARC:
-                m.queue = [["A", qline, qa, qx, qy, qc1, qc2, qturn, qz, qfeed, qstate]]
+                m.comp.queue = [["A", qline, qa, qx, qy, qc1, qc2, qturn, qz, qfeed, qstate]]
             else:
-                m.queue = []
+                m.comp.queue = []
 

@@ -28,61 +28,65 @@ _NORMAL_LETTER = {"XY": "z", "XZ": "y", "YZ": "x"}
 _PLANE_LETTERS = {"XY": ("x", "y"), "XZ": ("z", "x"), "YZ": ("y", "z")}
 
 
-class CycleMixin:
-    """Canned cycle state and expansion; mixed into the interpreter's Machine."""
+class Cycles:
+    """The canned-cycle executor: its state (the initial level ``il`` and whether it is
+    set, the last R, P, Q and normal-axis values) and the expansion of a cycle block into
+    moves on machine ``m`` (position, plane, feed, retract mode, motion store)."""
 
-    def cycle_init(self) -> None:
-        self.cycle_il = 0.0
-        self.cycle_il_flag = False
-        self.cycle_cc = 0.0
-        self.cycle_r = 0.0
-        self.cycle_p = 0.0
-        self.cycle_q = 0.0
+    def __init__(self, machine) -> None:
+        self.m = machine
+        self.il = 0.0                   # initial level (normal axis), program units
+        self.il_flag = False            # set by the first cycle of a run
+        self.cc = 0.0
+        self.r = 0.0
+        self.p = 0.0
+        self.q = 0.0
 
     def _cyc_move(self, kind: int, line: int, a: float, b: float, c: float) -> None:
-        a1, a2, an = self.axes
+        a1, a2, an = self.m.axes
         end = [0.0, 0.0, 0.0]
         end[a1], end[a2], end[an] = a, b, c
-        self.emit(kind, line, end, self.feed_rate if kind == 1 else 0.0)
-        self.cur = end
+        self.m.emit(kind, line, end, self.m.feed_rate if kind == 1 else 0.0)
+        self.m.cur = end
 
-    def cycle(self, motion: int, blk) -> None:
+    def run(self, motion: int, blk) -> None:
+        """Execute cycle ``motion`` (G code x 10) of block ``blk``."""
         w = blk.words
         line = blk.line
         if motion not in _SUPPORTED:
             raise GCodeError(f"G{motion // 10} is not supported by this interpreter")
-        if self.feed_rate == 0.0:
+        if self.m.feed_rate == 0.0:
             raise GCodeError("Cannot feed with zero feed rate")
-        if self.feed_mode == 1:
+        if self.m.feed_mode == 1:
             raise GCodeError("Cannot use inverse time feed with canned cycles")
-        if self.comp_side:
+        if self.m.comp.side:
             raise GCodeError("Cannot use canned cycles with cutter compensation on")
         if "r" in w:
             r_word = w["r"]
-        elif self.motion_mode == motion:
-            r_word = self.cycle_r
+        elif self.m.motion_mode == motion:
+            r_word = self.r
         else:
             raise GCodeError("R clearance plane unspecified in cycle")
         repeats = int(w.get("l", 1))
         if "l" in w and repeats == 0:
             raise GCodeError("Cannot do zero repeats of cycle")
-        plane = self.plane
+        plane = self.m.plane
         la, lb = _PLANE_LETTERS[plane]
         lc = _NORMAL_LETTER[plane]
-        a1, a2, an = self.axes
-        cur = self.cur
-        if self.motion_mode != motion and lc not in w:
+        a1, a2, an = self.m.axes
+        cur = self.m.cur
+        if self.m.motion_mode != motion and lc not in w:
             raise GCodeError({"XY": "Z value unspecified in xy plane canned cycle",
                               "XZ": "Y value unspecified in xz plane canned cycle",
                               "YZ": "X value unspecified in yz plane canned cycle"}[plane])
-        c_word = w.get(lc, self.cycle_cc)
-        if self.cycle_il_flag:
-            old_cc = self.cycle_il
+        c_word = w.get(lc, self.cc)
+        if self.il_flag:
+            old_cc = self.il
         else:
-            old_cc = self.cycle_il = cur[an]
-            self.cycle_il_flag = True
+            old_cc = self.il = cur[an]
+            self.il_flag = True
         rad_inc = theta_inc = 0.0
-        if self.dist_abs:
+        if self.m.dist_abs:
             inc_a = inc_b = 0.0
             r = r_word
             cc = c_word
@@ -112,25 +116,25 @@ class CycleMixin:
             self._cyc_move(0, line, cur[a1], cur[a2], r)
             old_cc = r
             current_cc = r
-        clear_cc = r if self.retract_r_plane else old_cc
+        clear_cc = r if self.m.retract_r_plane else old_cc
         p = q = 0.0
         if motion in (820, 890):               # rs274 reads P-1 / Q-1 as missing words
             p = w.get("p", -1.0)
-            if self.motion_mode != motion and p == -1.0:
+            if self.m.motion_mode != motion and p == -1.0:
                 raise GCodeError(f"Dwell time p word missing with g{motion // 10}")
             if p == -1.0:
-                p = self.cycle_p
+                p = self.p
         if motion in (730, 830):
             q = w.get("q", -1.0)
-            if self.motion_mode != motion and q == -1.0:
+            if self.m.motion_mode != motion and q == -1.0:
                 raise GCodeError(f"Q word missing with g{motion // 10}")
             if q == -1.0:
-                q = self.cycle_q
+                q = self.q
         pecks = (r - q - cc) / q + 2.0 if motion in (730, 830) and q > 0.0 else 1.0
         if repeats * pecks > MAX_CYCLE_STEPS:
             raise GCodeError(f"canned cycle would make more than {MAX_CYCLE_STEPS} moves "
                              f"({repeats} repeats, {pecks:.3g} pecks each)")
-        units = self.units
+        units = self.m.units
         delta = 0.010 * (25.4 if units == "mm" else 1.0)
         for rep in range(repeats):
             aa += inc_a
@@ -154,7 +158,7 @@ class CycleMixin:
                 at = {"bottom": cc, "r": r, "clear": clear_cc}
                 for kind, where in CYCLE_STEPS[motion]:
                     if kind == "dwell":
-                        self.emit_dwell(line, p)
+                        self.m.emit_dwell(line, p)
                     else:
                         self._cyc_move(kind, line, aa, bb, at[where])
             elif motion in (730, 830):
@@ -172,12 +176,12 @@ class CycleMixin:
                 self._cyc_move(1, line, aa, bb, cc)
                 self._cyc_move(0, line, aa, bb, clear_cc)
         if motion in (820, 890):
-            self.cycle_p = p
+            self.p = p
         if motion in (730, 830):
-            self.cycle_q = q
+            self.q = q
         end = [0.0, 0.0, 0.0]
         end[a1], end[a2], end[an] = aa, bb, clear_cc
-        self.cur = end
-        self.cycle_cc = c_word
-        self.cycle_r = r_word
-        self.motion_mode = motion
+        self.m.cur = end
+        self.cc = c_word
+        self.r = r_word
+        self.m.motion_mode = motion

@@ -15,6 +15,7 @@ import re
 from math import hypot
 
 from millpath.interpret.compfast import comp_run
+from millpath.interpret.cycles import CYCLES
 from millpath.interpret.errors import GCodeError
 from millpath.interpret.arcs import (RADIUS_TOLERANCE, SPIRAL_RELATIVE, SPIRAL_TOLERANCE,
                                      arc_center_r)
@@ -37,13 +38,39 @@ _FREE = re.compile(
     + "|".join([rf"[Gg]{_W}0*+([0-3])(?![\d.])(?![^(;]*[Gg])"]
                + [rf"[{u}{u.lower()}]{_W}{_NUM}(?![^(;]*[{u}{u.lower()}])" for u in "XYZIJKRF"])
     + rf"){_W})*+(?:\([^()]*+\){_W}|;.*+)?+\r?")
+# ``_FREE`` without its look-aheads (each scans the rest of the line: more than half
+# the time of a match): a duplicate is found by counting letters instead (match_free)
+_FREE_WORDS = re.compile(
+    rf"{_W}(?:[Nn]{_W}\d++(?:\.\d*+)?+{_W})?+(?:(?:"
+    + "|".join([rf"[Gg]{_W}0*+([0-3])(?![\d.])"]
+               + [rf"[{u}{u.lower()}]{_W}{_NUM}" for u in "XYZIJKRF"])
+    + rf"){_W})*+(?:\([^()]*+\){_W}|;.*+)?+\r?")
+#: all a line matched by ``_FREE_WORDS`` without a comment may hold but word letters
+_NOT_WORD_LETTERS = b"0123456789.+- \t\rNn"
 _LETTERS = "xyzijkrf"
+#: G40, G41/G42 with an optional whole D word, then the rest of the line (a simple move)
+_COMP_SWITCH = re.compile(r"[ \t]*+[Gg]0*4([012])(?![\d.])[ \t]*+"
+                          r"(?:[Dd][ \t]*+(\d++)(?![\d.])[ \t]*+)?+(.*+)")
+
+
+def match_free(line: str):
+    """``_FREE.fullmatch(line)``, sooner: the words in any order without the look-aheads,
+    then, on an ASCII line without a comment, as many word letters as words found (a
+    letter given twice leaves fewer words than letters); other lines go to ``_FREE``."""
+    mt = _FREE_WORDS.fullmatch(line)
+    if mt is None:
+        return None
+    if "(" in line or ";" in line or not line.isascii():
+        return _FREE.fullmatch(line)
+    if len(line.encode().translate(None, _NOT_WORD_LETTERS)) != 9 - mt.groups().count(None):
+        return None                # a word twice: the general reader reports it
+    return mt
 
 
 def match_simple(line: str):
     """Regex match of a simple motion line (words G0-G3 X Y Z I J K R F, plain numbers,
     any order and case), or None; ``groups()`` are (g, x, y, z, i, j, k, r, f)."""
-    return _FAST.fullmatch(line) or _FREE.fullmatch(line)
+    return _FAST.fullmatch(line) or match_free(line)
 
 
 class FastPath:
@@ -53,7 +80,7 @@ class FastPath:
         self.m = machine
         self.match = match_simple
         self.sampled = None
-        self.first, self.second = _FAST.fullmatch, _FREE.fullmatch
+        self.first, self.second = _FAST.fullmatch, match_free
         self.blk = Block(0, "")
         self.k = 0
 
@@ -66,9 +93,9 @@ class FastPath:
             sample = lines[::step]
             hits = sum(1 for s in sample if _FAST.fullmatch(s))
             if hits >= 0.7 * len(sample):
-                self.first, self.second = _FAST.fullmatch, _FREE.fullmatch
+                self.first, self.second = _FAST.fullmatch, match_free
             else:
-                self.first, self.second = _FREE.fullmatch, _FAST.fullmatch
+                self.first, self.second = match_free, _FAST.fullmatch
         return self.first, self.second
 
     def run(self, lines: list[str], k: int, base: int = 0, stop: int | None = None) -> int:
@@ -92,7 +119,7 @@ class FastPath:
         m = self.m
         if f is not None:
             m.feed_rate = float(f)
-        prog = m.prog
+        prog = m.comp.prog
         return [prog[0] if x is None else float(x), prog[1] if y is None else float(y),
                 prog[2] if z is None else float(z)]
 
@@ -119,16 +146,16 @@ class FastPath:
         comp_line = comp_arcs = False
 
         def load():
-            simple = (not m.comp_side and m.dist_abs and m.feed_mode == 0)
-            arcs_ok = (simple and not m.ijk_abs and not m.arc_not_allowed
+            simple = (not m.comp.side and m.dist_abs and m.feed_mode == 0)
+            arcs_ok = (simple and not m.ijk_abs and not m.comp.arc_not_allowed
                        and m.plane == "XY")
             units = m.units
             c, o = m.cur, m.out
             nonlocal comp_line, comp_arcs
-            comp_line = (m.comp_side and m.comp_radius > 0.0 and not m.comp_first
+            comp_line = (m.comp.side and m.comp.radius > 0.0 and not m.comp.first
                          and m.dist_abs and m.feed_mode == 0)
             comp_arcs = (comp_line and m.plane == "XY" and not m.ijk_abs
-                         and not m.arc_not_allowed)
+                         and not m.comp.arc_not_allowed)
             return (c[0], c[1], c[2], o[0], o[1], o[2], m.feed_rate, m.motion_mode, simple,
                     arcs_ok, PLANE_CODE[m.plane], m.state_index, RADIUS_TOLERANCE[units],
                     SPIRAL_TOLERANCE[units], units)
@@ -153,7 +180,21 @@ class FastPath:
                 if mt is None:
                     mt = second(line)
                     if mt is None:
-                        return k
+                        sw = _COMP_SWITCH.fullmatch(line)
+                        if sw is None:
+                            return k
+                        # G40 / G41 Dn / G42 Dn, G40 with a G0/G1 move: the machine's own
+                        # executors, without the general reader
+                        self.put_back(cx, cy, cz, ox, oy, oz, feed, mode, moved, straight)
+                        moved = straight = False
+                        self.k = k
+                        ok = self.comp_switch(sw, base + k + 1)
+                        (cx, cy, cz, ox, oy, oz, feed, mode, simple, arcs_ok, pcode, state,
+                         rtol, stol, units) = load()
+                        if not ok:
+                            return k
+                        k += 1
+                        continue
                 g, x, y, z, i, j, kk, r, f = mt.groups()
                 if g is None:
                     code = mode if (x is not None or y is not None or z is not None) else -1
@@ -161,18 +202,18 @@ class FastPath:
                     code = (ord(g) - 48) * 10
                 if (comp_line and code in (0, 10) and i is None and j is None and kk is None
                         and r is None and (f is None or f[0] != "-")):
-                    # G0/G1 with compensation on (not the entry move): straight_comp2.
+                    # G0/G1 with compensation on (not the entry move): comp.straight2.
                     # With compensation on, every line goes through the machine, so its
                     # position and feed are the locals' already.
                     end = self.comp_end(f, x, y, z)
                     if code == 10 and m.feed_rate == 0.0:
                         return k
                     m.motion_mode = code
-                    m.arc_not_allowed = False
-                    m.cycle_il_flag = False
-                    # straight_comp2 changes only the position (and the feed set above)
+                    m.comp.arc_not_allowed = False
+                    m.cycles.il_flag = False
+                    # comp.straight2 changes only the position (and the feed set above)
                     cx, cy, cz, ox, oy, oz = self.comp_move(
-                        buf, k, m.straight_comp2, code, base + k + 1, end,
+                        buf, k, m.comp.straight2, code, base + k + 1, end,
                         m.feed_rate if code == 10 else 0.0)
                     feed, mode = m.feed_rate, code
                     k += 1
@@ -180,14 +221,14 @@ class FastPath:
                 if (comp_arcs and code >= 20 and kk is None and (f is None or f[0] != "-")
                         and ((r is None) != (i is None and j is None))
                         and (r is None or x is not None or y is not None)):
-                    # G2/G3 in G17 with compensation on (not the entry move): arc_comp2
+                    # G2/G3 in G17 with compensation on (not the entry move): comp.arc2
                     end = self.comp_end(f, x, y, z)
                     if m.feed_rate == 0.0:
                         return k
                     m.motion_mode = code
-                    m.cycle_il_flag = False
+                    m.cycles.il_flag = False
                     cx, cy, cz, ox, oy, oz = self.comp_move(
-                        buf, k, m.arc_comp2, code, base + k + 1,
+                        buf, k, m.comp.arc2, code, base + k + 1,
                         None if r is None else float(r), end,
                         0.0 if i is None else float(i), 0.0 if j is None else float(j),
                         -1 if code == 20 else 1, m.feed_rate)
@@ -196,14 +237,8 @@ class FastPath:
                     continue
                 if (not simple or code < 0 or code > 30
                         or (code >= 20 and not arcs_ok)):
-                    m.cur, m.out = [cx, cy, cz], [ox, oy, oz]
-                    m.feed_rate, m.motion_mode = feed, mode
-                    if moved:
-                        m.cycle_il_flag = False
-                        moved = False
-                    if straight:
-                        m.arc_not_allowed = False
-                        straight = False
+                    self.put_back(cx, cy, cz, ox, oy, oz, feed, mode, moved, straight)
+                    moved = straight = False
                     self.k = k
                     ok = one(g, x, y, z, i, j, kk, r, f, base + k + 1)
                     (cx, cy, cz, ox, oy, oz, feed, mode, simple, arcs_ok, pcode, state, rtol,
@@ -263,12 +298,51 @@ class FastPath:
                 k += 1
             return k
         finally:
-            m.cur, m.out = [cx, cy, cz], [ox, oy, oz]
-            m.feed_rate, m.motion_mode = feed, mode
-            if moved:
-                m.cycle_il_flag = False
-            if straight:
-                m.arc_not_allowed = False
+            self.put_back(cx, cy, cz, ox, oy, oz, feed, mode, moved, straight)
+
+    def put_back(self, cx: float, cy: float, cz: float, ox: float, oy: float, oz: float,
+                 feed: float, mode: int, moved: bool, straight: bool) -> None:
+        """Write the loop's locals back to the machine: position, output point, feed,
+        motion mode, and the flags a move (``moved``) or a straight move clears."""
+        m = self.m
+        m.cur, m.out = [cx, cy, cz], [ox, oy, oz]
+        m.feed_rate, m.motion_mode = feed, mode
+        if moved:
+            m.cycles.il_flag = False
+        if straight:
+            m.comp.arc_not_allowed = False
+
+    def comp_switch(self, sw, n: int) -> bool:
+        """Execute a line matched by ``_COMP_SWITCH`` (G40, G41/G42 with an optional
+        whole D, or G40 followed by a simple G0/G1 move) as the general path would:
+        compensation switched, then the move; on an error, nothing of the line is kept.
+        False (nothing done) to use the general reader."""
+        m = self.m
+        code = 400 + 10 * int(sw.group(1))
+        d, rest = sw.group(2), sw.group(3)
+        mt = None
+        if rest:
+            if code != 400 or d is not None:
+                return False
+            mt = self.match(rest)
+            if mt is None:
+                return False
+            g, x, y, z, i, j, k, r, f = mt.groups()
+            if (g not in ("0", "1") or i is not None or j is not None or k is not None
+                    or r is not None or (f is not None and f[0] == "-")):
+                return False
+        elif code == 400 and d is not None:
+            return False                      # D with G40: the reader's error
+        store = m.store
+        mark = len(store)
+        try:
+            m.comp.on_off(code, {} if d is None else {"d": float(d)})
+            if mt is not None:
+                self.groups(g, x, y, z, i, j, k, r, f, n)
+        except GCodeError:
+            store.truncate(mark)
+            raise
+        return True
 
     def try_line(self, raw: str, n: int) -> bool:
         """Execute ``raw`` if it has the simple shape; False to use the general reader."""
@@ -276,6 +350,34 @@ class FastPath:
         if mt is None:
             return False
         return self.groups(*mt.groups(), n)
+
+    def cycle_line(self, code: int, x, y, z, r, f, n: int) -> bool:
+        """A line of modal X Y Z R (F) words under canned cycle ``code``."""
+        if f is not None and f[0] == "-":
+            return False
+        return self.motion_words(code, (x, y, z, None, None, None, r), f, n)
+
+    def motion_words(self, code: int, values: tuple, f, n: int) -> bool:
+        """Set the line's F word, then run motion ``code`` on the words ``values``
+        (X Y Z I J K R, None when absent), as the general path would."""
+        m = self.m
+        w = {c: float(v) for c, v in zip("xyzijkr", values) if v is not None}
+        if f is not None:
+            fv = float(f)
+            w["f"] = fv
+            if m.feed_mode != 1:
+                m.feed_rate = fv
+        blk = self.blk
+        blk.line = n
+        blk.words = w
+        store = m.store
+        mark = len(store)
+        try:
+            m.motion(code, blk)
+        except GCodeError:
+            store.truncate(mark)
+            raise
+        return True
 
     def groups(self, g, x, y, z, i, j, k, r, f, n: int) -> bool:
         """Execute a simple line from its regex groups; False to use the general reader."""
@@ -294,12 +396,16 @@ class FastPath:
         else:
             code = m.motion_mode
             if code not in (0, 10, 20, 30):
-                return False
+                if code not in CYCLES or i is not None or j is not None or k is not None:
+                    return False
+                # X Y Z R of a canned cycle in force: the block's checks cannot fail for
+                # these words, so only the motion remains (the cycle's own errors)
+                return self.cycle_line(code, x, y, z, r, f, n)
         if code < 20 and (i is not None or j is not None or k is not None or r is not None):
             return False
         if f is not None and f[0] == "-":
             return False
-        if code < 20 and m.dist_abs and not (m.comp_side and m.comp_radius > 0.0) and (
+        if code < 20 and m.dist_abs and not (m.comp.side and m.comp.radius > 0.0) and (
                 code == 0 or m.feed_mode == 0):
             # straight move without compensation: LinuxCNC's convert_straight, inlined
             if f is not None:
@@ -317,11 +423,11 @@ class FastPath:
             m.out = end
             m.cur = end
             m.motion_mode = code
-            m.arc_not_allowed = False
-            m.cycle_il_flag = False
+            m.comp.arc_not_allowed = False
+            m.cycles.il_flag = False
             return True
-        if code >= 20 and m.dist_abs and not m.comp_side and m.feed_mode == 0 \
-                and not m.ijk_abs and not m.arc_not_allowed and r is None:
+        if code >= 20 and m.dist_abs and not m.comp.side and m.feed_mode == 0 \
+                and not m.ijk_abs and not m.comp.arc_not_allowed and r is None:
             # arc with incremental I/J/K and no compensation: convert_arc2, inlined
             if f is not None:
                 m.feed_rate = float(f)
@@ -361,24 +467,8 @@ class FastPath:
             m.out = end
             m.cur = end
             m.motion_mode = code
-            m.cycle_il_flag = False
+            m.cycles.il_flag = False
             return True
         # the words the motion reads: X Y Z, and I J K R for arcs
-        values = (x, y, z, i, j, k, r) if code >= 20 else (x, y, z)
-        w = {c: float(v) for c, v in zip("xyzijkr", values) if v is not None}
-        if f is not None:
-            fv = float(f)
-            w["f"] = fv
-            if m.feed_mode != 1:
-                m.feed_rate = fv
-        blk = self.blk
-        blk.line = n
-        blk.words = w
-        store = m.store
-        mark = len(store)
-        try:
-            m.motion(code, blk)
-        except GCodeError:
-            store.truncate(mark)
-            raise
-        return True
+        values = (x, y, z, i, j, k, r) if code >= 20 else (x, y, z, None, None, None, None)
+        return self.motion_words(code, values, f, n)

@@ -4,10 +4,16 @@ Positions are program coordinates in program units (``units``), like LinuxCNC's
 ``current_x``: machine position = rotate_xy(program + G92 offset, rotation) + work offset
 + tool offset (``G10 L2 R`` sets the work system's XY rotation, in degrees).
 Tool table values are in machine units and converted when read. Motion goes to a
-:class:`MotionList`; with cutter radius compensation on, moves wait in a queue
-(``comp.py``) until the next move fixes their end points, as in LinuxCNC. Work systems,
-G10, G28/G30 references and G92/G52 offsets are in ``offsets.py``, canned cycles in
-``cycles.py``.
+:class:`MotionList`; with cutter radius compensation on, moves wait in a queue until
+the next move fixes their end points, as in LinuxCNC. Work systems, G10, G28/G30
+references and G92/G52 offsets are set by ``self.offsets``
+(:class:`~millpath.interpret.offsets.Offsets`, on this state). Two executors keep their
+own state and run on this one: ``self.comp``
+(:class:`~millpath.interpret.comp.Compensation`) and ``self.cycles``
+(:class:`~millpath.interpret.cycles.Cycles`); o-word flow is
+:class:`~millpath.interpret.oword.Flow`. The state (modal state, position, offsets, tool,
+parameters, recorded motion) is :class:`~millpath.interpret.state.MachineState`; the
+machine adds block execution and the motion executor.
 """
 
 from __future__ import annotations
@@ -15,23 +21,23 @@ from __future__ import annotations
 import math
 
 from millpath.interpret.arcs import arc_center_ijk, arc_center_r
-from millpath.interpret.comp import CompMixin
-from millpath.interpret.cycles import CycleMixin, CYCLES
+from millpath.interpret.comp import Compensation
+from millpath.interpret.cycles import CYCLES, Cycles
 from millpath.interpret.errors import GCodeError
 from millpath.gcode.lexer import AXES, Block, c_int
-from millpath.interpret.offsets import OffsetsMixin, rotate
+from millpath.interpret.offsets import Offsets, rotate
 from millpath.model.nurbs import Nurbs
-from millpath.interpret.store import KIND_CODE, PACK, MotionList, PLANE_CODE
+from millpath.interpret.state import MM_PER_INCH, PLANE_AXES, MachineState
+from millpath.interpret.store import KIND_CODE
 
-PLANE_AXES = {"XY": (0, 1, 2), "XZ": (2, 0, 1), "YZ": (1, 2, 0)}
 PLANE_OF_G = {170: "XY", 180: "XZ", 190: "YZ"}
 T_TRAVERSE, T_FEED, T_ARC, T_CUBIC, T_DWELL, T_NURBS = (
     KIND_CODE[k] for k in ("traverse", "feed", "arc", "cubic", "dwell", "nurbs"))
-MM_PER_INCH = 25.4
 
 
-class Machine(OffsetsMixin, CompMixin, CycleMixin):
-    """RS274NGC interpreter state; see the module docstring."""
+class Machine(MachineState):
+    """The RS274NGC interpreter: its state (:class:`MachineState`), block execution, the
+    motion executor and the composed executors; see the module docstring."""
 
     #: All :mod:`millpath.interpret.fastpath` may touch on a Machine (a test holds it
     #: to this): the modal state it checks before taking a line (read), the position,
@@ -40,111 +46,23 @@ class Machine(OffsetsMixin, CompMixin, CycleMixin):
     #: points it calls.
     FAST_PATH_INTERFACE = frozenset({
         # read: modal state deciding whether a line may take the fast path
-        "units", "plane", "axes", "dist_abs", "ijk_abs", "feed_mode", "comp_side",
-        "comp_radius", "comp_first", "prog", "state_index",
+        "units", "plane", "axes", "dist_abs", "ijk_abs", "feed_mode", "state_index",
+        "comp.side", "comp.radius", "comp.first", "comp.prog",
         # read and written back: position, output point, feed and motion flags
-        "cur", "out", "feed_rate", "motion_mode", "arc_not_allowed", "cycle_il_flag",
+        "cur", "out", "feed_rate", "motion_mode", "cycles.il_flag", "comp.arc_not_allowed",
         # appended to: the recorded motion
         "store",
         # read and written back by a compensated run (interpret/compfast.py): the queued
         # move and the end point it is checked against
-        "queue", "endpoint", "endpoint_valid",
-        # called: the motion executors
-        "motion", "straight_comp2", "arc_comp2"})
+        "comp.queue", "comp.endpoint", "comp.endpoint_valid",
+        # called: the motion executors, and G40/G41/G42 of a line without other words
+        "motion", "comp.straight2", "comp.arc2", "comp.on_off"})
 
     def __init__(self, tools: dict, machine_units: str = "inch"):
-        if machine_units not in ("inch", "mm"):
-            raise ValueError("machine_units must be 'inch' or 'mm'")
-        self.tools = tools
-        self.machine_units = machine_units
-        self.units = "mm"                       # rs274 starts in mm
-        self.plane = "XY"
-        self.axes = PLANE_AXES["XY"]
-        self.dist_abs = True
-        self.ijk_abs = False
-        self.feed_mode = 0                      # 0 units/min, 1 inverse time, 2 per rev
-        self.feed_rate = 0.0
-        self.speed = 0.0
-        self.spindle_dir = 0
-        self.motion_mode = 800                  # G80
-        self.cur = [0.0, 0.0, 0.0]
-        self.out = [0.0, 0.0, 0.0]              # end of the last emitted motion
-        self.origin_index = 1
-        self.origin = [0.0, 0.0, 0.0]           # work offset, program units
-        self.rotation = 0.0                     # XY rotation of the work system, degrees
-        self.axis_offset = [0.0, 0.0, 0.0]      # G92/G52 offset, program units
-        self.tlo = [0.0, 0.0, 0.0]              # tool length offset, program units
-        self.params = [0.0] * 5602
-        self.params[5220] = 1.0
-        self.named: dict[str, float] = {}
-        self.selected_tool = 0
-        self.spindle_tool = 0
-        self.spindle_data_tool = 0              # whose table row pocket 0 holds (M6 only)
-        self.toolchange_flag = False
-        self.tlo_effect = [0.0, 0.0, 0.0]       # TLO shifts of ``cur`` since the last move
-        self.tlo_mark = 0
-        self.retract_r_plane = True             # rs274's default retract mode is G99
-        self.comp_init()
-        self.cycle_init()
-        self.spline_i = 0.0
-        self.spline_j = 0.0
-        self.nurbs_points: list[tuple[float, float, float]] = []    # G5.2 (x, y, w)
-        self.nurbs_order = 3
-        self.store = MotionList()
-        self._state_key = None
-        self._state_idx = 0
-        self.touch_state()
-        self.ended = False
-
-    # --- units and output -----------------------------------------------------------
-    def user_to_prog(self, v: float) -> float:
-        """Machine (tool table, parameter) units to program units."""
-        if self.units == self.machine_units:
-            return v
-        return v * MM_PER_INCH if self.units == "mm" else v / MM_PER_INCH
-
-    def prog_to_user(self, v: float) -> float:
-        if self.units == self.machine_units:
-            return v
-        return v / MM_PER_INCH if self.units == "mm" else v * MM_PER_INCH
-
-    @property
-    def state_index(self) -> int:
-        """Index in ``store.states`` of the modal state (tool length offset, tool,
-        spindle, feed mode) the next motion is recorded with."""
-        return self._state_idx
-
-    def touch_state(self) -> None:
-        key = ((self.tlo[0], self.tlo[1], self.tlo[2]), self.spindle_tool,
-               self.speed * self.spindle_dir,
-               "inverse_time" if self.feed_mode == 1 else "units_per_minute")
-        if key != self._state_key:
-            self._state_key = key
-            self.store.states.append(key)
-            self._state_idx = len(self.store.states) - 1
-
-    def emit(self, kind: int, line: int, end, feed: float = 0.0, center=None, rot: int = 0,
-             state: int | None = None) -> None:
-        o = self.out
-        st = self._state_idx if state is None else state
-        if center is None:
-            self.store.buf += PACK(o[0], o[1], o[2], end[0], end[1], end[2], feed, 0.0, 0.0,
-                                   0.0, kind, line, rot, PLANE_CODE[self.plane], st)
-        else:
-            self.store.buf += PACK(o[0], o[1], o[2], end[0], end[1], end[2], feed, center[0],
-                                   center[1], center[2], kind, line, rot,
-                                   PLANE_CODE[self.plane], st)
-        self.out = [end[0], end[1], end[2]]
-
-    def emit_dwell(self, line: int, seconds: float, state: int | None = None) -> None:
-        o = self.out
-        self.store.buf += PACK(o[0], o[1], o[2], o[0], o[1], o[2], 0.0, seconds, 0.0, 0.0,
-                               T_DWELL, line, 0, PLANE_CODE[self.plane],
-                               self._state_idx if state is None else state)
-
-    def sync_out(self) -> None:
-        """The current point moved without motion (offsets changed)."""
-        self.out = list(self.cur)
+        super().__init__(tools, machine_units)
+        self.comp = Compensation(self)          # the compensation executor and its state
+        self.cycles = Cycles(self)              # the canned-cycle executor and its state
+        self.offsets = Offsets(self)            # work systems, G10, G28/G30, G52/G92
 
     # --- block execution ------------------------------------------------------------
     def execute(self, blk: Block) -> None:
@@ -169,30 +87,30 @@ class Machine(OffsetsMixin, CompMixin, CycleMixin):
         if 8 in m or 9 in m or 5 in m:
             self.other_m(m)
         if g.get(0) == 40:
-            self.enqueue_dwell(line, w["p"])
+            self.comp.enqueue_dwell(line, w["p"])
         if 2 in g:
             self.set_plane(PLANE_OF_G.get(g[2]))
         if 6 in g:
             self.set_units("inch" if g[6] == 200 else "mm")
         if 7 in g:
-            self.comp_on_off(g[7], w)
+            self.comp.on_off(g[7], w)
         if 8 in g:
             self.tool_length_offset(g[8], w)
         if 12 in g:
-            self.coordinate_system(g[12])
-        if 13 in g and self.comp_side:
+            self.offsets.coordinate_system(g[12])
+        if 13 in g and self.comp.side:
             raise GCodeError("Cannot change control mode with cutter radius compensation on")
         if 3 in g:
             self.dist_abs = g[3] == 900
         if 4 in g:
             self.ijk_abs = g[4] == 901
         if 10 in g:
-            if self.comp_side:
+            if self.comp.side:
                 raise GCodeError("Cannot change retract mode with cutter radius compensation on")
             self.retract_r_plane = g[10] == 990
         g0 = g.get(0, -1)
         if g0 not in (-1, 40, 530):
-            self.modal_0(g0, blk)
+            self.offsets.modal_0(g0, blk)
         if blk.motion != -1:
             self.motion(blk.motion, blk)
         if 4 in m:
@@ -341,7 +259,7 @@ class Machine(OffsetsMixin, CompMixin, CycleMixin):
 
     def tool_change(self, code: int, w: dict) -> None:
         if code == 6:
-            if self.comp_side:
+            if self.comp.side:
                 raise GCodeError("Cannot change tools with cutter radius compensation on")
             self.spindle_dir = 0
             self.spindle_tool = self.selected_tool
@@ -375,19 +293,19 @@ class Machine(OffsetsMixin, CompMixin, CycleMixin):
         self.touch_state()
 
     def other_m(self, m: dict) -> None:
-        if m.get(9) is not None and self.comp_side:
+        if m.get(9) is not None and self.comp.side:
             if m[9] == 49:
                 raise GCodeError("Cannot disable overrides with cutter radius compensation on")
             raise GCodeError("Cannot enable overrides with cutter radius compensation on")
-        if m.get(5) is not None and self.comp_side:
+        if m.get(5) is not None and self.comp.side:
             raise GCodeError("Cannot set motion output with cutter radius compensation on")
 
     def set_plane(self, plane: str | None) -> None:
         if plane is None:
             raise GCodeError("Cannot do an arc in planes G17.1, G18.1, or G19.1")
-        if self.comp_side and plane != self.plane:
+        if self.comp.side and plane != self.plane:
             raise GCodeError("Cannot change planes with cutter radius compensation on")
-        if self.comp_side and plane == "YZ":
+        if self.comp.side and plane == "YZ":
             raise GCodeError("Cutter radius compensation allowed only in XY, XZ planes")
         self.plane = plane
         self.axes = PLANE_AXES[plane]
@@ -399,18 +317,18 @@ class Machine(OffsetsMixin, CompMixin, CycleMixin):
         self.units = units
         self.cur = [v * f for v in self.cur]          # new lists: cur and out may alias
         self.out = [v * f for v in self.out]
-        self.prog = [v * f for v in self.prog]
+        self.comp.prog = [v * f for v in self.comp.prog]
         self.origin = [v * f for v in self.origin]
         self.axis_offset = [v * f for v in self.axis_offset]
         self.tlo_effect = [v * f for v in self.tlo_effect]
-        self.comp_scale(f)
+        self.comp.scale(f)
         # rs274 re-reads the tool offset and feed from its canon layer, which keeps the
         # numbers it was given: they are not converted (a G43 before G20/G21 keeps its
         # old-unit numbers). Programs set units first, so this only matters for oddities.
         self.touch_state()
 
     def tool_length_offset(self, code: int, w: dict) -> None:
-        if self.comp_side:
+        if self.comp.side:
             raise GCodeError("Cannot change tool offset with cutter radius compensation on")
         if code == 490:
             new = [0.0, 0.0, 0.0]
@@ -479,8 +397,8 @@ class Machine(OffsetsMixin, CompMixin, CycleMixin):
     def find_ends(self, blk: Block) -> list[float]:
         """End point of a move from the block's axis words (LinuxCNC's find_ends)."""
         w = blk.words
-        comp_mid = self.comp_side and not self.comp_first
-        base = self.prog if comp_mid else self.cur
+        comp_mid = self.comp.side and not self.comp.first
+        base = self.comp.prog if comp_mid else self.cur
         if blk.g.get(0) == 530:
             ao, org, tlo = self.axis_offset, self.origin, self.tlo
             cx, cy = rotate(self.cur[0] + ao[0], self.cur[1] + ao[1], self.rotation)
@@ -530,7 +448,7 @@ class Machine(OffsetsMixin, CompMixin, CycleMixin):
 
     def home(self, code: int, blk: Block) -> None:
         end = self.find_ends(blk)
-        if self.comp_side:
+        if self.comp.side:
             raise GCodeError("Cannot use g28 or g30 with cutter radius comp")
         self.emit(T_TRAVERSE, blk.line, end)
         self.cur = list(end)
@@ -551,7 +469,7 @@ class Machine(OffsetsMixin, CompMixin, CycleMixin):
     # --- motion ---------------------------------------------------------------------
     def motion(self, code: int, blk: Block) -> None:
         if code not in CYCLES:
-            self.cycle_il_flag = False
+            self.cycles.il_flag = False
         if code in (0, 10):
             self.straight(code, blk)
         elif code in (20, 30):
@@ -559,7 +477,7 @@ class Machine(OffsetsMixin, CompMixin, CycleMixin):
         elif code == 800:
             self.motion_mode = 800
         elif code in CYCLES:
-            self.cycle(code, blk)
+            self.cycles.run(code, blk)
         elif code in (50, 51):
             self.spline(code, blk)
         elif code in (52, 53):
@@ -583,25 +501,25 @@ class Machine(OffsetsMixin, CompMixin, CycleMixin):
         return blk.words.get("f", 0.0) if self.feed_mode == 1 else self.feed_rate
 
     def straight(self, code: int, blk: Block) -> None:
-        self.arc_not_allowed = False
+        self.comp.arc_not_allowed = False
         if code == 10:
             self.inverse_feed_check(blk, False)
         self.motion_mode = code
         end = self.find_ends(blk)
         feed = self.move_feed(blk) if code == 10 else 0.0
-        if self.comp_side and self.comp_radius > 0.0:
+        if self.comp.side and self.comp.radius > 0.0:
             if blk.g.get(0) == 530:
                 raise GCodeError("Cannot use g53 with cutter radius comp")
-            if self.comp_first:
-                self.straight_comp1(code, blk.line, end, feed)
+            if self.comp.first:
+                self.comp.straight1(code, blk.line, end, feed)
             else:
-                self.straight_comp2(code, blk.line, end, feed)
+                self.comp.straight2(code, blk.line, end, feed)
             return
         self.emit(T_FEED if code == 10 else T_TRAVERSE, blk.line, end, feed)
         self.cur = end
 
     def arc(self, code: int, blk: Block) -> None:
-        if self.arc_not_allowed:
+        if self.comp.arc_not_allowed:
             raise GCodeError("The move just after exiting cutter compensation mode must be "
                              "straight, not an arc")
         w = blk.words
@@ -634,11 +552,11 @@ class Machine(OffsetsMixin, CompMixin, CycleMixin):
         turn = -turns if code == 20 else turns
         off1, off2 = w.get(first, 0.0), w.get(second, 0.0)
         feed = self.move_feed(blk)
-        if plane != "YZ" and self.comp_side and self.comp_radius > 0.0:
-            if self.comp_first:
-                self.arc_comp1(code, blk, end, off1, off2, turn, feed)
+        if plane != "YZ" and self.comp.side and self.comp.radius > 0.0:
+            if self.comp.first:
+                self.comp.arc1(code, blk, end, off1, off2, turn, feed)
             else:
-                self.arc_comp2(code, blk.line, w.get("r"), end, off1, off2, turn, feed)
+                self.comp.arc2(code, blk.line, w.get("r"), end, off1, off2, turn, feed)
             return
         a1, a2, an = self.axes
         c = self.cur
@@ -655,7 +573,7 @@ class Machine(OffsetsMixin, CompMixin, CycleMixin):
 
     def spline(self, code: int, blk: Block) -> None:
         w = blk.words
-        if self.comp_side:
+        if self.comp.side:
             raise GCodeError("Cannot convert spline with cutter radius compensation")
         self.inverse_feed_check(blk, True)
         if self.plane != "XY":
@@ -736,7 +654,7 @@ class Machine(OffsetsMixin, CompMixin, CycleMixin):
         self.motion_mode = -1
 
     def stop(self, code: int, line: int) -> None:
-        self.flush_comp(line)
+        self.comp.flush(line)
         if code in (2, 30):
             c = self.cur
             for k in range(3):
@@ -744,7 +662,7 @@ class Machine(OffsetsMixin, CompMixin, CycleMixin):
             c[0], c[1] = rotate(c[0], c[1], self.rotation)
             self.origin_index = 1
             self.params[5220] = 1.0
-            self.origin = self.work_offset_params(1)
+            self.origin = self.offsets.work_offset_params(1)
             self.rotation = self.params[5230]
             c[0], c[1] = rotate(c[0], c[1], -self.rotation)
             for k in range(3):
@@ -754,8 +672,8 @@ class Machine(OffsetsMixin, CompMixin, CycleMixin):
             self.dist_abs = True
             self.feed_mode = 0
             self.feed_rate = 0.0
-            self.comp_side = 0
-            self.comp_first = True
+            self.comp.side = 0
+            self.comp.first = True
             self.spindle_dir = 0
             self.motion_mode = 10
             self.sync_out()

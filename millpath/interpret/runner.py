@@ -76,7 +76,7 @@ def _run_flow(text: str, machine: Machine) -> tuple[str, MotionList, tuple[int, 
                         k += 1
                         continue
             elif percent and raw.strip().startswith("%"):
-                machine.flush_comp(n)
+                machine.comp.flush(n)
                 return machine.units, machine.store, None
             executed += 1
             if not executed & 0xFFFF:
@@ -139,7 +139,7 @@ def run_program(text: str, tools, machine_units: str, sink=None, spindle_tool: i
                         if percent:
                             continue
                 elif percent and raw.strip().startswith("%"):
-                    machine.flush_comp(n)
+                    machine.comp.flush(n)
                     return machine.units, machine.store, None
                 _block(machine, raw, n)
                 if machine.ended:

@@ -38,13 +38,14 @@ class _Fmt:
     def __init__(self, units: str):
         self.decimals = int(default("decimals", units))
         self.q = 10.0 ** -self.decimals
+        self.spec = f".{self.decimals}f"
 
     def r(self, v: float) -> float:
         """The value as it will be written (rounded), as a float."""
         return float(self.s(v))
 
     def s(self, v: float) -> str:
-        t = f"{v:.{self.decimals}f}"
+        t = format(v, self.spec)
         if "." in t:
             t = t.rstrip("0").rstrip(".")
         if t in ("-0", ""):
@@ -158,9 +159,9 @@ class _Writer:
     def _axes(self, end, force: bool = False) -> str:
         words = []
         for i, a in enumerate("XYZ"):
-            v = self.f.r(end[i])
-            if force or self.pos[i] is None or v != self.pos[i]:
-                words.append(a + self.f.s(end[i]))
+            t = self.f.s(end[i])
+            if force or self.pos[i] is None or float(t) != self.pos[i]:
+                words.append(a + t)
         return " ".join(words)
 
     def _moved(self, end) -> None:

@@ -1,47 +1,51 @@
-"""Tool path preview: a 3D picture, rapids dashed grey, feeds one colour per operation."""
+"""Tool path preview: a 3D picture, rapids dashed grey, feeds one colour per operation.
+
+matplotlib is imported only by the functions that draw (object API on an Agg canvas,
+no pyplot), so that importing this module costs nothing."""
 
 from __future__ import annotations
 
 from pathlib import Path
 
 import numpy as np
-from matplotlib import colormaps
-from matplotlib.backends.backend_agg import FigureCanvasAgg
-from matplotlib.figure import Figure
-from matplotlib.lines import Line2D
 
 from millpath.model import Toolpath
 from millpath.model.toolpath import sample_move
 
 
-def _polylines(tp: Toolpath, step: float):
-    """Yield (op index, is_rapid, (n,3) points) runs of consecutive moves."""
+def path_runs(tp: Toolpath, step: float):
+    """Yield (op index, is_rapid, (n,3) points) runs of consecutive moves. Straight
+    moves (rapid, line) are given by their end points, as they are drawn (a straight
+    segment stays straight in the picture's projection); arcs and cubics are sampled
+    about ``step`` apart."""
     pos = None
-    run: list[np.ndarray] = []
+    run: list = []
     key = None
     for m in tp.moves:
-        if m.kind in ("comp",):
+        if m.kind == "comp":
             continue
         if pos is None:
             pos = m.end
             continue
         if m.kind == "drill":
-            pts = np.array([pos, (m.end[0], m.end[1], pos[2]), (m.end[0], m.end[1], m.r_plane),
-                            m.end, (m.end[0], m.end[1], m.r_plane)])
+            top = (m.end[0], m.end[1], m.r_plane)
+            pts = [(m.end[0], m.end[1], pos[2]), top, m.end, top]
             k = (m.op, False)
-            end = tuple(pts[-1])
-        else:
-            pts = sample_move(pos, m, step)
+        elif m.kind in ("rapid", "line"):
+            pts = [m.end]
             k = (m.op, m.kind == "rapid")
-            end = m.end
-        if k != key and run:
-            yield key[0], key[1], np.vstack(run)
-            run = []
-        key = k
-        run.append(pts if not run else pts[1:])
-        pos = end
+        else:
+            pts = sample_move(pos, m, step)[1:].tolist()
+            k = (m.op, False)
+        if k != key:
+            if run:
+                yield key[0], key[1], np.array(run, dtype=float)
+            run = [pos]
+            key = k
+        run.extend(pts)
+        pos = pts[-1]
     if run and key is not None:
-        yield key[0], key[1], np.vstack(run)
+        yield key[0], key[1], np.array(run, dtype=float)
 
 
 def render_preview(tp: Toolpath, path: str | Path, title: str = "", stock=None) -> None:
@@ -56,7 +60,12 @@ def preview_figure(tp: Toolpath, title: str = "", stock=None):
     Axes are equal (a round bar stays round), spanning the tool path and the stock box
     (``stock``: a :class:`millpath.model.Stock`, drawn as a wire frame) with at most five
     ticks an axis, labelled with the units."""
+    from matplotlib import colormaps
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+    from matplotlib.lines import Line2D
     from matplotlib.ticker import MaxNLocator
+    from mpl_toolkits.mplot3d.art3d import Line3DCollection
     ends = tp.ends()
     extent = ends if len(ends) else np.zeros((1, 3))
     if stock is not None:
@@ -67,14 +76,23 @@ def preview_figure(tp: Toolpath, title: str = "", stock=None):
     fig = Figure(figsize=(8, 6.5), dpi=110)         # on an Agg canvas, without pyplot
     FigureCanvasAgg(fig)
     ax = fig.add_subplot(111, projection="3d")
+    ax.set_autoscale_on(False)      # the limits are set below, from ``extent``
     colours = colormaps["tab10"]
+    # one collection of every run in program order (later runs drawn over earlier
+    # ones), drawn before the stock's wire frame: as many lines would be, in one artist
+    ax.computed_zorder = False
+    runs, colour, width, style = [], [], [], []
     seen_ops: set[int] = set()
-    for op, rapid, pts in _polylines(tp, step):
-        if rapid:
-            ax.plot(pts[:, 0], pts[:, 1], pts[:, 2], color="0.6", lw=0.5, ls="--")
-        else:
-            ax.plot(pts[:, 0], pts[:, 1], pts[:, 2], color=colours(op % 10), lw=0.6)
+    for op, rapid, pts in path_runs(tp, step):
+        runs.append(pts)
+        colour.append("0.6" if rapid else colours(op % 10))
+        width.append(0.5 if rapid else 0.6)
+        style.append("--" if rapid else "-")
+        if not rapid:
             seen_ops.add(op)
+    if runs:
+        ax.add_collection3d(Line3DCollection(runs, colors=colour, linewidths=width,
+                                             linestyles=style, zorder=Line2D.zorder))
     handles = [Line2D([], [], color="0.6", ls="--", label="rapid")]
     for op in sorted(seen_ops):
         o = tp.ops[op]
@@ -115,4 +133,5 @@ def preview_figure(tp: Toolpath, title: str = "", stock=None):
     ax.view_init(elev=30, azim=-60)
     ax.set_title(title or "tool path", fontsize=10)
     fig.tight_layout()
+    fig.set_layout_engine(None)     # laid out once: no second layout pass when saved
     return fig

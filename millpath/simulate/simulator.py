@@ -297,8 +297,8 @@ def _lift_start(motions: list[Motion], stock: Stock) -> list[Motion]:
     """Where the tool is before the first move and after each tool change is unknown
     (an interpreter starts at machine zero and jumps by tool length offsets): those
     moves start above their end point at the stock top or higher (the pipeline's
-    :func:`millpath.verify.approach.approach_from_above`)."""
-    from millpath.verify.approach import approach_from_above
+    :func:`millpath.simulate.approach.approach_from_above`)."""
+    from millpath.simulate.approach import approach_from_above
     return approach_from_above(motions, stock.zmax)
 
 

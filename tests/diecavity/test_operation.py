@@ -167,13 +167,15 @@ def test_simulated_wall_follows_the_curve_without_gouge(example, res_xy, blankin
     cut = zm.heights < job.stock.zmax - 1e-6
     floor = res.report["curve"]["layers"][-1]
     through = zm.heights <= max(floor, job.stock.zmin) + 1e-6
-    # never inside the wall: no cut cell centre outside the true curve (beyond the
-    # reported LinuxCNC near-straight-corner undercut)
-    undercut = res.report["curve"]["finish_max_undercut"]
+    # never inside the wall: no cut cell centre further outside the true curve than
+    # the tolerance; the published tolerance (0.00004 mm) is below the program's
+    # number grid (0.0001 mm): there the chords within the tolerance, each point moved
+    # by the grid's rounding
+    bound = tol if example == "blanking" else tol + 0.0001
     bad = cut & ~inside
     if bad.any():
         d = shapely.distance(true.exterior, shapely.points(X[bad], Y[bad]))
-        assert d.max() <= undercut + 1e-9
+        assert d.max() <= bound + 1e-6
     # the wall is within T + resolution of the curve wherever the tool can reach
     r = job.tools[1].radius
     reach = true.buffer(-r).buffer(r, quad_segs=64).buffer(-(tol + res_xy))

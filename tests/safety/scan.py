@@ -50,7 +50,7 @@ def plunge_violations(motions, tools, stock, resolution: float) -> list[str]:
     from millpath.simulate.path import Segments, motion_segments
     from millpath.simulate.simulator import sweep
     from millpath.simulate.zmap import ZMap
-    from millpath.verify.approach import approach_from_above
+    from millpath.simulate.approach import approach_from_above
 
     motions = approach_from_above(list(motions), stock.zmax)
     zmap = ZMap.from_stock(stock, resolution)

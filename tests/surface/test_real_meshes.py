@@ -195,6 +195,13 @@ def test_ktoolcav_turned_up_reduced(tmp_path, shared_dir):
     text += "[simulation]\nresolution = 0.01\n"
     job, results, sim, res = _run_job(tmp_path, text)
     _proven(results, sim, res, 0.0004)
+    # the estimate made before planning is within 2x of what was planned (issue 25)
+    fin = results[1].report["surface_finish"][0]
+    est = fin["estimate"]
+    for planned, guessed in ((fin["pass_lines"], est["pass_lines"]),
+                             (fin["waterline"]["levels"], est["levels"]),
+                             (fin["cl_points"], est["points"])):
+        assert 0.5 * guessed <= planned <= 2.0 * guessed, (planned, guessed)
 
 
 def test_an_impossible_scallop_is_refused_before_planning_with_numbers(tmp_path):

@@ -235,3 +235,27 @@ def test_holder_contact_splits_contours_and_is_reported(stadium_mesh, tmp_path):
 def test_steep_angle_must_be_an_angle(stadium_mesh, tmp_path):
     with pytest.raises(JobError, match="steep_angle"):
         plan_job(tmp_path, stadium_mesh, 'strategy = "steep-shallow"\nsteep_angle = 95.0')
+
+
+
+def test_vertical_walls_get_the_flat_level_step_and_hold_the_scallop(shared_dir):
+    """PyCAM's text box (letters 2.95 mm tall with vertical walls, acute inner corners,
+    on a floor at -5 mm), waterline with a 2 mm ball. Analytic truth: on a vertical
+    wall two levels ``dz`` apart leave a scallop ``r - sqrt(r^2 - (dz/2)^2)`` (the two
+    ball circles meet halfway), so the scallop is held while ``dz`` is at most the flat
+    step ``2 sqrt(2 r h - h^2)``; the raster's jump at a wall (an inner corner too) is
+    no concave crease, so the levels there are not a quarter of that."""
+    from millpath.part.surface.mesh import read_stl
+    mesh = read_stl(shared_dir / "meshes" / "pycam-textbox.stl")
+    r, h = 1.0, 0.05
+    sampler = Sampler(build_index(mesh), Cutter(r, r))
+    s = WaterlineSettings(0.01, h, (-1.0, -1.0, 131.0, 51.0), material_tolerance=0.005,
+                          min_slope=45.0)
+    res = waterline(sampler, s)
+    z = np.array(res.levels)
+    wall = (z < -2.05 - r - 0.05) & (z > -4.95)         # tip beside the letters' walls
+    dz = -np.diff(z)[wall[1:] & wall[:-1]]
+    assert len(dz) >= 4
+    assert np.all(r - np.sqrt(r * r - (dz / 2) ** 2) <= h)
+    flat = 2.0 * math.sqrt(2.0 * r * h - h * h)
+    assert dz.min() >= 0.5 * flat                       # not the crease's quarter step

@@ -279,6 +279,10 @@ def _hop(tp: Toolpath, cur, to, safe: float, z_down: float) -> None:
     tp.rapid(to[0], to[1], z_down)
 
 
+#: at most this many chord tolerances are tried to bring the finishing path within
+#: the tolerance of the wall (see ``plan``)
+CHORD_ATTEMPTS = 6
+
 #: ramp angle of roughing entries (degrees): the tool descends along the ring
 RAMP_DEG = 3.0
 
@@ -326,72 +330,82 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         curve = curve.reversed()
     tol = params["tolerance"]
     r = tool.radius
-    lin = linearize_curve(curve, tol)
-    region, crossed = _region(lin.polyline(), src)
-    grid = GRID[ctx.units]
-    # the contour of the valid cavity (small self-crossing loops cut off), CCW
-    ring = np.asarray(orient(region, 1.0).exterior.coords)[:-1]
-    verts = _grid_round(ring, grid)
+    # The finishing path comes nearer the wall than r by the chords' sagitta plus,
+    # where LinuxCNC joins a corner turning 0.05 rad or less straight, r (1 - cos a):
+    # both shrink with the chord tolerance, so the chords are made finer until the
+    # measured approach is within the tolerance (the published chords when it already is),
+    # or the chords reach the program's number grid, below which finer chords cannot help.
+    chord_tol = tol
+    for attempt in range(CHORD_ATTEMPTS):
+        lin = linearize_curve(curve, chord_tol)
+        region, crossed = _region(lin.polyline(), src)
+        grid = GRID[ctx.units]
+        # the contour of the valid cavity (small self-crossing loops cut off), CCW
+        ring = np.asarray(orient(region, 1.0).exterior.coords)[:-1]
+        verts = _grid_round(ring, grid)
 
-    # the programmed contour: what the tool can follow
-    region_in = region.buffer(-r + 10 * grid, quad_segs=32)
-    if region_in.is_empty:
-        raise PlanningError(f"the cavity is too small for tool {tool.number} "
-                            f"(diameter {tool.diameter})", ctx.job_file)
-    eroded = region.buffer(-r, quad_segs=64)
-    lobes = [g for g in getattr(eroded, "geoms", [eroded]) if g.area > 1e-9]
-    if len(lobes) > 1:
-        where_ = ", ".join(f"({g.representative_point().x:.3f}, "
-                           f"{g.representative_point().y:.3f})" for g in lobes)
-        raise PlanningError(f"the cavity narrows below the diameter of tool {tool.number}, "
-                            f"which would have to cut {len(lobes)} separate parts (around "
-                            f"{where_}); use a smaller tool", ctx.job_file)
-    t = np.roll(verts, -1, axis=0) - verts
-    t /= np.hypot(t[:, 0], t[:, 1])[:, None]
-    mids = 0.5 * (verts + np.roll(verts, -1, axis=0)) + r * np.stack([-t[:, 1], t[:, 0]], 1)
-    dist = boundary_distance(region_in, mids)
-    keep = chords_on_offset(verts, r, "left", eroded, 20 * grid)
-    try:
-        reach = reachable_contour(verts, r, "left", start=int(np.argmin(dist)), keep=keep)
-    except CompensationError as e:
-        p = verts[e.index % len(verts)]
-        raise PlanningError(f"{e} near ({p[0]:.3f}, {p[1]:.3f})", ctx.job_file) from None
-    # corners where removed chords were bridged are new points: put them on the grid
-    q = np.round(reach.points / grid) * grid
-    # long chords get a middle point, a place to enter the contour (a lead-in ends 2 r
-    # along the chord it joins)
-    nxt = np.roll(q, -1, axis=0)
-    long = np.hypot(*(nxt - q).T) > 5 * r
-    if long.any():
-        mid = np.round(0.5 * (q + nxt) / grid) * grid
-        q = np.insert(q, np.flatnonzero(long) + 1, mid[long], axis=0)
-    if params["entry"] == "arc" and params["compensation"] != "control":
-        raise JobError(f"{where}.entry: \"arc\" is the lead-in under G41 "
-                       "(compensation = \"control\"); the CAM path enters on a line",
-                       ctx.job_file)
-    arc_in = arc_entry(q, region_in, r, grid) if params["entry"] == "arc" else None
-    k, S, A, exit_point, overlap = _entry(q, region_in, r, grid)
-    if arc_in is not None:
-        # the line entry's own start k serves the undercut measure; the program
-        # starts at the arc entry's vertex
-        ka, S_arc, P_arc, C_arc, ov_arc, Ce_arc, Pe_arc, X_arc = arc_in
-    q = np.roll(q, -k, axis=0)
-    prog = [A] + list(q) + [q[0]] + [np.asarray(p) for p in overlap]
-    try:
-        elements = compensate(S, prog, r, "left")
-    except CompensationError as e:
-        raise PlanningError(f"cutter compensation fails at contour point {e.index}: {e}",
-                            ctx.job_file) from None
-    # how far the finishing path comes to the true wall (negative: inside it)
-    path = sample_elements(S, elements, max(tol, r / 50))
-    # ... measured against the true curve, sampled 4 times finer than the chords
-    per = 4 * max(sl.chords for sl in lin.segments)
-    true, _ = _region(curve.sample(per), src)
-    shapely.prepare(true)
-    gap = boundary_distance(true, path)
-    inside = shapely.contains_xy(true, path[:, 0], path[:, 1])
-    clearance = np.where(inside, gap, -gap) - r
-    undercut = float(max(0.0, -clearance.min()))
+        # the programmed contour: what the tool can follow
+        region_in = region.buffer(-r + 10 * grid, quad_segs=32)
+        if region_in.is_empty:
+            raise PlanningError(f"the cavity is too small for tool {tool.number} "
+                                f"(diameter {tool.diameter})", ctx.job_file)
+        eroded = region.buffer(-r, quad_segs=64)
+        lobes = [g for g in getattr(eroded, "geoms", [eroded]) if g.area > 1e-9]
+        if len(lobes) > 1:
+            where_ = ", ".join(f"({g.representative_point().x:.3f}, "
+                               f"{g.representative_point().y:.3f})" for g in lobes)
+            raise PlanningError(f"the cavity narrows below the diameter of tool {tool.number}, "
+                                f"which would have to cut {len(lobes)} separate parts (around "
+                                f"{where_}); use a smaller tool", ctx.job_file)
+        t = np.roll(verts, -1, axis=0) - verts
+        t /= np.hypot(t[:, 0], t[:, 1])[:, None]
+        mids = 0.5 * (verts + np.roll(verts, -1, axis=0)) + r * np.stack([-t[:, 1], t[:, 0]], 1)
+        dist = boundary_distance(region_in, mids)
+        keep = chords_on_offset(verts, r, "left", eroded, 20 * grid)
+        try:
+            reach = reachable_contour(verts, r, "left", start=int(np.argmin(dist)), keep=keep)
+        except CompensationError as e:
+            p = verts[e.index % len(verts)]
+            raise PlanningError(f"{e} near ({p[0]:.3f}, {p[1]:.3f})", ctx.job_file) from None
+        # corners where removed chords were bridged are new points: put them on the grid
+        q = np.round(reach.points / grid) * grid
+        # long chords get a middle point, a place to enter the contour (a lead-in ends 2 r
+        # along the chord it joins)
+        nxt = np.roll(q, -1, axis=0)
+        long = np.hypot(*(nxt - q).T) > 5 * r
+        if long.any():
+            mid = np.round(0.5 * (q + nxt) / grid) * grid
+            q = np.insert(q, np.flatnonzero(long) + 1, mid[long], axis=0)
+        if params["entry"] == "arc" and params["compensation"] != "control":
+            raise JobError(f"{where}.entry: \"arc\" is the lead-in under G41 "
+                           "(compensation = \"control\"); the CAM path enters on a line",
+                           ctx.job_file)
+        arc_in = arc_entry(q, region_in, r, grid) if params["entry"] == "arc" else None
+        k, S, A, exit_point, overlap = _entry(q, region_in, r, grid)
+        if arc_in is not None:
+            # the line entry's own start k serves the undercut measure; the program
+            # starts at the arc entry's vertex
+            ka, S_arc, P_arc, C_arc, ov_arc, Ce_arc, Pe_arc, X_arc = arc_in
+        q = np.roll(q, -k, axis=0)
+        prog = [A] + list(q) + [q[0]] + [np.asarray(p) for p in overlap]
+        try:
+            elements = compensate(S, prog, r, "left")
+        except CompensationError as e:
+            raise PlanningError(f"cutter compensation fails at contour point {e.index}: {e}",
+                                ctx.job_file) from None
+        # how far the finishing path comes to the true wall (negative: inside it)
+        path = sample_elements(S, elements, max(tol, r / 50))
+        # ... measured against the true curve, sampled 4 times finer than the chords
+        per = 4 * max(sl.chords for sl in lin.segments)
+        true, _ = _region(curve.sample(per), src)
+        shapely.prepare(true)
+        gap = boundary_distance(true, path)
+        inside = shapely.contains_xy(true, path[:, 0], path[:, 1])
+        clearance = np.where(inside, gap, -gap) - r
+        undercut = float(max(0.0, -clearance.min()))
+        if undercut <= tol or chord_tol <= grid or attempt == CHORD_ATTEMPTS - 1:
+            break                # within the tolerance, or chords at the number grid
+        chord_tol = max(grid, chord_tol * max(0.25, 0.9 * tol / undercut))
 
     # layers
     st = ctx.stock
@@ -513,6 +527,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         "unreachable_corners": unreachable,
         "tight_curvature": _curvature_report(curve, r),
         "finish_max_undercut": undercut,
+        "finish_chord_tolerance": chord_tol,
         "program_grid": grid,
         "compensation": params["compensation"],
         "layers": [float(z) for z in zs],

@@ -17,6 +17,7 @@ import numpy as np
 
 from millpath.model import Toolpath
 from millpath.plan.entry import ramp_laps, ring_segments
+from millpath.plan.levels import levels
 
 
 @dataclass(frozen=True)
@@ -26,13 +27,6 @@ class Heights:
 
     z_safe: float
     r_plane: float
-
-
-def levels(z_top: float, z_floor: float, step_down: float) -> list[float]:
-    """Depths from ``z_top`` down to ``z_floor`` in equal steps no larger than ``step_down``."""
-    depth = z_top - z_floor
-    n = max(1, int(math.ceil(depth / step_down - 1e-9)))
-    return [z_top - depth * (k + 1) / n for k in range(n)]
 
 
 def drill(tp: Toolpath, x: float, y: float, z_tip: float, h: Heights, feed: float,

@@ -24,7 +24,8 @@ from shapely.geometry.polygon import orient
 from millpath.model import Stock, Tool, Toolpath
 from millpath.part.step.shapes import PocketShape
 from millpath.plan.entry import helix_entry, ramp_entry
-from millpath.plan.features.paths import RAMP_ANGLE, RAMP_LAPS, Heights, levels, ramp_ring
+from millpath.plan.features.paths import RAMP_ANGLE, RAMP_LAPS, Heights, ramp_ring
+from millpath.plan.levels import levels
 
 #: distance a tool as wide as a passage is moved off its exact centre line (mm / inch
 #: jobs scale it): the tool then cuts at most this much into the walls

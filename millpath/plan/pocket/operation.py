@@ -26,7 +26,6 @@ Keys (job units; feeds in units per minute; Z absolute, tool tip):
 
 from __future__ import annotations
 
-import math
 
 import shapely
 from shapely.geometry import Point
@@ -40,7 +39,8 @@ from millpath.plan.pocket.emit import Emitter
 from millpath.plan.pocket.passes import Cut, offset_cuts, order_nearest, zigzag_cuts
 from millpath.plan.twod.field import MaterialField, Raster, stock_heights
 from millpath.plan.twod.geometry import GEOMETRY_PARAMS, default_tolerance, load_regions
-from millpath.plan.twod.heights import end_mill, operation_heights
+from millpath.plan.levels import levels
+from millpath.plan.twod.heights import MOTION_PARAMS, end_mill, operation_heights, plunge_feed
 from millpath.plan.twod.offsets import offset, polygons, rings
 from millpath.plan.twod.writer import PathWriter
 
@@ -73,20 +73,8 @@ PARAMS = {
           doc="climb (clockwise spindle) or conventional"),
     "rest": Param("bool", False,
           doc="cut only where earlier operations left more than the allowance"),
-    "feed": Param("float", positive=True, unit="feed", doc="cutting feed"),
-    "plunge_feed": Param("float", None, positive=True, unit="feed",
-          doc="feed of entries (default: feed / 2)"),
-    "spindle": Param("float", 0.0, unit="rpm", doc="spindle speed, clockwise (M3)"),
-    "safe_z": Param("float", None, unit="length",
-          doc="retract height (default: top + 5 mm / 0.2 in)"),
+    **MOTION_PARAMS,
 }
-
-
-def levels(top: float, floor: float, stepdown: float) -> list[float]:
-    """Z of each level from ``top`` down to ``floor``, equal steps <= ``stepdown``."""
-    depth = top - floor
-    n = max(1, int(math.ceil(depth / stepdown - 1e-9)))
-    return [top - depth * (k + 1) / n for k in range(n)]
 
 
 def check_fit(region, free, tool, file) -> None:
@@ -124,7 +112,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         raise JobError(f"stepover: {stepover:g} is more than the tool diameter", file)
     tol = params["tolerance"] or default_tolerance(ctx.units)
     feed = params["feed"]
-    plunge = params["plunge_feed"] or feed / 2
+    plunge = plunge_feed(params)
     climb = params["direction"] == "climb"
     rest = params["rest"]
     threshold = max(allow, tol) if rest else tol

@@ -39,7 +39,8 @@ from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.profile.leads import leads, start_on_longest
 from millpath.plan.twod.field import MaterialField, Raster, densify, stock_heights
 from millpath.plan.twod.geometry import GEOMETRY_PARAMS, default_tolerance, load_regions
-from millpath.plan.twod.heights import end_mill, operation_heights
+from millpath.plan.levels import levels
+from millpath.plan.twod.heights import MOTION_PARAMS, end_mill, operation_heights, plunge_feed
 from millpath.plan.twod.offsets import offset, polygons
 from millpath.plan.twod.writer import PathWriter
 
@@ -65,20 +66,10 @@ PARAMS = {
           doc="tab length along the contour (default: the tool diameter)"),
     "rest": Param("bool", False,
           doc="skip levels whose path meets no material left by earlier operations"),
-    "feed": Param("float", positive=True, unit="feed", doc="cutting feed"),
-    "plunge_feed": Param("float", None, positive=True, unit="feed",
-          doc="feed of the entry descent (default: feed / 2)"),
-    "spindle": Param("float", 0.0, unit="rpm", doc="spindle speed"),
-    "safe_z": Param("float", None, unit="length",
-          doc="retract height (default: top + 5 mm / 0.2 in)"),
+    **MOTION_PARAMS,
     "ramp_angle": Param("float", 3.0, positive=True, unit="deg",
           doc="helix descent angle at the entry point"),
 }
-
-
-def _levels(top: float, floor: float, stepdown: float) -> list[float]:
-    n = max(1, int(math.ceil((top - floor) / stepdown - 1e-9)))
-    return [top - (top - floor) * (k + 1) / n for k in range(n)]
 
 
 def _tab_intervals(L: float, n: int, width: float) -> list[tuple[float, float]]:
@@ -143,7 +134,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         raise JobError(f"tab_height: must be between 0 and the depth {params['depth']:g} "
                        f"when tabs are asked for, got {tab_h:g}", file)
     feed = params["feed"]
-    plunge = params["plunge_feed"] or feed / 2
+    plunge = plunge_feed(params)
     side = 1 if params["direction"] == "climb" else -1
     outside = params["side"] == "outside"
     control = params["compensation"] == "control"
@@ -202,7 +193,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         tabs = _tab_intervals(L, params["tabs"], width + tool.diameter)
         z_tab = bottom + tab_h
         z_prev = None
-        for z in _levels(top, bottom, params["stepdown"]):
+        for z in levels(top, bottom, params["stepdown"]):
             if params["rest"] and ctx.remaining is not None and _nothing_left(
                     ctx, path_c, R, z, tol, stock_top if stock_top is not None else top):
                 skipped += 1

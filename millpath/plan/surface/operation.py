@@ -38,10 +38,11 @@ from millpath.model.toolpath import Operation, Toolpath
 from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.surface.cutter import Cutter
 from millpath.plan.surface.dropcutter import MeshHeight
-from millpath.plan.surface.estimate import Estimate, estimate_finish
+from millpath.plan.surface.estimate import CoarseRaster, Estimate, estimate_finish
 from millpath.plan.surface.linking import add_passes
 from millpath.plan.surface.sampler import Sampler
-from millpath.plan.surface.source import SURFACE_PARAMS, load_op_surface, op_surface_index
+from millpath.plan.surface.source import (PLUNGE_FEED, SURFACE_PARAMS, load_op_surface,
+                                          op_surface_index, plunge_feed)
 from millpath.plan.surface.steep_shallow import steep_shallow
 from millpath.plan.surface.toolchoice import choose_tool
 from millpath.plan.surface.waterline import WaterlineSettings, waterline
@@ -74,8 +75,7 @@ PARAMS = {
                              "radius)"),
     "feed": Param("float", None, positive=True,
           unit="feed", doc="cutting feed (default 1000 mm/min / 40 in/min)"),
-    "plunge_feed": Param("float", None, positive=True,
-          unit="feed", doc="feed down into material (default: feed / 3)"),
+    "plunge_feed": PLUNGE_FEED,
     "spindle": Param("float", 10000.0, positive=True, unit="rpm", doc="spindle speed"),
     "safe_z": Param("float", None,
           unit="length", doc="retract height (default: 5 mm / 0.2 in above the highest tool "
@@ -135,17 +135,19 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     tol = params["tolerance"] or default("path_tolerance", ctx.units)
     scallop = params["scallop"] or default("scallop", ctx.units)
     feed = params["feed"] or default("finish_feed", ctx.units)
-    plunge = params["plunge_feed"] or feed / 3.0
+    plunge = plunge_feed(params, feed)
     sampler = Sampler(index, cutter, params["angle"], tuple(tool.holder_cylinders()),
                       z_floor=float(lo[2]),
                       holder_clearance=default("feed_clearance", ctx.units))
 
     tol_m = min(tol, 0.25 * scallop)
-    est, _ = estimate_finish(sampler, region, strategy=strategy, scallop=scallop,
-                             tolerance=tol, material_tolerance=tol_m,
-                             side_step=params["side_step"], steep_angle=params["steep_angle"],
-                             stepdown_max=params["stepdown_max"])
-    refuse_impossible(est, sampler, region, strategy, scallop, tol_m, params, inch, file)
+    est, coarse = estimate_finish(sampler, region, strategy=strategy, scallop=scallop,
+                                  tolerance=tol, material_tolerance=tol_m,
+                                  side_step=params["side_step"],
+                                  steep_angle=params["steep_angle"],
+                                  stepdown_max=params["stepdown_max"])
+    refuse_impossible(est, sampler, region, strategy, scallop, tol_m, params, inch, file,
+                      coarse)
     prog = ctx.progress
     prog.note(f"{params['name']}: about {est.pass_lines:,} pass lines, {est.levels:,} levels, "
               f"{est.points:,} points, {est.seconds:.0f} CPU-s (estimate)")
@@ -264,9 +266,11 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
 
 
 def refuse_impossible(est: Estimate, sampler: Sampler, region, strategy: str,
-                      scallop: float, tol_m: float, params: dict, inch: bool, file) -> None:
+                      scallop: float, tol_m: float, params: dict, inch: bool, file,
+                      raster: CoarseRaster | None = None) -> None:
     """Raise at once, with the numbers and a way out, when the estimate exceeds what the
-    planners plan (5000 zigzag pass lines, 3000 waterline levels)."""
+    planners plan (5000 zigzag pass lines, 3000 waterline levels); ``raster``: the
+    estimate's coarse raster, reused for the suggestions."""
     max_lines, max_levels = ZigzagSettings.max_passes, WaterlineSettings.max_levels
     if est.pass_lines <= max_lines and est.levels <= max_levels:
         return
@@ -278,12 +282,13 @@ def refuse_impossible(est: Estimate, sampler: Sampler, region, strategy: str,
     n2 = n
     for _ in range(16):                      # the scallop that needs under 80 % of it
         h2 *= 2.0
-        e2, _ = estimate_finish(sampler, region, strategy=strategy, scallop=h2,
+        e2, r2 = estimate_finish(sampler, region, strategy=strategy, scallop=h2,
                                 tolerance=params["tolerance"] or tol_m,
                                 material_tolerance=min(tol_m, 0.25 * h2),
                                 side_step=params["side_step"],
                                 steep_angle=params["steep_angle"],
-                                stepdown_max=params["stepdown_max"])
+                                stepdown_max=params["stepdown_max"], raster=raster)
+        raster = raster or r2
         n2 = e2.pass_lines if what == "passes" else e2.levels
         if n2 <= 0.8 * limit:
             break
@@ -320,9 +325,10 @@ def preflight(ctx: PlanContext, params: dict) -> None:
     tol_m = min(tol, 0.25 * scallop)
     sampler = Sampler(op_surface_index(ctx, params), cutter, params["angle"], (),
                       z_floor=float(lo[2]))
-    est, _ = estimate_finish(sampler, region, strategy=params["strategy"], scallop=scallop,
-                             tolerance=tol, material_tolerance=tol_m,
-                             side_step=params["side_step"], steep_angle=params["steep_angle"],
-                             stepdown_max=params["stepdown_max"])
+    est, coarse = estimate_finish(sampler, region, strategy=params["strategy"],
+                                  scallop=scallop, tolerance=tol, material_tolerance=tol_m,
+                                  side_step=params["side_step"],
+                                  steep_angle=params["steep_angle"],
+                                  stepdown_max=params["stepdown_max"])
     refuse_impossible(est, sampler, region, params["strategy"], scallop, tol_m, params, inch,
-                      ctx.job_file)
+                      ctx.job_file, coarse)

@@ -40,7 +40,8 @@ from millpath.plan.surface.estimate import (ROUGH_MAX_RASTER, CoarseRaster,
 from millpath.plan.surface.linking import add_passes
 from millpath.plan.surface.refine import refine_worst
 from millpath.plan.surface.sampler import Sampler
-from millpath.plan.surface.source import SURFACE_PARAMS, load_op_surface, op_surface_index
+from millpath.plan.surface.source import (PLUNGE_FEED, SURFACE_PARAMS, load_op_surface,
+                                          op_surface_index, plunge_feed)
 from millpath.plan.surface.waterline import index_runs
 from millpath.plan.surface.zigzag import Pass, in_region
 from millpath.model.units import default
@@ -57,8 +58,7 @@ PARAMS = {
     "angle": Param("float", 0.0, unit="deg", doc="pass direction from +X"),
     "feed": Param("float", None, positive=True,
           unit="feed", doc="cutting feed (default 1500 mm/min / 60 in/min)"),
-    "plunge_feed": Param("float", None, positive=True,
-          unit="feed", doc="feed down into material (default: feed / 3)"),
+    "plunge_feed": PLUNGE_FEED,
     "spindle": Param("float", 8000.0, positive=True, unit="rpm", doc="spindle speed"),
     "safe_z": Param("float", None,
           unit="length", doc="retract height (default: above the stock top)"),
@@ -285,7 +285,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     mesh, tool, cutter, region, stepdown, step_over, allowance = _settings(ctx, params)
     lo, hi = mesh.bounds
     feed = params["feed"] or (60.0 if inch else 1500.0)
-    plunge = params["plunge_feed"] or feed / 3.0
+    plunge = plunge_feed(params, feed)
     index = op_surface_index(ctx, params)
     sampler = Sampler(index, cutter, params["angle"], tuple(tool.holder_cylinders()),
                       z_floor=min(float(lo[2]), ctx.stock.zmin),

@@ -19,6 +19,15 @@ SURFACE_PARAMS = {
                              doc="STEP meshing tolerance (default 0.01 mm / 0.0004 in)"),
 }
 
+#: the ``plunge_feed`` key of both surface operations (units/min)
+PLUNGE_FEED = Param("float", None, positive=True, unit="feed",
+                    doc="feed down into material (default: feed / 3)")
+
+
+def plunge_feed(params: dict, feed: float) -> float:
+    """The ``plunge_feed`` key, by default a third of the cutting ``feed``."""
+    return params["plunge_feed"] or feed / 3.0
+
 
 def _surface_key(ctx: PlanContext, params: dict) -> tuple:
     """Everything the operation's mesh depends on (see :mod:`millpath.part.cache`)."""

@@ -127,6 +127,10 @@ def on_boundary(segments: np.ndarray, pts: np.ndarray, eps: float) -> np.ndarray
     return out
 
 
+#: degrees: a rise between two neighbouring raster nodes this steep is a vertical wall
+JUMP_SLOPE = 85.0
+
+
 def make_raster(sampler: Sampler, region, spacing: float) -> Raster:
     """Drop-cutter Z over ``region`` (tool tip box) on a square grid of ``spacing``."""
     x0, y0, x1, y1 = region
@@ -158,6 +162,18 @@ def make_raster(sampler: Sampler, region, spacing: float) -> Raster:
         d2 = (gx * gx * gxx + gx * gy * (gxy + gyx) + gy * gy * gyy) / g2
         rho_cl = np.where(np.abs(d2) < 1e-12, np.inf, -(1.0 + g2) ** 1.5 / d2)
     rho_cl = np.where(g2 > 0, rho_cl, np.inf)
+    # a vertical CL wall (a vertical part wall) is a jump between two nodes, steeper
+    # than JUMP_SLOPE: its finite-difference curvature is an artefact (a spurious
+    # crease either side); the wall is taken as planar there
+    lim = h * math.tan(math.radians(JUMP_SLOPE))
+    jump = np.zeros(zf.shape, bool)
+    jx = np.abs(np.diff(zf, axis=1)) > lim
+    jy = np.abs(np.diff(zf, axis=0)) > lim
+    jump[:, 1:] |= jx
+    jump[:, :-1] |= jx
+    jump[1:, :] |= jy
+    jump[:-1, :] |= jy
+    rho_cl = np.where(jump & fin, np.inf, rho_cl)
     r_eff = sampler.cutter.corner if sampler.cutter.corner > 0 else sampler.cutter.radius
     slope = np.degrees(np.arctan(np.sqrt(g2)))
     return Raster(x, y, zf, valid, gx, gy, slope, rho_cl - r_eff, z_low)
@@ -290,11 +306,12 @@ class _Level:
             frozen = np.insert(frozen, ins + 1, False)
         return P
 
-    def contours(self, z: float) -> list[np.ndarray]:
+    def contours(self, z: float, keep: np.ndarray | None = None) -> list[np.ndarray]:
         """``(points, bracketed, valid, closed)`` of every contour at level ``z``: XY
         points moved onto the level (closed contours repeat their first point), whether
         each could be bracketed, and whether its raster node is valid (others are left
-        where marching squares put them and are never cut)."""
+        where marching squares put them and are never cut). Points whose node is
+        outside ``keep`` (a mask on the raster) are not moved (never cut either)."""
         out = []
         for L in self.gen.lines(z):
             L = np.asarray(L, float)
@@ -307,15 +324,16 @@ class _Level:
             d = self.uphill(L, nrm)
             # nodes whose contact is on the mesh's open boundary are not cut: skip them
             valid = self.R.nearest(self.R.valid, L)
+            move = valid if keep is None else valid & self.R.nearest(keep, L)
             Q = L.copy()
             ok = np.zeros(len(L), bool)
-            if valid.any():
-                Q[valid], ok[valid] = self.onto(L[valid], z, d[valid])
+            if move.any():
+                Q[move], ok[move] = self.onto(L[move], z, d[move])
                 # nothing under the tool on the low side: the level runs down the
                 # part's outer wall (the tool beside the part), not over the surface
                 beside = ~np.isfinite(drop(self.sampler.index, self.sampler.cutter,
-                                           Q[valid]).z)
-                valid[np.nonzero(valid)[0][beside]] = False
+                                           Q[move]).z)
+                valid[np.nonzero(move)[0][beside]] = False
             if closed:
                 Q[-1] = Q[0]
                 ok[-1] = ok[0]
@@ -422,7 +440,7 @@ def waterline(sampler: Sampler, s: WaterlineSettings, raster: Raster | None = No
     contours: list[list] = []
     worst = 0.0
     z = top
-    C = lv.contours(z)
+    C = lv.contours(z, keep)
     while True:
         levels.append(z)
         contours.append(C)
@@ -436,7 +454,7 @@ def waterline(sampler: Sampler, s: WaterlineSettings, raster: Raster | None = No
         dz = allowed(C)
         for _ in range(6):
             z2 = max(z - dz, bottom)
-            C2 = lv.contours(z2)
+            C2 = lv.contours(z2, keep)
             a2 = allowed(C2)
             ratio = chord_ratio(C, C2, z - z2)
             new = min(dz, a2, dz / ratio if ratio > 1.0 else dz)
@@ -456,10 +474,10 @@ def waterline(sampler: Sampler, s: WaterlineSettings, raster: Raster | None = No
         for Q, ok, valid, closed in C:
             good = ok & valid
             removed["edge"] += int((~valid).sum())
-            removed["unbracketed"] += int((valid & ~ok).sum())
+            inside = R.nearest(keep, Q) if keep is not None else np.ones(len(Q), bool)
+            removed["unbracketed"] += int((valid & ~ok & inside).sum())
             if keep is not None:
-                inside = R.nearest(keep, Q)
-                removed["outside_mask"] += int((good & ~inside).sum())
+                removed["outside_mask"] += int((valid & ~inside).sum())
                 good &= inside
             for run in index_runs(good, closed):
                 if len(run) < 2:

@@ -49,7 +49,10 @@ class ZigzagSettings:
     contact point just reaches the surface's edge (see :func:`edge_lines`). ``keep``:
     XY points ``(n, 2)`` -> where passes are wanted (steep-shallow's shallow side and
     the overlap), no points are planned elsewhere; ``hold``: where the scallop sets the
-    side step (default ``keep``; steep-shallow: the shallow side only). ``silhouette``:
+    side step (default ``keep``; steep-shallow: the overlap band below
+    :data:`.steep_shallow.HOLD_MAX_SLOPE`). With ``hold`` given, a line station off the
+    held ground advances to where it is held again (at most the flat step), one on it
+    stops at its border, and a slope is measured one-sided beside it. ``silhouette``:
     passes are cut where the cutter touches nothing (its tip farther than its radius
     from the part's silhouette, see :func:`beside_part`), so the tool never runs down
     the outside of the part to ``z_floor``."""
@@ -143,19 +146,34 @@ def _runmin(a: np.ndarray, k: int = 1) -> np.ndarray:
     return out
 
 
-def _station_steps(sampler: Sampler, u, W, r, h, fd, keep=None) -> np.ndarray:
+def _station_steps(sampler: Sampler, u, W, r, h, fd, keep=None, need=None) -> np.ndarray:
     """XY side step at each station from the published formula with the local curvature
     and slope across the passes. The scallop is limited to ``h`` measured vertically:
     the normal height used in the formula is ``h cos(slope)``. NaN where unknown (no
-    surface, or outside ``keep``). One drop-cutter batch for the three rows."""
+    surface, or outside ``keep``) or not ``need``-ed. One drop-cutter batch for the
+    three rows."""
     u = np.asarray(u, float)
     W = np.asarray(W, float)
+    if need is not None and not np.all(need):
+        out = np.full(len(u), np.nan)
+        if np.any(need):
+            out[need] = _station_steps(sampler, u[need], W[need], r, h, fd, keep)
+        return out
     n = len(u)
-    z = sampler.z_cut(np.concatenate([u, u, u]), np.concatenate([W - fd, W, W + fd]))
+    uu, ww = np.concatenate([u, u, u]), np.concatenate([W - fd, W, W + fd])
+    z = sampler.z_cut(uu, ww)
     zm, z0, zp = z[:n], z[n:2 * n], z[2 * n:]
-    ok = np.isfinite(zm) & np.isfinite(z0) & np.isfinite(zp)
-    if keep is not None:
-        ok &= keep(sampler.xy(u, W))
+    if keep is None:
+        ok = np.isfinite(zm) & np.isfinite(z0) & np.isfinite(zp)
+    else:
+        # a neighbour row off the held ground (a wall the waterline finishes, or no
+        # surface) does not set the slope: one-sided difference from the other row
+        held = np.isfinite(z) & np.asarray(keep(sampler.xy(uu, ww)), bool)
+        hm, h0, hp = held[:n], held[n:2 * n], held[2 * n:]
+        zm0 = zm
+        zm = np.where(hm, zm, np.where(hp, 2.0 * z0 - zp, z0))
+        zp = np.where(hp, zp, np.where(hm, 2.0 * z0 - zm0, z0))
+        ok = h0
     out = np.full(n, np.nan)
     rho_cl, slope = curvature_radius(zm[ok], z0[ok], zp[ok], fd)
     cos = 1.0 / np.sqrt(1.0 + slope * slope)
@@ -250,10 +268,18 @@ def pass_lines(sampler: Sampler, design, s: ZigzagSettings) -> tuple[np.ndarray,
             dW = np.full(n, float(eps[known].min()))        # the worst station, whole pass
         else:
             e = np.where(known, eps, np.inf)
-            e = np.where(np.isfinite(e), e, float(eps[known].min()))
+            if hold is None:
+                e = np.where(np.isfinite(e), e, float(eps[known].min()))
+            else:
+                # a station where the scallop is not held (the waterline's side of a
+                # steep-shallow) runs on to where it is held again, at most the flat step
+                e = np.where(np.isfinite(e), e, _to_held(sampler, u, W, hold,
+                                                         flat_side_step(r, target)))
             dW = _between(sampler, u, W, e, r, target, fd, hold)   # each station its own
         dW = _look_ahead(sampler, u, W, dW, wmax, r, target, fd, s.side_step == "published",
                          hold)
+        if hold is not None and s.side_step != "published":
+            dW = _held_end(sampler, u, W, dW, hold)
         Wn = np.minimum(W + dW, wmax)
         steps.append(float(np.mean(Wn - W)))
         W = Wn
@@ -263,15 +289,46 @@ def pass_lines(sampler: Sampler, design, s: ZigzagSettings) -> tuple[np.ndarray,
     return u, lines, steps
 
 
+def _held_end(sampler: Sampler, u, W, dW, hold, k: int = 16) -> np.ndarray:
+    """``dW`` shortened, at stations on held ground, to the last of ``k`` samples ahead
+    before the held ground ends: the next line lies at its border (a wall's foot), so
+    the held ground up to it is finished by the zigzag, not left to the waterline."""
+    t = np.arange(1, k + 1) / k
+    uu = np.repeat(u, k)
+    ww = (W[:, None] + dW[:, None] * t[None, :]).ravel()
+    h = np.asarray(hold(sampler.xy(uu, ww)), bool).reshape(len(u), k)
+    here = np.asarray(hold(sampler.xy(u, W)), bool)
+    ends = here & ~h.all(axis=1)
+    first_off = np.argmin(h, axis=1)                  # first sample off the held ground
+    last_on = np.where(first_off > 0, t[np.maximum(first_off - 1, 0)], 0.0)
+    out = dW.copy()
+    cut = ends & (first_off > 0)
+    out[cut] = dW[cut] * last_on[cut]
+    return out
+
+
+def _to_held(sampler: Sampler, u, W, hold, cap: float, k: int = 16) -> np.ndarray:
+    """Step in ``w`` from each line point ``(u, W)`` to the first of ``k`` samples
+    ``cap / k`` apart ahead where ``hold`` holds (``cap`` if none): a line crossing
+    ground where the scallop is not held does not jump over held ground beyond."""
+    d = cap * np.arange(1, k + 1) / k
+    uu = np.repeat(u, k)
+    ww = (W[:, None] + d[None, :]).ravel()
+    h = np.asarray(hold(sampler.xy(uu, ww)), bool).reshape(len(u), k)
+    first = np.where(h.any(axis=1), np.argmax(h, axis=1), k - 1)
+    return d[first]
+
+
 def _between(sampler: Sampler, u, W, step, r: float, target: float, fd: float,
-             keep=None) -> np.ndarray:
+             keep=None, need=None) -> np.ndarray:
     """Each station's step, also held to the steps found halfway to its neighbours (on
     the chord between their points): the passes are straight between stations, so the
     surface there counts too, but not what a neighbour meets farther along w."""
     if len(u) < 2:
         return np.asarray(step, float)
     um, wm = 0.5 * (u[1:] + u[:-1]), 0.5 * (W[1:] + W[:-1])
-    em = _station_steps(sampler, um, wm, r, target, fd, keep)
+    em = _station_steps(sampler, um, wm, r, target, fd, keep,
+                        None if need is None else need[1:] | need[:-1])
     em = np.where(np.isfinite(em), em, np.inf)
     out = np.asarray(step, float).copy()
     out[1:] = np.minimum(out[1:], em)
@@ -288,16 +345,17 @@ def _look_ahead(sampler: Sampler, u, W, dW, wmax, r: float, target: float,
     dW = np.asarray(dW, float).copy()
     for _ in range(rounds):
         Wn = np.minimum(W + dW, wmax)
-        ahead = _station_steps(sampler, u, Wn, r, target, fd, keep)
-        ok = np.isfinite(ahead) & (Wn < wmax - 1e-9)
+        live = Wn < wmax - 1e-9               # stations at the last line need no step
+        ahead = _station_steps(sampler, u, Wn, r, target, fd, keep, live)
+        ok = np.isfinite(ahead) & live
         if not ok.any():
             break
         new = np.where(ok, np.minimum(dW, ahead), dW)
         if uniform:
             new = np.full_like(dW, float(new.min()))
         else:
-            new = _between(sampler, u, Wn, new, r, target, fd, keep)
-        if np.allclose(new, dW, rtol=1e-3, atol=0.0):
+            new = _between(sampler, u, Wn, new, r, target, fd, keep, live)
+        if np.allclose(new[live], dW[live], rtol=1e-3, atol=0.0):
             break
         dW = new
     return dW

@@ -11,9 +11,26 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from millpath.errors import JobError
+from millpath.io.schema import Param
 from millpath.model import Tool
 from millpath.model.units import default
 from millpath.plan.base import PlanContext
+
+
+#: the feed, spindle and retract keys of a 2.5D operation (job units, units/min)
+MOTION_PARAMS = {
+    "feed": Param("float", positive=True, unit="feed", doc="cutting feed"),
+    "plunge_feed": Param("float", None, positive=True, unit="feed",
+                         doc="feed of entries (default: feed / 2)"),
+    "spindle": Param("float", 0.0, unit="rpm", doc="spindle speed, clockwise (M3)"),
+    "safe_z": Param("float", None, unit="length",
+                    doc="retract height (default: top + 5 mm / 0.2 in)"),
+}
+
+
+def plunge_feed(params: dict) -> float:
+    """The ``plunge_feed`` key, by default half the cutting ``feed`` (units/min)."""
+    return params["plunge_feed"] or params["feed"] / 2
 
 
 @dataclass(frozen=True)

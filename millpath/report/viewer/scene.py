@@ -4,7 +4,7 @@ simulation, and written as one page.
 All lengths are in the program's units (``units``); coordinates are the tool tip in
 program coordinates (:class:`millpath.interpret.motion.Motion`). The motion given is
 drawn as it is: pass the motion the simulator swept (after
-:func:`millpath.verify.approach.approach_from_above`) so that picture and proof agree.
+:func:`millpath.simulate.approach.approach_from_above`) so that picture and proof agree.
 """
 
 from __future__ import annotations
