@@ -55,7 +55,7 @@ def _verify(tp, tools, stock, design, resolution, program, move_lines, reference
     """(zmap seconds, full seconds, result of the full run)."""
     from millpath.interpret import interpret
     from millpath.simulate import simulate_motions
-    from millpath.verify.approach import approach_from_above
+    from millpath.simulate.approach import approach_from_above
     from millpath.verify.roundtrip import compare_toolpath
     motions = interpret(program, tools, machine_units=tp.units)
     motions = approach_from_above(list(motions), stock.zmax)

@@ -266,13 +266,6 @@ def test_inch_job_control_and_cam_interpret_alike(rs274):
     assert max(float(np.abs(np.subtract(x.end, y.end)).max()) for x, y in zip(a, b)) <= 1e-5
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "issue 15: the exact gouge check finds the finishing pass 0.0017 mm into the wall "
-    "near (85.45, 97.69) against a tolerance of 0.001 (confirmed against the true curve "
-    "sampled 20,000 per segment): LinuxCNC joins corners turning <= 0.05 rad straight, "
-    "starting each offset move r (1 - cos a) nearer the next chord, on top of the chord's "
-    "sagitta; the planner's own finish_max_undercut says 0.00168. A planner fix is "
-    "pending; the run is refused until then"))
 def test_millpath_run_writes_the_curve_analysis(tmp_path, rs274):
     import json
     from millpath.pipeline import run_job
@@ -282,7 +275,9 @@ def test_millpath_run_writes_the_curve_analysis(tmp_path, rs274):
     assert {"segments", "chords", "uniform_chords", "unreachable_corners"} <= set(curve)
     assert all({"chords", "steps", "deviations", "uniform_chords"} <= set(s)
                for s in curve["segments"])
-    assert rep["verification"]["max_gouge"] == 0
+    # the exact check (issue 15) measures the finishing pass against the true wall: within
+    # the job's tolerance (0.001 mm), which the Z-map's cells could not see
+    assert rep["verification"]["max_gouge"] <= 0.001
     assert rep["verification"]["rapids_through_material"] == 0
     assert "G41 D1" in (tmp_path / "out" / "program.ngc").read_text()
 
