@@ -31,7 +31,7 @@ from numba import njit
 FLAT, BALL, BULL, DRILL, CYL = 0, 1, 2, 3, 4
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def shape_rings(kind, R, rc, k, zb, L, e, rr, rh):
     """Fill ``rr``/``rh`` (length >= 3) with the rings of ``C_e``; return
     (number of rings, rho), or (0, 0) when ``C_e`` is empty. ``zb`` is the bottom of a
@@ -76,7 +76,7 @@ def shape_rings(kind, R, rc, k, zb, L, e, rr, rh):
     return 2, 0.0
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def _sup_cut(P0, P1, nr, rr, rh, rho, dx, dy, dz, out):
     """Support point of (hull of rings + ball rho) swept along P0 -> P1 in (dx, dy, dz)."""
     if dx * P0[0] + dy * P0[1] + dz * P0[2] >= dx * P1[0] + dy * P1[1] + dz * P1[2]:
@@ -106,13 +106,13 @@ def _sup_cut(P0, P1, nr, rr, rh, rho, dx, dy, dz, out):
     out[2] = bz
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def support_swept(P0, P1, nr, rr, rh, rho, dx, dy, dz, out):
     """Support point of a swept solid (rings, rho along P0 -> P1) in (dx, dy, dz)."""
     _sup_cut(P0, P1, nr, rr, rh, rho, dx, dy, dz, out)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def _sup_tri(T, dx, dy, dz, out):
     b = 0
     bv = T[0, 0] * dx + T[0, 1] * dy + T[0, 2] * dz
@@ -126,12 +126,12 @@ def _sup_tri(T, dx, dy, dz, out):
     out[2] = T[b, 2]
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def _dot(a, b):
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def _cross(a, b, out):
     x = a[1] * b[2] - a[2] * b[1]
     y = a[2] * b[0] - a[0] * b[2]
@@ -141,7 +141,7 @@ def _cross(a, b, out):
     out[2] = z
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def meets(T, P0, P1, nr, rr, rh, rho, tol):
     """True when triangle ``T`` (3, 3) meets the swept solid (rings, rho along
     P0 -> P1) or comes within ``tol`` of it (GJK on the Minkowski difference)."""
@@ -294,7 +294,7 @@ def meets(T, P0, P1, nr, rr, rh, rho, tol):
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def depth(T, P0, P1, kind, R, rc, k, zb, L, e0, tol, rr, rh):
     """Deepest penetration of triangle ``T`` into the solid swept along P0 -> P1:
     the largest ``e`` in [e0, R] with ``T`` meeting ``C_e``, to ``tol``; -1 when ``T``
@@ -317,7 +317,7 @@ def depth(T, P0, P1, kind, R, rc, k, zb, L, e0, tol, rr, rh):
     return lo
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def underside(P0, P1, kind, R, rc, k, zb, box, grow):
     """A height below every point of the tool (grown by ``grow``) swept along P0 -> P1
     over the XY rectangle ``box`` (x0, y0, x1, y1) (+inf when the tool cannot reach

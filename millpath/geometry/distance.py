@@ -14,12 +14,12 @@ import numpy as np
 from numba import njit
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def _d3(ax, ay, az, bx, by, bz):
     return ax * bx + ay * by + az * bz
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def point_triangle_dist2(px, py, pz, T):
     """Squared distance from a point to triangle ``T`` (3, 3) (closest-point regions;
     a degenerate triangle is handled as its edges)."""
@@ -74,7 +74,7 @@ def point_triangle_dist2(px, py, pz, T):
     return (px - qx) ** 2 + (py - qy) ** 2 + (pz - qz) ** 2
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def segment_segment_dist2(p1x, p1y, p1z, q1x, q1y, q1z, p2x, p2y, p2z, q2x, q2y, q2z):
     """Squared distance between segments p1-q1 and p2-q2 (either may be a point)."""
     d1x, d1y, d1z = q1x - p1x, q1y - p1y, q1z - p1z
@@ -111,7 +111,7 @@ def segment_segment_dist2(p1x, p1y, p1z, q1x, q1y, q1z, p2x, p2y, p2z, q2x, q2y,
     return cx * cx + cy * cy + cz * cz
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _segment_crosses(px, py, pz, qx, qy, qz, T):
     """True when segment p-q passes through triangle T (Moller-Trumbore, segment bounds)."""
     dx, dy, dz = qx - px, qy - py, qz - pz
@@ -134,7 +134,7 @@ def _segment_crosses(px, py, pz, qx, qy, qz, T):
     return 0.0 <= t <= 1.0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def segment_triangle_dist2(px, py, pz, qx, qy, qz, T):
     """Squared distance between segment p-q and triangle T (0 when they cross)."""
     if _segment_crosses(px, py, pz, qx, qy, qz, T):
@@ -149,7 +149,7 @@ def segment_triangle_dist2(px, py, pz, qx, qy, qz, T):
     return best
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def triangle_triangle_dist2(A, B):
     """Squared distance between triangles A and B (0 when they meet): the nearest of
     each one's edges to the other."""
@@ -169,7 +169,7 @@ def triangle_triangle_dist2(A, B):
     return best
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def ball_core(P0, P1, R, L, Q1, Q2):
     """Fill ``Q1``/``Q2`` (3, 3) with the two triangles of a ball cutter's core swept
     along P0 -> P1 (see the module doc); return False when the chord is vertical (the
@@ -200,7 +200,7 @@ def ball_core(P0, P1, R, L, Q1, Q2):
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def core_triangle_dist2(T, flat_core, Q1, Q2):
     """Squared distance between triangle T and a core from :func:`ball_core`."""
     if not flat_core:
@@ -209,7 +209,7 @@ def core_triangle_dist2(T, flat_core, Q1, Q2):
     return min(triangle_triangle_dist2(T, Q1), triangle_triangle_dist2(T, Q2))
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def core_segment_dist2(px, py, pz, qx, qy, qz, flat_core, Q1, Q2):
     """Squared distance between segment p-q and a core from :func:`ball_core`."""
     if not flat_core:
@@ -219,7 +219,7 @@ def core_segment_dist2(px, py, pz, qx, qy, qz, flat_core, Q1, Q2):
                segment_triangle_dist2(px, py, pz, qx, qy, qz, Q2))
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def core_point_dist2(px, py, pz, flat_core, Q1, Q2):
     """Squared distance between a point and a core from :func:`ball_core`."""
     if not flat_core:

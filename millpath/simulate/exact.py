@@ -64,10 +64,12 @@ def design_triangles(design, stock: Stock, accuracy: float, size: float) -> np.n
     """Triangles of a design: its ``mesh()`` when it has one, else a height-field mesh
     over the stock box with cells of ``size`` refined to ``50 accuracy`` where walls
     or curvature need it (walls cut exactly at the cell edges, flat to ``accuracy / 2``)."""
-    if hasattr(design, "mesh"):
+    m = getattr(design, "mesh", None)
+    if callable(m):         # (a ``mesh`` attribute that is data may be in another frame)
         import inspect
-        takes_box = "box" in inspect.signature(design.mesh).parameters
-        return orient_outward(design.mesh(stock.box) if takes_box else design.mesh())
+        takes_box = "box" in inspect.signature(m).parameters
+        m = m(stock.box) if takes_box else m()
+        return orient_outward(getattr(m, "triangles", m))      # a Mesh, or (n, 3, 3)
     x0, y0, z0, x1, y1, z1 = stock.box
     tri = height_field_mesh(design, (x0, y0, x1, y1), size=size, min_size=accuracy * 50,
                             flat_tol=accuracy / 2, floor=z0 - max(1.0, 0.1 * (z1 - z0)))

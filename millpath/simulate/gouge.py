@@ -90,7 +90,7 @@ def bucket_bounds(index: BoxIndex) -> np.ndarray:
     return out
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def in_triangle(T, q):
     """True when point ``q`` (in the plane of ``T``) lies in triangle ``T``."""
     e1 = T[1] - T[0]
@@ -110,7 +110,7 @@ def in_triangle(T, q):
     return u >= -eps and v >= -eps and u + v <= 1.0 + eps
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def surface_dist2(X, r, tri, tlo, thi, start, items, bi0, bj0, x0, y0, bs, nbx, nby):
     """Squared distance from point X to the nearest triangle, at most ``r**2``."""
     best = r * r
@@ -133,7 +133,7 @@ def surface_dist2(X, r, tri, tlo, thi, start, items, bi0, bj0, x0, y0, bs, nbx, 
     return best
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True, error_model="numpy", parallel=True)
 def _gouge_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, tc, tr, bzmax,
                   tlo, thi, start, items, bi0, bj0, x0, y0, bs, nbx, nby,
                   e0, tol, out_g, out_t, out_s, out_r, out_x):
@@ -246,7 +246,7 @@ def _gouge_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, tc, tr, bz
             out_x[c, a] = xs[a]
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True, error_model="numpy", parallel=True)
 def _near_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, bzmax, tlo, thi,
                  start, items, bi0, bj0, x0, y0, bs, nbx, nby, e0, grow, out):
     """out[c] = 1 when some triangle comes within ``grow`` of the part of chord c's
@@ -307,7 +307,7 @@ def _near_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, bzmax, tlo,
         out[c] = hit
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _locate(T, P0, P1, kind, R, rc, k, zb, L, g, tol):
     """Tool tip on the chord and the point of ``T`` where the penetration ``g`` is
     deepest: bisection along the chord, then a refined search over the triangle."""

@@ -20,7 +20,7 @@ from millpath.interpret import interpret
 from millpath.model import Stock, Tool
 from millpath.model.motion import Motion
 from millpath.simulate.exact import Reference, verify_exact
-from millpath.verify.approach import approach_from_above
+from millpath.simulate.approach import approach_from_above
 
 TOL = 0.002
 TOOLS = {"flat": Tool(1, "flat", 6.0, flute_length=20, stickout=30),
