@@ -30,8 +30,9 @@ PLANE_AXES = ((0, 1, 2), (2, 0, 1), (1, 2, 0))
 
 
 def _arc_planes(a: dict[str, np.ndarray]):
-    """The arcs by plane: (indices, axes, start, end, center, s1, s2, e1, e2) for each plane
-    that has arcs, in the plane's (first, second) coordinates relative to the center."""
+    """The arcs by plane: (indices, axes, start, end, center, s1, s2, e1, e2, radius, start
+    angle, end angle) for each plane that has arcs, in the plane's (first, second)
+    coordinates relative to the center."""
     idx = np.nonzero(a["kind"] == KINDS.index("arc"))[0]
     if not len(idx):
         return
@@ -41,29 +42,29 @@ def _arc_planes(a: dict[str, np.ndarray]):
         if not len(sel):
             continue
         st, en, ce = a["start"][sel], a["end"][sel], a["center"][sel]
-        yield (sel, (i1, i2, i3), st, en, ce, st[:, i1] - ce[:, i1], st[:, i2] - ce[:, i2],
-               en[:, i1] - ce[:, i1], en[:, i2] - ce[:, i2])
+        s1, s2 = st[:, i1] - ce[:, i1], st[:, i2] - ce[:, i2]
+        e1, e2 = en[:, i1] - ce[:, i1], en[:, i2] - ce[:, i2]
+        yield (sel, (i1, i2, i3), st, en, ce, s1, s2, e1, e2, np.hypot(s1, s2),
+               np.arctan2(s2, s1), np.arctan2(e2, e1))
 
 
 def _arc_points(a: dict[str, np.ndarray], lo: np.ndarray | None = None,
-                hi: np.ndarray | None = None) -> np.ndarray:
+                hi: np.ndarray | None = None, arcs: list | None = None) -> np.ndarray:
     """Quadrant points that arcs pass through (for the bounding box). With the box
     ``lo``, ``hi`` of the other points: only those of arcs whose circle leaves it, or
     that are helical (the others cannot change the box: their quadrant points lie
-    between center - radius and center + radius, which are exactly the extreme ones)."""
+    between center - radius and center + radius, which are exactly the extreme ones).
+    ``arcs``: ``_arc_planes(a)`` if already computed."""
     out = [np.zeros((0, 3))]
     quads = np.array([0.0, 0.5, 1.0, 1.5]) * np.pi
-    for sel, (i1, i2, i3), st, en, ce, s1, s2, e1, e2 in _arc_planes(a):
-        r = np.hypot(s1, s2)
+    for sel, (i1, i2, i3), st, en, ce, s1, s2, e1, e2, r, t0, t1 in (
+            _arc_planes(a) if arcs is None else arcs):
         if lo is not None:
             c1, c2 = ce[:, i1], ce[:, i2]
             keep = ((st[:, i3] != en[:, i3]) | (c1 + r > hi[i1]) | (c1 - r < lo[i1])
                     | (c2 + r > hi[i2]) | (c2 - r < lo[i2]))
             if not keep.all():
-                sel, st, en, ce, s1, s2, e1, e2, r = (
-                    v[keep] for v in (sel, st, en, ce, s1, s2, e1, e2, r))
-        t0 = np.arctan2(s2, s1)
-        t1 = np.arctan2(e2, e1)
+                sel, st, en, ce, r, t0, t1 = (v[keep] for v in (sel, st, en, ce, r, t0, t1))
         rot = a["rotation"][sel]
         ccw = rot > 0
         sweep = t1 - t0
@@ -84,18 +85,19 @@ def _arc_points(a: dict[str, np.ndarray], lo: np.ndarray | None = None,
     return np.vstack(out)
 
 
-def _lengths(a: dict[str, np.ndarray], controls: dict[int, tuple]) -> np.ndarray:
+def _lengths(a: dict[str, np.ndarray], controls: dict[int, tuple],
+             arcs: list | None = None) -> np.ndarray:
     """Path length of each move (arcs and helices exact, cubics and NURBS by sampling);
-    ``controls`` are the curves' control points by index into the arrays."""
-    start, end, center = a["start"], a["end"], a["center"]
-    kind, rot, plane = a["kind"], a["rotation"], a["plane"]
+    ``controls`` are the curves' control points by index into the arrays; ``arcs``:
+    ``_arc_planes(a)`` if already computed."""
+    start, end = a["start"], a["end"]
+    kind, rot = a["kind"], a["rotation"]
     n = len(kind)
     d = end - start
     # hypot: no overflow for coordinates near the float limit
     length = np.hypot(np.hypot(d[:, 0], d[:, 1]), d[:, 2]) if n else np.zeros(0)
-    for sel, (i1, i2, i3), st, en, ce, s1, s2, e1, e2 in _arc_planes(a):
-        r = np.hypot(s1, s2)
-        t0, t1 = np.arctan2(s2, s1), np.arctan2(e2, e1)
+    for sel, (i1, i2, i3), st, en, ce, s1, s2, e1, e2, r, t0, t1 in (
+            _arc_planes(a) if arcs is None else arcs):
         turn = rot[sel].astype(np.float64)
         ccw = turn > 0
         sweep = np.where(ccw, t1 - t0, t0 - t1)
@@ -155,7 +157,8 @@ class Summary:
         kind = a["kind"]
         if not len(kind):
             return
-        length = _lengths(a, controls)
+        arcs = list(_arc_planes(a))
+        length = _lengths(a, controls, arcs)
         self.counts += np.bincount(kind, minlength=len(KINDS))
         moving = kind != KINDS.index("dwell")
         all_moving = bool(moving.all())
@@ -174,7 +177,7 @@ class Summary:
             self.first = False
             for pts in (starts, ends, None, _nurbs_points(a, controls)):
                 if pts is None:
-                    pts = _arc_points(a, self.lo, self.hi)
+                    pts = _arc_points(a, self.lo, self.hi, arcs)
                 if len(pts):
                     self.lo = np.minimum(self.lo, pts.min(axis=0))
                     self.hi = np.maximum(self.hi, pts.max(axis=0))
