@@ -231,8 +231,9 @@ def _run(job_path: str | Path, outdir: str | Path, prog: Progress, force: bool) 
     if job.simulation.get("enabled", True):
         from millpath.simulate import simulate_motions
         res = default_resolution(job, stock, tp)
-        refs = _references(job, results, stock, tp)
+        exact = bool(job.simulation.get("exact", False))
         user = job.simulation.get("design")
+        refs = _references(job, results, stock, tp) if (exact or user) else None
         if user:
             from millpath.simulate import MeshDesign
             design = MeshDesign(refs[0].triangles)
@@ -242,9 +243,9 @@ def _run(job_path: str | Path, outdir: str | Path, prog: Progress, force: bool) 
         chord = min([res / 20.0] + [0.1 * t for t in tols])
         sim = simulate_motions(motions, job.tools, stock, resolution=res, design=design,
                                machine=job.machine, progress=prog, chord_tol=chord,
-                               references=refs,
+                               references=refs if exact else None,
                                motion_op=_motion_ops(tp, move_lines, motions),
-                               accuracy=_accuracy(job.units))
+                               accuracy=_accuracy(job.units) if exact else None)
         report.verification = sim.to_json()
     else:
         report.verification = {"skipped": "simulation disabled in the job"}

@@ -12,7 +12,6 @@ apart. Designs that are only height fields are meshed by
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
