@@ -231,12 +231,21 @@ def _run(job_path: str | Path, outdir: str | Path, prog: Progress, force: bool) 
     if job.simulation.get("enabled", True):
         from millpath.simulate import simulate_motions
         res = default_resolution(job, stock, tp)
+        exact = bool(job.simulation.get("exact", False))
+        user = job.simulation.get("design")
+        refs = _references(job, results, stock, tp) if (exact or user) else None
+        if user:
+            from millpath.simulate import MeshDesign
+            design = MeshDesign(refs[0].triangles)
         # chords of arcs within a tenth of the tightest tolerance: the measured gouge
         # must not carry the measurement's own chord error (issue 14)
         tols = [o.tolerance for o in tp.ops if o.tolerance]
         chord = min([res / 20.0] + [0.1 * t for t in tols])
         sim = simulate_motions(motions, job.tools, stock, resolution=res, design=design,
-                               machine=job.machine, progress=prog, chord_tol=chord)
+                               machine=job.machine, progress=prog, chord_tol=chord,
+                               references=refs if exact else None,
+                               motion_op=_motion_ops(tp, move_lines, motions),
+                               accuracy=_accuracy(job.units) if exact else None)
         report.verification = sim.to_json()
     else:
         report.verification = {"skipped": "simulation disabled in the job"}
@@ -276,7 +285,11 @@ def _run(job_path: str | Path, outdir: str | Path, prog: Progress, force: bool) 
             from millpath.simulate import render_deviation, render_stock
             render_stock(sim.zmap, tmp / "stock.png", units=job.units)
             if design is not None:
-                render_deviation(sim.zmap, design, tmp / "deviation.png", units=job.units)
+                ex = sim.exact
+                render_deviation(sim.zmap, design, tmp / "deviation.png", units=job.units,
+                                 gouge_at=sim.gouge_at, left_at=sim.left_at,
+                                 gouge=ex.max_gouge if ex else None,
+                                 left=ex.max_left if ex else None)
         bar.advance(2)
         from millpath.report.viewer import write_view
         write_view(tmp / "view.html", program=posted, motions=motions, tools=job.tools,
@@ -293,6 +306,47 @@ def _run(job_path: str | Path, outdir: str | Path, prog: Progress, force: bool) 
                                  f"written (report and pictures in {out}; --force writes "
                                  f"program.unsafe.ngc)", job.path, written, problems)
     return RunResult(job, tp, program, written, files, time.perf_counter() - t0)
+
+
+def _references(job: Job, results: list[PlanResult], stock: Stock, tp: Toolpath):
+    """What gouge and material left are measured against: the job's ``[simulation]
+    design`` (STL, STEP, Bezier net; all operations) when given, else each operation's
+    own design, as triangles."""
+    from millpath.simulate.exact import Reference, design_triangles, orient_outward
+    spec = job.simulation.get("design")
+    if spec:
+        from millpath.part.surface.load import load_surface
+        mesh = load_surface(str(spec), 64, job.base_dir, job.path, units=job.units)
+        tri = mesh.triangles
+        lo, hi = tri.reshape(-1, 3).min(axis=0), tri.reshape(-1, 3).max(axis=0)
+        b = stock.box
+        if (hi[0] < b[0] or lo[0] > b[3] or hi[1] < b[1] or lo[1] > b[4]
+                or hi[2] < b[2] or lo[2] > b[5]):
+            raise MillpathError(f"simulation.design {spec}: the design lies wholly outside "
+                                f"the stock (different units?)", job.path)
+        return [Reference(orient_outward(tri), str(spec), None)]
+    used = [job.tools[o.tool].radius for o in tp.ops if o.tool in job.tools]
+    size = min(used + [max(stock.size[:2]) / 64]) / 2
+    return [Reference(design_triangles(r.design, stock, _accuracy(job.units), size),
+                      f"operations[{i}] design", [i])
+            for i, r in enumerate(results) if r.design is not None]
+
+
+def _accuracy(units: str) -> float:
+    """Bound on the verification's gouge / material-left figures (job units)."""
+    return 0.001 if units == "mm" else 0.00004
+
+
+def _motion_ops(tp: Toolpath, move_lines: list[int | None], motions) -> np.ndarray:
+    """Operation of each interpreted motion: that of the last planned move written at
+    or before its program line."""
+    starts = [(line, m.op) for m, line in zip(tp.moves, move_lines) if line is not None]
+    keys = [l for l, _ in starts]
+    out = np.zeros(len(motions), np.int64)
+    for i, mo in enumerate(motions):
+        k = bisect.bisect_right(keys, mo.line) - 1
+        out[i] = starts[max(k, 0)][1] if starts else 0
+    return out
 
 
 def _safety_gate(report: dict, job: Job, tp: Toolpath, move_lines, motions, sim) -> list:

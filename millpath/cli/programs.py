@@ -107,16 +107,36 @@ def interpret_program(program: Path, tool_arg, units: str, spindle_tool: int = 0
     return res
 
 
-def read_design(path: Path, units: str):
-    """The designed part of ``--design`` as a height function (program units)."""
+def read_design(path: Path, units: str, stock=None):
+    """The designed part of ``--design`` (program units) as (a height function for the
+    Z-map, or None when it has no top surface; the exact check's references). Errors
+    name the file: unreadable, non-finite vertices, no triangles, or a design wholly
+    outside the stock (mixed units)."""
+    from millpath.part.surface.load import load_surface
     from millpath.simulate import MeshDesign
-    if path.suffix.lower() == ".stl":
-        return MeshDesign.from_stl(path)
+    from millpath.simulate.exact import Reference, orient_outward
     if not path.is_file():
         raise MillpathError("design file not found", path)
-    from millpath.part.surface.load import load_surface
-    mesh = load_surface(str(path.resolve()), 200, path.parent, units=units)
-    return MeshDesign(mesh.triangles)
+    try:
+        mesh = load_surface(str(path.resolve()), 200, path.parent, path, units=units)
+    except MillpathError as e:
+        if e.file is None:
+            e.file = str(path)
+        raise
+    tri = mesh.triangles
+    if stock is not None:
+        lo, hi = tri.reshape(-1, 3).min(axis=0), tri.reshape(-1, 3).max(axis=0)
+        b = stock.box
+        if (hi[0] < b[0] or lo[0] > b[3] or hi[1] < b[1] or lo[1] > b[4] or hi[2] < b[2]
+                or lo[2] > b[5]):
+            raise MillpathError(f"the design lies wholly outside the stock {list(b)} "
+                                f"(design box {lo.round(4).tolist()} to "
+                                f"{hi.round(4).tolist()}; different units?)", path)
+    try:
+        design = MeshDesign(tri)          # its top surface, for the Z-map's figures
+    except ValueError:
+        design = None                     # walls only: the exact check alone
+    return design, [Reference(orient_outward(tri), path.name, None)]
 
 
 CUTTING = ("feed", "arc", "cubic", "nurbs")
@@ -208,7 +228,8 @@ def simulate_program(program: Path, tools_path: Path | None, stock_text: str,
         if units == "inch":
             tools, tool_arg = read_tools(tools_path, "inch")
             res = interpret_program(program, tool_arg, "inch", spindle_tool)
-    design = read_design(design_path, units) if design_path is not None else None
+    design, refs = (read_design(design_path, units, stock) if design_path is not None
+                    else (None, None))
     motions = list(res.motions)
     used = sorted({m.tool for m in motions if m.kind != "dwell" and m.tool != 0})
     for t in used:
@@ -235,7 +256,8 @@ def simulate_program(program: Path, tools_path: Path | None, stock_text: str,
                    err=True)
     try:
         r = simulate_motions(motions, tools, stock, resolution=resolution, design=design,
-                             machine=machine, progress=progress)
+                             machine=machine, progress=progress,
+                             references=refs, accuracy=0.001 if units == "mm" else 0.00004)
     except ValueError as e:                    # --resolution too fine, a tool's shape
         raise MillpathError(str(e), program) from None
     return SimulatedProgram(units, motions, tools, stock, design, resolution, r)

@@ -19,8 +19,8 @@ from millpath.cli.programs import program_options, simulate_program
 
 
 @click.command()
-@program_options("Designed part (STL, or any surface millpath drop reads) for gouge "
-                 "and material-left checks.")
+@program_options("Designed part (STL, or any surface millpath drop reads) for the exact "
+                 "gouge and material-left checks (normal to the design).")
 @click.option("--max-feed", type=float, default=None,
               help="Machine's feed limit for the cycle time, program units/min (default "
                    "3000 mm/min, 120 in/min); faster feeds are capped with a warning.")
@@ -46,7 +46,9 @@ def command(program: Path, tools_path: Path | None, stock_text: str,
         render_stock(r.zmap, png, title=f"{program.name}: simulated stock", units=units)
         if design is not None:
             render_deviation(r.zmap, design, png.with_name(png.stem + "_deviation.png"),
-                             units=units)
+                             units=units, gouge_at=r.gouge_at, left_at=r.left_at,
+                             gouge=r.exact.max_gouge if r.exact else None,
+                             left=r.exact.max_left if r.exact else None)
     j = r.to_json()
     if as_json:
         click.echo(json.dumps(j, indent=2))
@@ -54,11 +56,16 @@ def command(program: Path, tools_path: Path | None, stock_text: str,
     u3 = f"{units}^3"
     click.echo(f"{program.name}: {len(motions)} motions, {units}, resolution {resolution:g}")
     click.echo(f"removed volume   {j['removed_volume']:.6g} {u3}")
-    if design is not None:
-        at = (lambda p: f" at X{p[0]:.4g} Y{p[1]:.4g}" if p else "")
-        click.echo(f"max gouge        {j['max_gouge']:.4g} {units}{at(r.gouge_at)}")
-        click.echo(f"max left         {j['max_left']:.4g} {units}{at(r.left_at)}")
-        click.echo(f"left volume      {j['left_volume']:.6g} {u3}")
+    if j["max_gouge"] is not None:
+        def at(p):
+            return (f" at X{p['x']:.4g} Y{p['y']:.4g} Z{p['z']:.4g}"
+                    + (f" (line {p['line']})" if p.get("line") is not None else "")) if p else ""
+        click.echo(f"max gouge        {j['max_gouge']:.4g} {units}{at(j.get('max_gouge_at'))}"
+                   f", {j.get('gouging_moves', 0)} gouging motions")
+        click.echo(f"max left         {j['max_left']:.4g} {units}{at(j.get('max_left_at'))}")
+        click.echo(f"accuracy         {j.get('accuracy')} {units}")
+        if j["left_volume"] is not None:
+            click.echo(f"left volume      {j['left_volume']:.6g} {u3}")
     click.echo(f"rapids through material  {j['rapids_through_material']}"
                + (f" (lines {', '.join(map(str, r.rapid_lines[:10]))})" if r.rapid_lines else ""))
     click.echo(f"holder contacts          {j['holder_contacts']}"

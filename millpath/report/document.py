@@ -71,7 +71,10 @@ class RunReport:
     stock: list[float]
     fit: dict[str, Any]
     reference: dict | None = None         # the job's [reference], copied
-    verification: dict = field(default_factory=dict)   # simulate's, passed through
+    # simulate's (SimResult.to_json), passed through; with the exact check: max_gouge,
+    # max_left (normal to the design), max_gouge_at / max_left_at {x, y, z, line,
+    # operation}, gouging_moves, reference, accuracy, left_spacing, by_operation
+    verification: dict = field(default_factory=dict)
     cycle_time_s: float = 0.0
     operations: list[OperationSection] = field(default_factory=list)
     plans: list[PlanSection] = field(default_factory=list)

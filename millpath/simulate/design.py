@@ -131,10 +131,12 @@ def _mesh_heights(px, py, tri, start, items, bx0, by0, bs, nbx, nby, out):
 class MeshDesign:
     """The top surface of a triangle mesh (``(n, 3, 3)`` vertices, job units): at each
     (x, y) the highest triangle above it; ``-inf`` where no triangle covers the point.
-    Vertical triangles are ignored (they have no top surface)."""
+    Vertical triangles are ignored by ``height`` (they have no top surface) but kept in
+    ``mesh()``, the reference of the exact gouge / material-left check."""
 
     def __init__(self, triangles):
         tri = np.ascontiguousarray(np.asarray(triangles, float).reshape(-1, 3, 3))
+        self.all_triangles = tri
         e1 = tri[:, 1, :2] - tri[:, 0, :2]
         e2 = tri[:, 2, :2] - tri[:, 0, :2]
         area = np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])
@@ -182,6 +184,11 @@ class MeshDesign:
             return cls(np.asarray(m.vectors, float))
         except ValueError as e:
             raise MillpathError(str(e), p) from None
+
+    def mesh(self) -> np.ndarray:
+        """All triangles (n, 3, 3), vertical walls included (the exact check's
+        reference)."""
+        return self.all_triangles
 
     def bounds(self) -> tuple[np.ndarray, np.ndarray]:
         t = self.triangles.reshape(-1, 3)

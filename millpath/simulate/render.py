@@ -101,12 +101,17 @@ def _design_outline(ax, zmap: ZMap, design, max_px: int = 600) -> None:
 
 
 def render_deviation(zmap: ZMap, design, path: str | Path, *, title: str = "",
-                     units: str = "", tolerance: float = 0.0) -> Path:
+                     units: str = "", tolerance: float = 0.0,
+                     gouge_at=None, left_at=None, gouge: float | None = None,
+                     left: float | None = None) -> Path:
     """Write the deviation of ``zmap`` from ``design`` to ``path`` (PNG).
 
     Red: the tool went below the design (gouge); blue: material left above it; white:
     within ``tolerance`` (job units). Grey lines: contours of the design's height;
-    circles mark the largest gouge and the most material left. Returns the path."""
+    circles mark the largest gouge and the most material left: where the exact check
+    found them when ``gouge_at`` / ``left_at`` ((x, y), with the figures ``gouge`` /
+    ``left``) are given (walls included), else the Z-map's extreme cells. Returns the
+    path."""
     from matplotlib.colors import LinearSegmentedColormap, Normalize, TwoSlopeNorm
     from millpath.simulate.simulator import deviation
     fig, ax, shown = _figure(zmap)
@@ -145,10 +150,14 @@ def render_deviation(zmap: ZMap, design, path: str | Path, *, title: str = "",
     ny, nx = dev.shape
     xs, ys = zmap.xs(), zmap.ys()
     marks = []
-    if gmax > 0:
+    if gouge_at is not None:
+        marks.append((gouge_at[0], gouge_at[1], "#b2001d", f"max gouge {gouge or 0:.3g}"))
+    elif gmax > 0:
         j, i = np.unravel_index(int(np.argmin(dev)), dev.shape)
         marks.append((xs[i], ys[j], "#b2001d", f"max gouge {gmax:.3g}"))
-    if lmax > 0:
+    if left_at is not None:
+        marks.append((left_at[0], left_at[1], "#08306b", f"max left {left or 0:.3g}"))
+    elif lmax > 0:
         j, i = np.unravel_index(int(np.argmax(dev)), dev.shape)
         marks.append((xs[i], ys[j], "#08306b", f"max left {lmax:.3g}"))
     for x, y, colour, label in marks:

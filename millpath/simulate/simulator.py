@@ -29,6 +29,7 @@ from millpath.model.tool import Tool
 from millpath.model.toolpath import Toolpath
 from millpath.progress import QUIET, Progress
 from millpath.simulate.cycletime import motion_times, times_by_operation
+from millpath.simulate.exact import ExactResult, Reference, design_triangles, verify_exact
 from millpath.simulate.kernel import BALL, BULL, DRILL, FLAT, sweep_chunk
 from millpath.simulate.path import Segments, motion_segments, toolpath_motions
 from millpath.simulate.zmap import ZMap
@@ -58,16 +59,54 @@ class SimResult:
     chords: int = 0
     gouge_at: tuple[float, float] | None = None    # (x, y) of the largest gouge
     left_at: tuple[float, float] | None = None     # (x, y) of the most material left
+    exact: ExactResult | None = None               # grid-free gouge / material left
+    motion_op: np.ndarray | None = None            # operation of each motion
+    rapid_hit: np.ndarray | None = None            # per motion flags (Z-map)
+    holder_hit: np.ndarray | None = None
 
     def to_json(self) -> dict[str, Any]:
-        """The verification keys of report.json / ``millpath simulate --json``."""
+        """The verification keys of report.json / ``millpath simulate --json``.
+
+        With an exact check (a design was given), ``max_gouge`` / ``max_left`` are the
+        grid-free figures normal to the design (bounded by ``accuracy``; material left
+        exact at points ``left_spacing`` apart), with ``max_gouge_at`` /
+        ``max_left_at`` ({x, y, z, line, operation}), ``gouging_moves`` (motions
+        gouging by more than ``accuracy``), ``reference`` (the designs used) and
+        ``by_operation``. ``left_volume`` stays the Z-map's."""
         def r(v):
             return None if v is None else round(float(v), 6)
-        return {"removed_volume": r(self.removed_volume), "max_gouge": r(self.max_gouge),
-                "max_left": r(self.max_left), "left_volume": r(self.left_volume),
-                "rapids_through_material": int(self.rapids_through_material),
-                "holder_contacts": int(self.holder_contacts),
-                "cycle_time_s": r(self.cycle_time_s), "resolution": float(self.resolution)}
+        ex = self.exact
+        out = {"removed_volume": r(self.removed_volume),
+               "max_gouge": r(ex.max_gouge if ex else self.max_gouge),
+               "max_left": r(ex.max_left if ex else self.max_left),
+               "left_volume": r(self.left_volume),
+               "rapids_through_material": int(self.rapids_through_material),
+               "holder_contacts": int(self.holder_contacts),
+               "cycle_time_s": r(self.cycle_time_s), "resolution": float(self.resolution)}
+        if ex is not None:
+            def at(d):
+                return None if d is None else {k: (r(v) if k in "xyz" else v)
+                                               for k, v in d.items()}
+            out.update(max_gouge_at=at(ex.gouge_at), max_left_at=at(ex.left_at),
+                       gouging_moves=int(ex.gouging_moves),
+                       reference=", ".join(ex.references), accuracy=float(ex.accuracy),
+                       left_spacing=r(ex.spacing))
+        elif self.max_gouge is not None:
+            out.update(reference="design heights on the Z-map (cell-bound)",
+                       accuracy=float(self.resolution))
+        ops = sorted(set(self.motion_op.tolist())) if self.motion_op is not None else []
+        if ops:
+            rows = []
+            for o in ops:
+                m = self.motion_op == o
+                rows.append({"operation": int(o),
+                             "max_gouge": r(ex.op_gouge.get(o, 0.0)) if ex else None,
+                             "max_left": r(ex.op_left.get(o)) if ex else None,
+                             "gouging_moves": int(ex.op_gouging.get(o, 0)) if ex else None,
+                             "holder_contacts": int(self.holder_hit[m].sum()),
+                             "rapids_through_material": int(self.rapid_hit[m].sum())})
+            out["by_operation"] = rows
+        return out
 
 
 def _tool_arrays(numbers: list[int], tools: dict[int, Tool]):
@@ -263,10 +302,33 @@ def _lift_start(motions: list[Motion], stock: Stock) -> list[Motion]:
     return approach_from_above(motions, stock.zmax)
 
 
+def _exact(res: SimResult, motions, tools, stock, design, references, motion_op,
+           accuracy) -> SimResult:
+    """Run the grid-free check (when a design or references are given) into ``res``."""
+    nm = len(motions)
+    mop = np.zeros(nm, np.int64) if motion_op is None else np.asarray(motion_op, np.int64)
+    res.motion_op = mop
+    if accuracy is None:
+        return res
+    if references is None and design is not None:
+        used = {m.tool for m in motions if m.tool != 0 and m.tool in tools}
+        size = min([tools[t].radius / 2 for t in used] + [max(stock.size[:2]) / 64])
+        references = [Reference(design_triangles(design, stock, accuracy, size), "design")]
+    if references:
+        res.exact = verify_exact(motions, tools, stock, references, motion_op=mop,
+                                 accuracy=accuracy)
+        ga, la = res.exact.gouge_at, res.exact.left_at
+        res.gouge_at = (ga["x"], ga["y"]) if ga else None
+        res.left_at = (la["x"], la["y"]) if la else None
+    return res
+
+
 def simulate_motions(motions: list[Motion], tools: dict[int, Tool], stock: Stock, *,
                      resolution: float, design=None, machine: Machine | None = None,
                      progress: "bool | Progress" = False, corner_angle: float = 10.0,
-                     chord_tol: float | None = None) -> SimResult:
+                     chord_tol: float | None = None,
+                     references: list[Reference] | None = None,
+                     motion_op=None, accuracy: float | None = 0.001) -> SimResult:
     """Simulate interpreted motion (tool tip = motion coordinates, program units).
 
     The first motion, and the first after each tool change, start above their end
@@ -275,8 +337,13 @@ def simulate_motions(motions: list[Motion], tools: dict[int, Tool], stock: Stock
     ``Machine()`` (mm rates: pass ``Machine.default_for("inch")`` for inch programs).
     Counts are per motion: ``rapids_through_material`` traverses that removed material,
     ``holder_contacts`` motions where the shank or holder met material. ``chord_tol``:
-    how far the chords of arcs and cubics may stray from them (default
-    ``resolution / 20``; the gouge measured includes this error).
+    how far the chords of arcs and cubics may stray from them in the Z-map sweep
+    (default ``resolution / 20``).
+
+    Gouge and material left are grid-free (:mod:`millpath.simulate.exact`) against
+    ``references`` (triangle meshes with the operations they apply to; ``motion_op``
+    gives each motion's operation), or against ``design`` meshed (its ``mesh()``, else
+    a height-field mesh); ``accuracy`` bounds them (None: Z-map figures only).
     """
     machine = machine or Machine()
     motions = _lift_start(list(motions), stock)
@@ -285,7 +352,9 @@ def simulate_motions(motions: list[Motion], tools: dict[int, Tool], stock: Stock
     flags, nseg = sweep_motions(zmap, motions, tools, chord_tol or resolution / 20.0,
                                 progress=progress, lines=lines)
     times = motion_times(motions, machine, corner_angle=corner_angle)
-    return _finish(zmap, design, motions, flags, times, resolution, lines, nseg)
+    res = _finish(zmap, design, motions, flags, times, resolution, lines, nseg)
+    res.rapid_hit, res.holder_hit = flags
+    return _exact(res, motions, tools, stock, design, references, motion_op, accuracy)
 
 
 def sweep_motions(zmap: ZMap, motions: list[Motion], tools: dict[int, Tool],
@@ -316,7 +385,8 @@ def sweep_motions(zmap: ZMap, motions: list[Motion], tools: dict[int, Tool],
 
 def simulate_toolpath(toolpath: Toolpath, tools: dict[int, Tool], stock: Stock, *,
                       resolution: float, design=None, machine: Machine | None = None,
-                      progress: "bool | Progress" = False, corner_angle: float = 10.0) -> SimResult:
+                      progress: "bool | Progress" = False, corner_angle: float = 10.0,
+                      accuracy: float | None = 0.001) -> SimResult:
     """Simulate a Toolpath directly (units: the toolpath's).
 
     The tool starts above the first move's end point at the stock top or higher, and
@@ -344,4 +414,15 @@ def simulate_toolpath(toolpath: Toolpath, tools: dict[int, Tool], stock: Stock, 
     res = _finish(zmap, design, motions, (rm[:nm], hm[:nm]), times, resolution,
                   list(range(nm)), nseg)
     res.per_operation = times_by_operation(toolpath, src, times)
+    res.rapid_hit, res.holder_hit = rapid_hit, holder_hit
+    _exact(res, motions, tools, stock, design, None,
+           np.array([toolpath.moves[i].op for i in src], np.int64), accuracy)
+    # by_operation counts toolpath moves like the totals
+    mop = np.array([m.op for m in toolpath.moves], np.int64)
+    res.motion_op, res.rapid_hit, res.holder_hit = mop, rm[:nm], hm[:nm]
+    if res.exact is not None:
+        mg = np.zeros(max(nm, 1))
+        if len(src):
+            np.maximum.at(mg, np.asarray(src, np.int64), res.exact.motion_gouge)
+        res.exact.gouging_moves = int((mg[:nm] > res.exact.accuracy).sum())
     return res

@@ -121,7 +121,7 @@ def _gouges(ver: dict, g: GateInput) -> list[Problem]:
     out = []
     by_op = ver.get("by_operation")
     at = ver.get("max_gouge_at") or {}
-    if isinstance(by_op, list) and by_op:
+    if isinstance(by_op, list) and any(o.get("max_gouge") is not None for o in by_op):
         for o in by_op:
             op = int(o["operation"])
             depth = o.get("max_gouge")

@@ -269,13 +269,21 @@ def test_inch_job_control_and_cam_interpret_alike(rs274):
 def test_millpath_run_writes_the_curve_analysis(tmp_path, rs274):
     import json
     from millpath.pipeline import run_job
-    run_job(EXAMPLES / "die-blanking" / "job.toml", tmp_path / "out")
+    import shutil
+    src = tmp_path / "job"
+    shutil.copytree(EXAMPLES / "die-blanking", src)
+    job = src / "job.toml"
+    job.write_text(job.read_text().replace("[simulation]\n", "[simulation]\nexact = true\n"))
+    run_job(job, tmp_path / "out")
     rep = json.loads((tmp_path / "out" / "report.json").read_text())
+    assert rep["verification"]["reference"] == "operations[0] design"
     (curve,) = plan_sections(rep, "curve")
     assert {"segments", "chords", "uniform_chords", "unreachable_corners"} <= set(curve)
     assert all({"chords", "steps", "deviations", "uniform_chords"} <= set(s)
                for s in curve["segments"])
-    assert rep["verification"]["max_gouge"] == 0
+    # the exact check (issue 15) measures the finishing pass against the true wall: within
+    # the job's tolerance (0.001 mm), which the Z-map's cells could not see
+    assert rep["verification"]["max_gouge"] <= 0.001
     assert rep["verification"]["rapids_through_material"] == 0
     assert "G41 D1" in (tmp_path / "out" / "program.ngc").read_text()
 

@@ -91,6 +91,22 @@ case = "{case}"
     return p
 
 
+def test_the_exact_check_refuses_the_gouge_too(tmp_path, gate_strategy):
+    """``[simulation] exact = true``: the grid-free figure (0.5 mm, normal to the floor)
+    goes through the per-operation rows of the report to the gate."""
+    job = _job(tmp_path, "gouge")
+    job.write_text(job.read_text().replace("[simulation]\n", "[simulation]\nexact = true\n"))
+    out = tmp_path / "out"
+    r = _run(job, out)
+    assert r.exit_code == 1, r.output
+    rep = json.loads((out / "report.json").read_text())
+    ver = rep["verification"]
+    assert abs(ver["max_gouge"] - 0.5) <= 0.002      # accuracy 0.001 + 0.001 slack
+    assert ver["by_operation"][0]["max_gouge"] == ver["max_gouge"]
+    assert rep["safety"]["problems"][0]["kind"] == "gouge"
+    assert not (out / "program.ngc").exists()
+
+
 def _run(job, out, *extra, quiet=True):
     return CliRunner().invoke(cli, ["run", str(job), "-o", str(out)]
                               + (["--quiet"] if quiet else []) + list(extra))

@@ -50,8 +50,11 @@ def test_cut_0_2_below_a_planar_design_reports_a_gouge_of_0_2():
     j = r.to_json()
     assert set(j) == {"removed_volume", "max_gouge", "max_left", "left_volume",
                       "rapids_through_material", "holder_contacts", "cycle_time_s",
-                      "resolution"}
-    assert j["max_gouge"] == pytest.approx(0.2, abs=1e-6)
+                      "resolution", "max_gouge_at", "max_left_at", "gouging_moves",
+                      "reference", "accuracy", "left_spacing", "by_operation"}
+    assert j["accuracy"] == 0.001 and j["reference"] == "design"
+    assert j["gouging_moves"] > 0 and j["max_gouge_at"]["z"] == pytest.approx(-2.0)
+    assert j["max_gouge"] == pytest.approx(0.2, abs=j["accuracy"])     # exact check
 
 
 def test_pocket_cut_exactly_to_its_walls_reports_no_gouge():

@@ -47,7 +47,7 @@ def test_json_output_has_exactly_the_issue_keys_and_slot_volume(files):
     j = json.loads(r.output)
     assert list(j) == ["removed_volume", "max_gouge", "max_left", "left_volume",
                        "rapids_through_material", "holder_contacts", "cycle_time_s",
-                       "resolution"]
+                       "resolution", "by_operation"]
     slot = (35.7 - 5.3) * 6 * 2 + math.pi * 9 * 2
     hole = math.pi * 9 * 1          # the rapid down to Z-1 at X20 Y20
     assert j["removed_volume"] == pytest.approx(slot + hole, rel=0.005)

@@ -534,6 +534,10 @@ class MeshHeight:
     def __init__(self, index: MeshIndex):
         self.index = index
 
+    def mesh(self) -> np.ndarray:
+        """The triangles (n, 3, 3): the exact verification's reference."""
+        return self.index.tri
+
     def height(self, x, y) -> np.ndarray:
         x = np.asarray(x, float)
         y = np.asarray(y, float)

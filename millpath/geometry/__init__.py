@@ -1,0 +1,1 @@
+"""Geometry shared by several layers (no imports from plan/, simulate/ or above)."""

@@ -1,0 +1,147 @@
+"""Triangle mesh of a height-field design ``height(x, y) -> z``, walls included.
+
+A quadtree over the box: a cell is kept whole when its centre and edge midpoints lie
+within ``flat_tol`` of the plane through its corners and its corners do not jump by more
+than ``slope * size``; otherwise it is split, down to cells of ``min_size``. Each
+smooth leaf becomes two triangles through its corner heights. A smallest cell crossed
+by one wall (its corners fall into a high and a low group, each flat) is cut along the
+wall: the crossings on its edges are found by bisection of ``height`` to 1e-7 of the
+cell, the high and low parts become triangles at their own heights and the wall a
+vertical quad between the crossings (a chord of the true wall: off it by
+``min_size^2 / (4 radius)`` on a wall curved with ``radius``). Any other smallest cell
+becomes a ramp across the cell. Heights of ``-inf`` (no
+part) become ``floor``. Triangles wind counter-clockwise seen from above, so normals
+point out of the material (up, or away from the high side on a wall). Job units.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+
+def _h(design, x, y, floor):
+    z = np.asarray(design.height(x, y), float).reshape(np.shape(x))
+    return np.where(np.isfinite(z), np.maximum(z, floor), floor)
+
+
+def height_field_mesh(design, box: tuple[float, float, float, float], *, size: float,
+                      min_size: float, flat_tol: float, floor: float,
+                      slope: float = 4.0, max_cells: int = 4_000_000) -> np.ndarray:
+    """Triangles (n, 3, 3) of ``design`` over ``box`` = (xmin, ymin, xmax, ymax)."""
+    x0, y0, x1, y1 = map(float, box)
+    nx = max(1, int(math.ceil((x1 - x0) / size)))
+    ny = max(1, int(math.ceil((y1 - y0) / size)))
+    w = (x1 - x0) / nx
+    hgt = (y1 - y0) / ny
+    j, i = np.mgrid[0:ny, 0:nx]
+    cx = (x0 + i * w).ravel().astype(float)
+    cy = (y0 + j * hgt).ravel().astype(float)
+    cw = np.full(cx.shape, w)
+    ch = np.full(cx.shape, hgt)
+    out = []
+    total = 0
+    while len(cx):
+        X = np.stack([cx, cx + cw, cx + cw, cx, cx + cw / 2, cx + cw / 2, cx + cw, cx + cw / 2,
+                      cx], axis=1)
+        Y = np.stack([cy, cy, cy + ch, cy + ch, cy + ch / 2, cy, cy + ch / 2, cy + ch,
+                      cy + ch / 2], axis=1)
+        Z = _h(design, X, Y, floor)
+        z0, z1, z2, z3 = Z[:, 0], Z[:, 1], Z[:, 2], Z[:, 3]
+        # plane-ish prediction: centre = mean of corners, edge mids = mean of their ends
+        pred = np.stack([(z0 + z1 + z2 + z3) / 4, (z0 + z1) / 2, (z1 + z2) / 2,
+                         (z2 + z3) / 2, (z3 + z0) / 2], axis=1)
+        dev = np.abs(Z[:, 4:] - pred).max(axis=1)
+        spread = Z[:, :4].max(axis=1) - Z[:, :4].min(axis=1)
+        size_ = np.maximum(cw, ch)
+        rough = (dev > flat_tol) | (spread > slope * size_)
+        split = rough & (size_ > min_size)
+        keep = ~split
+        walls = np.flatnonzero(rough & keep)
+        if len(walls):
+            wt, done = _wall_cells(design, X[walls], Y[walls], Z[walls], cw[walls],
+                                   ch[walls], floor, flat_tol)
+            out.append(wt)
+            keep[walls[done]] = False
+        if keep.any():
+            a = np.stack([X[keep, 0], Y[keep, 0], z0[keep]], axis=1)
+            b = np.stack([X[keep, 1], Y[keep, 1], z1[keep]], axis=1)
+            c = np.stack([X[keep, 2], Y[keep, 2], z2[keep]], axis=1)
+            d = np.stack([X[keep, 3], Y[keep, 3], z3[keep]], axis=1)
+            out.append(np.stack([a, b, c], axis=1))
+            out.append(np.stack([a, c, d], axis=1))
+        total += int(keep.sum()) * 2
+        if total > max_cells:
+            raise ValueError(f"design mesh needs more than {max_cells} triangles")
+        s = np.flatnonzero(split)
+        hw, hh = cw[s] / 2, ch[s] / 2
+        cx = np.concatenate([cx[s], cx[s] + hw, cx[s], cx[s] + hw])
+        cy = np.concatenate([cy[s], cy[s], cy[s] + hh, cy[s] + hh])
+        cw = np.tile(hw, 4)
+        ch = np.tile(hh, 4)
+    if not out:
+        return np.zeros((0, 3, 3))
+    return np.ascontiguousarray(np.concatenate(out))
+
+
+def _wall_cells(design, X, Y, Z, cw, ch, floor, flat_tol):
+    """Cut smallest cells crossed by a single wall along it (see the module doc).
+    Returns (triangles, which cells were handled)."""
+    zc = Z[:, :4]
+    mid = (zc.max(axis=1) + zc.min(axis=1)) / 2
+    high = zc > mid[:, None]
+    nh = high.sum(axis=1)
+    # each group flat (within flat_tol), not a saddle (diagonal corners high)
+    hi_spread = np.where(high, zc, -np.inf).max(axis=1) - np.where(high, zc, np.inf).min(axis=1)
+    lo_spread = np.where(~high, zc, -np.inf).max(axis=1) - np.where(~high, zc, np.inf).min(axis=1)
+    saddle = (nh == 2) & (high[:, 0] == high[:, 2])
+    ok = (hi_spread <= flat_tol) & (lo_spread <= flat_tol) & ~saddle & (nh > 0) & (nh < 4)
+    idx = np.flatnonzero(ok)
+    tris = []
+    if len(idx):
+        Xc, Yc, H = X[idx, :4], Y[idx, :4], high[idx]
+        zhi = np.where(H, Z[idx, :4], -np.inf).max(axis=1)
+        zlo = np.where(~H, Z[idx, :4], np.inf).min(axis=1)
+        # crossings on the 4 edges (corner k -> k+1); only where the classes differ
+        cross = np.zeros((len(idx), 4, 2))
+        for e in range(4):
+            a, b = e, (e + 1) % 4
+            ax, ay, bx, by = Xc[:, a], Yc[:, a], Xc[:, b], Yc[:, b]
+            lo_t = np.zeros(len(idx))
+            hi_t = np.ones(len(idx))
+            ha = H[:, a]
+            for _ in range(40):
+                t = (lo_t + hi_t) / 2
+                z = _h(design, ax + (bx - ax) * t, ay + (by - ay) * t, floor)
+                same_a = (z > (zhi + zlo) / 2) == ha
+                lo_t = np.where(same_a, t, lo_t)
+                hi_t = np.where(same_a, hi_t, t)
+            t = (lo_t + hi_t) / 2
+            cross[:, e, 0] = ax + (bx - ax) * t
+            cross[:, e, 1] = ay + (by - ay) * t
+        for c in range(len(idx)):
+            polys = {True: [], False: []}
+            ends = []
+            for k in range(4):
+                h = bool(H[c, k])
+                polys[h].append((Xc[c, k], Yc[c, k]))
+                if H[c, k] != H[c, (k + 1) % 4]:
+                    p = (cross[c, k, 0], cross[c, k, 1])
+                    polys[True].append(p)
+                    polys[False].append(p)
+                    ends.append((p, h))
+            for h, z in ((True, zhi[c]), (False, zlo[c])):
+                pts = polys[h]
+                for j in range(1, len(pts) - 1):
+                    tris.append([(*pts[0], z), (*pts[j], z), (*pts[j + 1], z)])
+            # wall: from crossing p (leaving the high side) to q; normal to the low side
+            (p, hp), (q, _) = ends
+            if not hp:      # p must be where the way round the cell leaves the high side
+                p, q = q, p
+            a, b = (p[0], p[1], zlo[c]), (q[0], q[1], zlo[c])
+            c2, d = (q[0], q[1], zhi[c]), (p[0], p[1], zhi[c])
+            tris.append([a, b, c2])
+            tris.append([a, c2, d])
+    t = np.asarray(tris, float).reshape(-1, 3, 3)
+    return t, ok

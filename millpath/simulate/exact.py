@@ -1,0 +1,330 @@
+"""Grid-free verification against triangle-mesh references: gouge and material left.
+
+A :class:`Reference` is a design as triangles (walls included) and the operations it
+applies to. :func:`verify_exact` checks every chord of the motion (see
+:mod:`millpath.simulate.gouge`) against the references of its operation and measures
+the material left along the normal at points of each reference
+(:mod:`millpath.simulate.leftover`). ``accuracy`` (program units) bounds the gouge
+figure; the material left is exact (to ``accuracy``) at sample points ``spacing``
+apart. Designs that are only height fields are meshed by
+:func:`millpath.geometry.heightmesh.height_field_mesh` (walls placed exactly on a 50 * ``accuracy`` grid).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from millpath.geometry.heightmesh import height_field_mesh
+from millpath.geometry.index import BoxIndex
+from millpath.model.motion import Motion
+from millpath.model.stock import Stock
+from millpath.model.tool import Tool
+from millpath.simulate.gouge import ToolShapes, gouge_chords, locate, near_chords
+from millpath.simulate.leftover import (chord_index, medial_cap, ray_caps, sample_triangles,
+                                        shorten_rays)
+from millpath.simulate.path import is_curve, motion_segments
+
+
+@dataclass
+class Reference:
+    """A design as triangles (n, 3, 3) and where it comes from; ``ops`` lists the
+    operations checked against it (None: all)."""
+
+    triangles: np.ndarray
+    name: str
+    ops: list[int] | None = None
+
+
+def orient_outward(tri: np.ndarray) -> np.ndarray:
+    """Wind triangles so their normals point out of the material: a closed solid by
+    the sign of its volume, an open surface (a height field) upward."""
+    tri = np.ascontiguousarray(np.asarray(tri, float).reshape(-1, 3, 3))
+    if not len(tri):
+        return tri
+    n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    vol = float(np.einsum("ij,ij->i", tri[:, 0], n).sum()) / 6.0
+    lo, hi = tri.reshape(-1, 3).min(axis=0), tri.reshape(-1, 3).max(axis=0)
+    box = float(np.prod(np.maximum(hi - lo, 1e-12)))
+    # an open surface's "volume" depends on the origin; a closed one does not
+    shift = tri + np.array([1.0, 1.0, 1.0]) * float(np.max(hi - lo) + 1.0)
+    vol2 = float(np.einsum("ij,ij->i", shift[:, 0], n).sum()) / 6.0
+    closed = abs(vol - vol2) <= 1e-6 * box and abs(vol) > 1e-9 * box
+    if closed:
+        return tri if vol > 0 else np.ascontiguousarray(tri[:, ::-1])
+    flip = n[:, 2] < 0
+    out = tri.copy()
+    out[flip] = tri[flip][:, ::-1]
+    return out
+
+
+def design_triangles(design, stock: Stock, accuracy: float, size: float) -> np.ndarray:
+    """Triangles of a design: its ``mesh()`` when it has one, else a height-field mesh
+    over the stock box with cells of ``size`` refined to ``50 accuracy`` where walls
+    or curvature need it (walls cut exactly at the cell edges, flat to ``accuracy / 2``)."""
+    m = getattr(design, "mesh", None)
+    if callable(m):         # (a ``mesh`` attribute that is data may be in another frame)
+        import inspect
+        takes_box = "box" in inspect.signature(m).parameters
+        m = m(stock.box) if takes_box else m()
+        return orient_outward(getattr(m, "triangles", m))      # a Mesh, or (n, 3, 3)
+    x0, y0, z0, x1, y1, z1 = stock.box
+    tri = height_field_mesh(design, (x0, y0, x1, y1), size=size, min_size=accuracy * 50,
+                            flat_tol=accuracy / 2, floor=z0 - max(1.0, 0.1 * (z1 - z0)))
+    return orient_outward(tri)
+
+
+@dataclass
+class ExactResult:
+    """What the grid-free check found (program units). ``*_at`` are dicts with x, y, z
+    (the design point), line, operation (or None)."""
+
+    max_gouge: float
+    max_left: float
+    gouging_moves: int
+    gouge_at: dict | None
+    left_at: dict | None
+    motion_gouge: np.ndarray            # per motion, 0 where none
+    op_gouge: dict[int, float] = field(default_factory=dict)
+    op_gouging: dict[int, int] = field(default_factory=dict)
+    op_left: dict[int, float] = field(default_factory=dict)
+    references: list[str] = field(default_factory=list)
+    accuracy: float = 0.001
+    spacing: float = 0.0
+    chords: int = 0
+
+
+MOTION_BLOCK = 100_000      # motions turned into chords at a time (bounds memory)
+COARSE = 20.0               # coarse chords of curves: within COARSE * accuracy
+
+
+@dataclass
+class _Chords:
+    """The cutting chords of one block of motions: start, end, motion number (in the
+    whole program), tool slot, operation."""
+
+    S: np.ndarray
+    E: np.ndarray
+    motion: np.ndarray
+    slot: np.ndarray
+    op: np.ndarray
+
+
+def _chords(motions: list[Motion], first: int, mop: np.ndarray, lut: np.ndarray,
+            chord: float, numbers: np.ndarray | None = None) -> _Chords:
+    """Chords within ``chord`` of ``motions`` (tool 0 left out); their motion numbers
+    are ``first + k``, or ``numbers[k]``."""
+    segs = motion_segments(motions, chord)
+    keep = segs.tool != 0
+    mo = segs.motion[keep] + first if numbers is None else numbers[segs.motion[keep]]
+    return _Chords(np.ascontiguousarray(segs.start[keep], float),
+                   np.ascontiguousarray(segs.end[keep], float), mo,
+                   lut[segs.tool[keep]] if keep.any() else np.zeros(0, np.int64),
+                   mop[mo] if len(mo) else np.zeros(0, np.int64))
+
+
+def _blocks(motions: list[Motion], mop: np.ndarray, lut: np.ndarray, chord: float,
+            block: int):
+    """(first motion, chords) of ``motions``, ``block`` motions at a time, the last
+    block first (later operations, usually finishing, leave the least material: rays
+    they shorten first are cheaper for all the others)."""
+    for a in reversed(range(0, len(motions), block)):
+        yield a, _chords(motions[a:a + block], a, mop, lut, chord)
+
+
+def _take(ch: _Chords, keep: np.ndarray) -> _Chords:
+    return _Chords(ch.S[keep], ch.E[keep], ch.motion[keep], ch.slot[keep], ch.op[keep])
+
+
+@dataclass
+class _LeftState:
+    """Material-left rays of one reference, carried from block to block."""
+
+    pts: np.ndarray
+    nrm: np.ndarray
+    own: np.ndarray
+    cap: np.ndarray          # ray length before the stock box / the design
+    near: np.ndarray         # ray length of the first pass (at most ``cap``)
+    out: np.ndarray          # material left so far
+    who: np.ndarray          # motion that bounds it (-1: the box or the design)
+
+
+def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
+                 references: list[Reference], *, motion_op: np.ndarray | None = None,
+                 accuracy: float = 0.001, spacing: float | None = None,
+                 block: int = MOTION_BLOCK) -> ExactResult:
+    """Gouge and material left of ``motions`` against ``references`` (see the module
+    doc). ``motion_op`` gives each motion's operation (default all 0). Material left is
+    measured up to twice the largest tool diameter (more is reported as that). ``spacing`` is
+    the distance between material-left sample points (default a quarter of the
+    smallest tool radius). Chords are made ``block`` motions at a time, so memory does
+    not grow with the program's length."""
+    nm = len(motions)
+    mop = np.zeros(nm, np.int64) if motion_op is None else np.asarray(motion_op, np.int64)
+    numbers = sorted({int(m.tool) for m in motions if m.tool != 0 and m.kind != "dwell"})
+    missing = [t for t in numbers if t not in tools]
+    if missing:
+        raise ValueError(f"tool {missing[0]} is not defined: give its shape")
+    lut = np.zeros(max(numbers, default=0) + 1, np.int64)
+    for s, t in enumerate(numbers):
+        lut[t] = s
+    shapes = ToolShapes.of([tools[t] for t in numbers])
+    if spacing is None:
+        rmin = min((tools[t].radius for t in numbers), default=1.0)
+        spacing = max(rmin / 4.0, accuracy * 10)
+    chord = accuracy / 4.0
+    motion_g = np.zeros(nm)
+    best_g, g_at = 0.0, None
+    refs = []
+    for ref in references:
+        tri = np.ascontiguousarray(ref.triangles, float)
+        if len(tri):
+            refs.append((ref, tri, BoxIndex.build(tri.min(axis=1), tri.max(axis=1))))
+    # material left is measured up to twice the largest tool diameter: beyond that it
+    # is uncut stock, reported as that much
+    reach = float(min(max(stock.size), 2.0 * max([tools[t].diameter for t in numbers]
+                                                 + [0.0])))
+    margin = float(spacing) * 4.0
+    states = []
+    for ref, tri, idx in refs:
+        pts, nrm, own = _samples(tri, spacing)
+        cap = ray_caps(pts, nrm, own, stock.box, tri, idx, reach)
+        near = np.minimum(cap, margin / 4.0)
+        states.append(_LeftState(pts, nrm, own, cap, near, near.copy(),
+                                 np.full(len(pts), -1, np.int64)))
+    nchords = 0
+    grow = COARSE * accuracy
+    for a, ch in _blocks(motions, mop, lut, chord, block):
+        nchords += len(ch.S)
+        if not len(ch.S):
+            continue
+        cidx = _last_first(ch, shapes)
+        # curves (arcs, helices, cubics): coarse chords within ``grow`` first; the fine
+        # chords of a curve are checked only where a coarse one comes within ``grow`` of
+        # the design
+        curve = np.array([a + i for i, m in enumerate(motions[a:a + block]) if is_curve(m)],
+                         np.int64)
+        coarse = (_chords([motions[i] for i in curve], 0, mop, lut, grow, curve)
+                  if len(curve) else None)
+        for (ref, tri, idx), st in zip(refs, states):
+            sel = np.ones(len(ch.S), bool) if ref.ops is None else np.isin(ch.op, ref.ops)
+            if coarse is not None:
+                csel = (np.ones(len(coarse.S), bool) if ref.ops is None
+                        else np.isin(coarse.op, ref.ops))
+                cc = _take(coarse, csel)
+                near = near_chords(cc.S, cc.E, cc.slot, shapes, tri, idx, accuracy, grow)
+                skip = np.setdiff1d(curve, cc.motion[near])
+                sel &= ~np.isin(ch.motion, skip)
+            cs = np.flatnonzero(sel)
+            if len(cs):
+                res = gouge_chords(ch.S[cs], ch.E[cs], ch.slot[cs], shapes, tri, idx,
+                                   accuracy)
+                g = np.maximum(res.gouge, 0.0)
+                np.maximum.at(motion_g, ch.motion[cs], g)
+                c = int(np.argmax(g))
+                if g[c] > best_g:
+                    best_g = float(g[c])
+                    _, X = locate(ch.S[cs], ch.E[cs], ch.slot[cs], shapes, tri, res, c,
+                                  accuracy)
+                    mo = motions[int(ch.motion[cs[c]])]
+                    g_at = {"x": float(X[0]), "y": float(X[1]), "z": float(X[2]),
+                            "line": int(mo.line), "operation": int(ch.op[cs[c]])}
+            # material left on this reference, by all cutting chords: the rays near
+            # the design first
+            _shorten(st, np.arange(len(st.pts)), ch, cidx, shapes, accuracy)
+    # the full ray only where nothing cut within ``near``: a second pass over the chords
+    far = [np.flatnonzero((st.out >= st.near) & (st.cap > st.near)) for st in states]
+    for st, f in zip(states, far):
+        st.out[f] = st.cap[f]
+    if any(len(f) for f in far):
+        for _, ch in _blocks(motions, mop, lut, chord, block):
+            if not len(ch.S):
+                continue
+            cidx = _last_first(ch, shapes)
+            for st, f in zip(states, far):
+                if len(f):
+                    _shorten(st, f, ch, cidx, shapes, accuracy)
+    best_l, l_at = 0.0, None
+    op_left: dict[int, float] = {}
+    for (ref, tri, idx), st in zip(refs, states):
+        left = medial_cap(st.pts, st.nrm, st.own, tri, idx, margin, st.out)
+        if not len(left):
+            continue
+        q = int(np.argmax(left))
+        lq = float(left[q]) if left[q] >= accuracy / 2 else 0.0
+        for o in (ref.ops if ref.ops is not None else sorted(set(mop.tolist())) or [0]):
+            op_left[o] = max(op_left.get(o, 0.0), lq)
+        if lq > best_l:
+            best_l = lq
+            w = int(st.who[q])
+            l_at = {"x": float(st.pts[q, 0]), "y": float(st.pts[q, 1]),
+                    "z": float(st.pts[q, 2]),
+                    "line": int(motions[w].line) if w >= 0 else None,
+                    "operation": int(mop[w]) if w >= 0 else None}
+    gouging = motion_g > accuracy
+    op_g: dict[int, float] = {}
+    op_n: dict[int, int] = {}
+    for o in sorted(set(mop.tolist())):
+        m = mop == o
+        op_g[o] = float(motion_g[m].max(initial=0.0))
+        op_n[o] = int(gouging[m].sum())
+    return ExactResult(best_g, best_l, int(gouging.sum()), g_at, l_at, motion_g, op_g, op_n,
+                       op_left, [r.name for r in references], accuracy, float(spacing),
+                       nchords)
+
+
+def _last_first(ch: _Chords, shapes: ToolShapes):
+    """The chords in reverse order (material-left rays meet the later, finishing
+    chords first) and their bucket index."""
+    S = np.ascontiguousarray(ch.S[::-1])
+    E = np.ascontiguousarray(ch.E[::-1])
+    slot = np.ascontiguousarray(ch.slot[::-1])
+    return S, E, slot, chord_index(S, E, slot, shapes)
+
+
+def _shorten(st: _LeftState, rows: np.ndarray, ch: _Chords, cidx,
+             shapes: ToolShapes, accuracy: float) -> None:
+    """Shorten the material-left rays ``rows`` of ``st`` by the chords ``ch``."""
+    S, E, slot, index = cidx
+    out, who = shorten_rays(st.pts[rows], st.nrm[rows], st.out[rows], S, E, slot, shapes,
+                            index, accuracy)
+    # (the chords were given last first, see ``_last_first``)
+    who = np.where(who >= 0, len(ch.S) - 1 - who, -1)
+    hit = who >= 0
+    st.who[rows[hit]] = ch.motion[who[hit]]
+    st.out[rows] = out
+
+
+def _samples(tri: np.ndarray, spacing: float, chunk: int = 10_000):
+    """Material-left sample points of ``tri`` (see :func:`_thin`), made ``chunk``
+    triangles at a time so memory stays bounded on large meshes."""
+    parts = []
+    for a in range(0, len(tri), chunk):
+        p, n, o = sample_triangles(tri[a:a + chunk], spacing)
+        p, n, o = _thin(p, n, o, spacing)
+        parts.append((p, n, o + a))
+    if len(parts) == 1:
+        return parts[0]
+    return _thin(np.vstack([p for p, _, _ in parts]), np.vstack([n for _, n, _ in parts]),
+                 np.concatenate([o for _, _, o in parts]), spacing)
+
+
+def _thin(pts, nrm, own, cell: float):
+    """One sample per (cell-sized voxel, normal direction): tiny triangles (walls of a
+    height-field mesh) would otherwise give far more points than ``spacing`` asks."""
+    if not len(pts) or cell <= 0:
+        return pts, nrm, own
+    key = np.concatenate([np.floor(pts / cell).astype(np.int64),
+                          np.round(nrm * 4).astype(np.int64)], axis=1)
+    key -= key.min(axis=0)
+    span = key.max(axis=0) + 1
+    if float(np.prod(span.astype(float))) < 2.0 ** 62:      # one integer per key row
+        flat = np.zeros(len(key), np.int64)
+        for a in range(key.shape[1]):
+            flat = flat * span[a] + key[:, a]
+        _, first = np.unique(flat, return_index=True)
+    else:
+        _, first = np.unique(key, axis=0, return_index=True)
+    first.sort()
+    return pts[first], nrm[first], own[first]

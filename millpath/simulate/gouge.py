@@ -1,0 +1,424 @@
+"""Exact gouge check: how deep each motion's cutter goes into a triangle-mesh design.
+
+For every chord of the interpreted motion (lines exactly; arcs, helices and cubics as
+chords within ``accuracy / 4`` of the curve) and every design triangle near it, the
+gouge is the deepest penetration of the triangle into the cutter solid swept along the
+chord: the largest ``e`` such that some point of the triangle is at least ``e`` inside
+the swept cutter, i.e. measured along the normal of the design surface, walls and
+slopes alike (see :mod:`millpath.geometry.convex`). The cutter (flat, ball, bull, drill
+point, up to its flute length) and the shank and holder cylinders
+(``Tool.holder_cylinders``) are all checked. A penetration is found exactly by GJK
+tests and bisection on ``e`` to ``accuracy / 10000``; penetrations below ``accuracy / 2``
+count as none. Lengths in program units; coordinates are tool tips in the design's
+frame.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit, prange
+
+from millpath.geometry.convex import (BALL, BULL, CYL, DRILL, FLAT, depth, meets, shape_rings,
+                                      support_swept, underside)
+from millpath.geometry.distance import (ball_core, core_point_dist2, core_triangle_dist2,
+                                        point_triangle_dist2)
+from millpath.geometry.index import BoxIndex, bucket_range, first_bucket
+from millpath.model.tool import Tool
+
+KIND = {"flat": FLAT, "ball": BALL, "bull": BULL, "drill": DRILL}
+
+
+@dataclass
+class ToolShapes:
+    """Solids of each tool slot: kind, radius, corner radius, cone slope, bottom and top
+    above the tip, arrays (nslots, maxshapes); shape 0 is the cutter."""
+
+    kind: np.ndarray
+    R: np.ndarray
+    rc: np.ndarray
+    k: np.ndarray
+    zb: np.ndarray
+    L: np.ndarray
+    n: np.ndarray
+
+    @classmethod
+    def of(cls, tools: list[Tool]) -> "ToolShapes":
+        rows = []
+        for t in tools:
+            top = min(t.flute_length, t.stickout) if t.stickout > 0 else t.flute_length
+            k = 1.0 / math.tan(math.radians(t.point_angle) / 2.0) if t.type == "drill" else 0.0
+            top = max(top, t.point_depth() + 1e-6, t.corner_radius + 1e-6)
+            shp = [(KIND[t.type], t.radius, t.corner_radius, k, 0.0, top)]
+            for r, zb, zt in t.holder_cylinders():
+                shp.append((CYL, r, 0.0, 0.0, zb, zt))
+            rows.append(shp)
+        m = max([len(r) for r in rows] + [1])
+        n = len(rows)
+        a = np.zeros((6, max(n, 1), m))
+        cnt = np.zeros(max(n, 1), np.int64)
+        for s, shp in enumerate(rows):
+            cnt[s] = len(shp)
+            for j, v in enumerate(shp):
+                a[:, s, j] = v
+        return cls(a[0].astype(np.int64), a[1], a[2], a[3], a[4], a[5], cnt)
+
+    def arrays(self):
+        return self.kind, self.R, self.rc, self.k, self.zb, self.L, self.n
+
+
+def bucket_bounds(index: BoxIndex) -> np.ndarray:
+    """(nbuckets, 5): the XY box holding every item listed in each bucket (x0, y0, x1,
+    y1) and their highest point (empty buckets: -inf). A bucket whose items all lie
+    below a tool over that box can be passed over whole (items spread over several
+    buckets are taken in their first one only)."""
+    nb = len(index.start) - 1
+    out = np.zeros((nb, 5))
+    out[:, 4] = -np.inf
+    if len(index.items):
+        it = index.items
+        cnt = np.diff(index.start)
+        full = np.flatnonzero(cnt > 0)
+        st = index.start[full]
+        out[full, 0] = np.minimum.reduceat(index.lo[it, 0], st)
+        out[full, 1] = np.minimum.reduceat(index.lo[it, 1], st)
+        out[full, 2] = np.maximum.reduceat(index.hi[it, 0], st)
+        out[full, 3] = np.maximum.reduceat(index.hi[it, 1], st)
+        out[full, 4] = np.maximum.reduceat(index.hi[it, 2], st)
+    return out
+
+
+@njit(cache=True, error_model="numpy")
+def in_triangle(T, q):
+    """True when point ``q`` (in the plane of ``T``) lies in triangle ``T``."""
+    e1 = T[1] - T[0]
+    e2 = T[2] - T[0]
+    w = q - T[0]
+    d11 = np.dot(e1, e1)
+    d12 = np.dot(e1, e2)
+    d22 = np.dot(e2, e2)
+    den = d11 * d22 - d12 * d12
+    if den <= 0.0:
+        return False
+    w1 = np.dot(w, e1)
+    w2 = np.dot(w, e2)
+    u = (d22 * w1 - d12 * w2) / den
+    v = (d11 * w2 - d12 * w1) / den
+    eps = 1e-9
+    return u >= -eps and v >= -eps and u + v <= 1.0 + eps
+
+
+@njit(cache=True, error_model="numpy")
+def surface_dist2(X, r, tri, tlo, thi, start, items, bi0, bj0, x0, y0, bs, nbx, nby):
+    """Squared distance from point X to the nearest triangle, at most ``r**2``."""
+    best = r * r
+    ia, ib, ja, jb = bucket_range(x0, y0, bs, nbx, nby, X[0] - r, X[1] - r, X[0] + r,
+                                  X[1] + r)
+    for bj in range(ja, jb + 1):
+        for bi in range(ia, ib + 1):
+            b = bj * nbx + bi
+            for p in range(start[b], start[b + 1]):
+                t = items[p]
+                if not first_bucket(bi, bj, bi0[t], bj0[t], ia, ja):
+                    continue
+                if (thi[t, 0] < X[0] - r or tlo[t, 0] > X[0] + r or thi[t, 1] < X[1] - r
+                        or tlo[t, 1] > X[1] + r or thi[t, 2] < X[2] - r
+                        or tlo[t, 2] > X[2] + r):
+                    continue
+                d = point_triangle_dist2(X[0], X[1], X[2], tri[t])
+                if d < best:
+                    best = d
+    return best
+
+
+@njit(cache=True, error_model="numpy", parallel=True)
+def _gouge_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, tc, tr, bzmax,
+                  tlo, thi, start, items, bi0, bj0, x0, y0, bs, nbx, nby,
+                  e0, tol, out_g, out_t, out_s, out_r, out_x):
+    n = S.shape[0]
+    for c in prange(n):
+        rr = np.empty(3)
+        rh = np.empty(3)
+        s = slot[c]
+        best = -1.0
+        bt = -1
+        bsh = -1
+        P0 = S[c]
+        P1 = E[c]
+        sp = np.empty(3)
+        Q1 = np.empty((3, 3))
+        Q2 = np.empty((3, 3))
+        rrf = np.empty(3)
+        rhf = np.empty(3)
+        qp = np.empty(3)
+        xs = np.zeros(3)
+        on_rim = 0
+        for j in range(nshape[s]):
+            Rj = R[s, j]
+            is_ball = kind[s, j] == BALL
+            nrf, rhof = shape_rings(kind[s, j], Rj, rc[s, j], k[s, j], zb[s, j], L[s, j], 0.0,
+                                    rrf, rhf)
+            flat_core = False
+            if is_ball:
+                flat_core = ball_core(P0, P1, Rj, L[s, j], Q1, Q2)
+            nr0, rho0 = shape_rings(kind[s, j], Rj, rc[s, j], k[s, j], zb[s, j], L[s, j], e0,
+                                    rr, rh)
+            if nr0 == 0:
+                continue
+            qx0 = min(P0[0], P1[0]) - Rj
+            qx1 = max(P0[0], P1[0]) + Rj
+            qy0 = min(P0[1], P1[1]) - Rj
+            qy1 = max(P0[1], P1[1]) + Rj
+            qz0 = min(P0[2], P1[2]) + zb[s, j] - 1e-9
+            qz1 = max(P0[2], P1[2]) + L[s, j] + 1e-9
+            ia, ib, ja, jb = bucket_range(x0, y0, bs, nbx, nby, qx0, qy0, qx1, qy1)
+            for bj in range(ja, jb + 1):
+                for bi in range(ia, ib + 1):
+                    b = bj * nbx + bi
+                    if bzmax[b, 4] < underside(P0, P1, kind[s, j], Rj, rc[s, j], k[s, j],
+                                               zb[s, j], bzmax[b], 0.0):
+                        continue
+                    for p in range(start[b], start[b + 1]):
+                        t = items[p]
+                        if not first_bucket(bi, bj, bi0[t], bj0[t], ia, ja):
+                            continue
+                        if (thi[t, 0] < qx0 or tlo[t, 0] > qx1 or thi[t, 1] < qy0
+                                or tlo[t, 1] > qy1 or thi[t, 2] < qz0 or tlo[t, 2] > qz1):
+                            continue
+                        lo = e0 if e0 > best else best
+                        if is_ball:
+                            # a bound first: the core is at least (distance from the
+                            # triangle's centre) - (its radius) from the triangle
+                            far = Rj - lo + tr[t]
+                            if core_point_dist2(tc[t, 0], tc[t, 1], tc[t, 2], flat_core,
+                                                Q1, Q2) > far * far:
+                                continue
+                        # the plane of t must cut the solid's C_e0, else no point of t
+                        # can be e0 deep in it (one support point each way)
+                        nx, ny, nz = tn[t, 0], tn[t, 1], tn[t, 2]
+                        pd = nx * tri[t, 0, 0] + ny * tri[t, 0, 1] + nz * tri[t, 0, 2]
+                        support_swept(P0, P1, nr0, rr, rh, rho0, nx, ny, nz, sp)
+                        if sp[0] * nx + sp[1] * ny + sp[2] * nz < pd:
+                            continue
+                        support_swept(P0, P1, nr0, rr, rh, rho0, -nx, -ny, -nz, sp)
+                        if sp[0] * nx + sp[1] * ny + sp[2] * nz > pd:
+                            continue
+                        if not is_ball and nrf > 0:
+                            # the tool's deepest point along the design's normal: a
+                            # sharp rim or point goes deeper into the part than any
+                            # ball inside the tool reaches out of it
+                            support_swept(P0, P1, nrf, rrf, rhf, rhof, -nx, -ny, -nz, sp)
+                            dp = pd - (sp[0] * nx + sp[1] * ny + sp[2] * nz)
+                            if dp > lo and dp > best:
+                                for a in range(3):
+                                    qp[a] = sp[a] + dp * tn[t, a]
+                                if in_triangle(tri[t], qp):
+                                    ds = math.sqrt(surface_dist2(sp, dp, tri, tlo, thi, start,
+                                                                 items, bi0, bj0, x0, y0, bs,
+                                                                 nbx, nby))
+                                    if ds >= lo and ds > best:
+                                        best = ds
+                                        bt = t
+                                        bsh = j
+                                        on_rim = 1
+                                        for a in range(3):
+                                            xs[a] = qp[a]
+                        if is_ball:     # exact: R - distance to the swept core
+                            d2 = core_triangle_dist2(tri[t], flat_core, Q1, Q2)
+                            d = Rj - math.sqrt(d2)
+                            if d < lo:
+                                continue
+                        else:
+                            d = depth(tri[t], P0, P1, kind[s, j], Rj, rc[s, j], k[s, j],
+                                      zb[s, j], L[s, j], lo, tol, rr, rh)
+                        if d > best:
+                            best = d
+                            bt = t
+                            bsh = j
+                            on_rim = 0
+        out_g[c] = best
+        out_t[c] = bt
+        out_s[c] = bsh
+        out_r[c] = on_rim
+        for a in range(3):
+            out_x[c, a] = xs[a]
+
+
+@njit(cache=True, error_model="numpy", parallel=True)
+def _near_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, bzmax, tlo, thi,
+                 start, items, bi0, bj0, x0, y0, bs, nbx, nby, e0, grow, out):
+    """out[c] = 1 when some triangle comes within ``grow`` of the part of chord c's
+    swept tool that is ``e0`` deep (one GJK test per triangle, no bisection)."""
+    n = S.shape[0]
+    for c in prange(n):
+        rr = np.empty(3)
+        rh = np.empty(3)
+        sp = np.empty(3)
+        s = slot[c]
+        P0 = S[c]
+        P1 = E[c]
+        hit = 0
+        for j in range(nshape[s]):
+            if hit:
+                break
+            Rj = R[s, j]
+            nr, rho = shape_rings(kind[s, j], Rj, rc[s, j], k[s, j], zb[s, j], L[s, j], e0,
+                                  rr, rh)
+            if nr == 0:
+                continue
+            g = grow
+            qx0 = min(P0[0], P1[0]) - Rj - g
+            qx1 = max(P0[0], P1[0]) + Rj + g
+            qy0 = min(P0[1], P1[1]) - Rj - g
+            qy1 = max(P0[1], P1[1]) + Rj + g
+            qz0 = min(P0[2], P1[2]) + zb[s, j] - g - 1e-9
+            qz1 = max(P0[2], P1[2]) + L[s, j] + g + 1e-9
+            ia, ib, ja, jb = bucket_range(x0, y0, bs, nbx, nby, qx0, qy0, qx1, qy1)
+            for bj in range(ja, jb + 1):
+                if hit:
+                    break
+                for bi in range(ia, ib + 1):
+                    if hit:
+                        break
+                    b = bj * nbx + bi
+                    if bzmax[b, 4] < underside(P0, P1, kind[s, j], Rj, rc[s, j], k[s, j],
+                                               zb[s, j], bzmax[b], g):
+                        continue
+                    for p in range(start[b], start[b + 1]):
+                        t = items[p]
+                        if not first_bucket(bi, bj, bi0[t], bj0[t], ia, ja):
+                            continue
+                        if (thi[t, 0] < qx0 or tlo[t, 0] > qx1 or thi[t, 1] < qy0
+                                or tlo[t, 1] > qy1 or thi[t, 2] < qz0 or tlo[t, 2] > qz1):
+                            continue
+                        nx, ny, nz = tn[t, 0], tn[t, 1], tn[t, 2]
+                        pd = nx * tri[t, 0, 0] + ny * tri[t, 0, 1] + nz * tri[t, 0, 2]
+                        support_swept(P0, P1, nr, rr, rh, rho + g, nx, ny, nz, sp)
+                        if sp[0] * nx + sp[1] * ny + sp[2] * nz < pd:
+                            continue
+                        support_swept(P0, P1, nr, rr, rh, rho + g, -nx, -ny, -nz, sp)
+                        if sp[0] * nx + sp[1] * ny + sp[2] * nz > pd:
+                            continue
+                        if meets(tri[t], P0, P1, nr, rr, rh, rho, g):
+                            hit = 1
+                            break
+        out[c] = hit
+
+
+@njit(cache=True, error_model="numpy")
+def _locate(T, P0, P1, kind, R, rc, k, zb, L, g, tol):
+    """Tool tip on the chord and the point of ``T`` where the penetration ``g`` is
+    deepest: bisection along the chord, then a refined search over the triangle."""
+    rr = np.empty(3)
+    rh = np.empty(3)
+    e = max(g - 2.0 * tol, 0.0)
+    nr, rho = shape_rings(kind, R, rc, k, zb, L, e, rr, rh)
+    a = 0.0
+    b = 1.0
+    A = P0.copy()
+    B = P1.copy()
+    for _ in range(50):
+        m = 0.5 * (a + b)
+        M = P0 + (P1 - P0) * m
+        A = P0 + (P1 - P0) * a
+        if nr > 0 and meets(T, A, M, nr, rr, rh, rho, 0.0):
+            b = m
+        else:
+            a = m
+    P = P0 + (P1 - P0) * (0.5 * (a + b))
+    # deepest point of T in the cutter at P: barycentric grid, refined around the best
+    Q = np.empty((3, 3))
+    bu, bv, bd = 1.0 / 3.0, 1.0 / 3.0, -2.0
+    span = 1.0
+    for level in range(6):
+        nstep = 12
+        cu, cv = bu, bv
+        for i in range(-nstep, nstep + 1):
+            for jj in range(-nstep, nstep + 1):
+                u = cu + span * i / nstep
+                v = cv + span * jj / nstep
+                if u < 0.0 or v < 0.0 or u + v > 1.0:
+                    continue
+                for q in range(3):
+                    Q[0, q] = T[0, q] + u * (T[1, q] - T[0, q]) + v * (T[2, q] - T[0, q])
+                    Q[1, q] = Q[0, q]
+                    Q[2, q] = Q[0, q]
+                d = depth(Q, P, P, kind, R, rc, k, zb, L, 0.0, tol, rr, rh)
+                if d > bd:
+                    bd = d
+                    bu = u
+                    bv = v
+        span = span * 2.0 / nstep
+    X = T[0] + bu * (T[1] - T[0]) + bv * (T[2] - T[0])
+    return P, X
+
+
+@dataclass
+class GougeResult:
+    """Per chord: penetration (-1 none), triangle, shape (0 cutter, >0 shank/holder)."""
+
+    gouge: np.ndarray
+    triangle: np.ndarray
+    shape: np.ndarray
+    rim: np.ndarray | None = None      # 1: the tool's deepest point along the normal
+    point: np.ndarray | None = None    # (n, 3) its foot on the design, where rim is 1
+
+
+def _normals(tri: np.ndarray) -> np.ndarray:
+    n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    ln = np.linalg.norm(n, axis=1)
+    return np.ascontiguousarray(n / np.where(ln > 0, ln, 1.0)[:, None])
+
+
+def _spheres(tri: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Centre (centroid) and radius of a sphere holding each triangle."""
+    c = np.ascontiguousarray(tri.mean(axis=1))
+    r = np.sqrt(((tri - c[:, None, :]) ** 2).sum(axis=2).max(axis=1)) * (1 + 1e-12) + 1e-12
+    return c, np.ascontiguousarray(r)
+
+
+def gouge_chords(S: np.ndarray, E: np.ndarray, slot: np.ndarray, shapes: ToolShapes,
+                 triangles: np.ndarray, index: BoxIndex, accuracy: float) -> GougeResult:
+    """Penetration of the design into each chord's swept tool (see the module doc)."""
+    n = len(S)
+    g = np.full(n, -1.0)
+    t = np.full(n, -1, np.int64)
+    s = np.full(n, -1, np.int64)
+    rim = np.zeros(n, np.int8)
+    pt = np.zeros((n, 3))
+    if n and len(triangles):
+        _gouge_chords(np.ascontiguousarray(S, float), np.ascontiguousarray(E, float),
+                      np.ascontiguousarray(slot, np.int64), *shapes.arrays(),
+                      triangles, _normals(triangles), *_spheres(triangles),
+                      bucket_bounds(index), *index.arrays(), accuracy / 2.0,
+                      accuracy * 1e-4, g, t, s, rim, pt)
+    return GougeResult(g, t, s, rim, pt)
+
+
+def locate(S, E, slot, shapes: ToolShapes, triangles, res: GougeResult, c: int,
+           accuracy: float) -> tuple[np.ndarray, np.ndarray]:
+    """(tool tip, design point) of chord ``c``'s deepest penetration."""
+    s, j = int(slot[c]), int(res.shape[c])
+    if res.rim is not None and res.rim[c]:
+        return np.asarray(S[c], float), res.point[c].copy()
+    P, X = _locate(triangles[res.triangle[c]], np.asarray(S[c], float),
+                   np.asarray(E[c], float), int(shapes.kind[s, j]), float(shapes.R[s, j]),
+                   float(shapes.rc[s, j]), float(shapes.k[s, j]), float(shapes.zb[s, j]),
+                   float(shapes.L[s, j]), float(res.gouge[c]), accuracy / 20.0)
+    return P, X
+
+
+def near_chords(S: np.ndarray, E: np.ndarray, slot: np.ndarray, shapes: ToolShapes,
+                triangles: np.ndarray, index: BoxIndex, accuracy: float,
+                grow: float) -> np.ndarray:
+    """Chords that may gouge by ``accuracy / 2`` or more with the tool anywhere within
+    ``grow`` of them (a conservative test: a chord not flagged cannot; a curve cut into
+    chords within ``grow`` of it needs fine chords only where a chord is flagged)."""
+    out = np.zeros(len(S), np.int8)
+    if len(S) and len(triangles):
+        _near_chords(np.ascontiguousarray(S, float), np.ascontiguousarray(E, float),
+                     np.ascontiguousarray(slot, np.int64), *shapes.arrays(), triangles,
+                     _normals(triangles), bucket_bounds(index), *index.arrays(), accuracy / 2.0, float(grow), out)
+    return out.astype(bool)

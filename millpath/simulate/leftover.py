@@ -1,0 +1,434 @@
+"""Material left, measured along the design's normal at points on its surface.
+
+At each sample point ``s`` of a design triangle (outward unit normal ``n``) the material
+left is the length of the segment ``s + t n`` (``t >= 0``) that is still stock: it ends
+where the segment first enters the solid swept by any cutting chord (found exactly with
+GJK tests and bisection to ``accuracy / 20``), leaves the stock box, or meets the design
+again (the other side of a slot). A point already inside a swept solid (cut to or
+below the design) has none left. Exact at the sample points; between them the figure
+is interpolated by the sampling (``spacing``, reported). Program units.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from millpath.geometry.convex import BALL, meets, shape_rings, underside
+from millpath.geometry.distance import (ball_core, core_point_dist2, core_segment_dist2,
+                                        segment_segment_dist2)
+from millpath.geometry.index import BoxIndex, bucket_range, first_bucket
+
+
+def sample_triangles(tri: np.ndarray, spacing: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Points on each triangle at most ``spacing`` apart, their triangle's unit normal
+    (right-hand winding) and the triangle number. Rows parallel to the longest edge,
+    ``spacing`` apart across it, points ``spacing`` apart along each row: about area /
+    spacing^2 + length / spacing points a triangle, slivers (a wall's tall thin
+    triangles) included."""
+    tri = np.asarray(tri, float).reshape(-1, 3, 3)
+    nrm = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    ln = np.linalg.norm(nrm, axis=1)
+    ok = ln > 0
+    nrm[ok] /= ln[ok, None]
+    # put the longest edge first: A -> B, C opposite
+    el = np.stack([np.linalg.norm(tri[:, 1] - tri[:, 0], axis=1),
+                   np.linalg.norm(tri[:, 2] - tri[:, 1], axis=1),
+                   np.linalg.norm(tri[:, 0] - tri[:, 2], axis=1)], axis=1)
+    k = np.argmax(el, axis=1)
+    idx = np.stack([k, (k + 1) % 3, (k + 2) % 3], axis=1)
+    T = np.take_along_axis(tri, idx[:, :, None], axis=1)
+    L = el[np.arange(len(tri)), k]
+    h = np.where(L > 0, ln / np.where(L > 0, L, 1.0), 0.0)
+    ns = np.maximum(1, np.ceil(L / spacing - 1e-9)).astype(np.int64)
+    nt = np.maximum(1, np.ceil(h / spacing - 1e-9)).astype(np.int64)
+    pts, nor, own = [], [], []
+    key = ns * (int(nt.max(initial=1)) + 1) + nt
+    for kk in np.unique(key[ok]):
+        sel = np.flatnonzero(ok & (key == kk))
+        a, c = int(ns[sel[0]]), int(nt[sel[0]])
+        us, vs = [], []
+        for j in range(c + 1):
+            v = j / c
+            m = int(math.ceil((1.0 - v) * a - 1e-9))
+            if m <= 0:
+                us.append(0.0)
+                vs.append(v)
+                continue
+            us.extend(((1.0 - v) * np.arange(m + 1) / m).tolist())
+            vs.extend([v] * (m + 1))
+        u = np.asarray(us)[None, :, None]
+        v = np.asarray(vs)[None, :, None]
+        Ts = T[sel]
+        p = Ts[:, None, 0] + u * (Ts[:, None, 1] - Ts[:, None, 0]) + v * (Ts[:, None, 2] - Ts[:, None, 0])
+        pts.append(p.reshape(-1, 3))
+        nor.append(np.repeat(nrm[sel], u.shape[1], axis=0))
+        own.append(np.repeat(sel, u.shape[1]))
+    if not pts:
+        z = np.zeros((0, 3))
+        return z, z.copy(), np.zeros(0, np.int64)
+    return np.vstack(pts), np.vstack(nor), np.concatenate(own)
+
+
+SLACK = 1.0 - 1e-9          # "nearer" in _medial: by more than rounding (relative, squared)
+
+
+@njit(cache=True)
+def _box_exit(p, n, lo, hi):
+    """Distance along n from p to where the ray leaves the box (0 if p is outside)."""
+    t = np.inf
+    for a in range(3):
+        if p[a] < lo[a] - 1e-9 or p[a] > hi[a] + 1e-9:
+            return 0.0
+        if n[a] > 1e-15:
+            t = min(t, (hi[a] - p[a]) / n[a])
+        elif n[a] < -1e-15:
+            t = min(t, (lo[a] - p[a]) / n[a])
+    return max(t, 0.0)
+
+
+@njit(cache=True)
+def _tri_dist2(p, a, b, c):
+    """Squared distance from point p to triangle abc (closest-point regions)."""
+    ab = b - a
+    ac = c - a
+    ap = p - a
+    d1 = np.dot(ab, ap)
+    d2 = np.dot(ac, ap)
+    if d1 <= 0.0 and d2 <= 0.0:
+        q = a
+    else:
+        bp = p - b
+        d3 = np.dot(ab, bp)
+        d4 = np.dot(ac, bp)
+        vc = d1 * d4 - d3 * d2
+        cp = p - c
+        d5 = np.dot(ab, cp)
+        d6 = np.dot(ac, cp)
+        vb = d5 * d2 - d1 * d6
+        va = d3 * d6 - d5 * d4
+        if d3 >= 0.0 and d4 <= d3:
+            q = b
+        elif vc <= 0.0 and d1 >= 0.0 and d3 <= 0.0:
+            q = a + ab * (d1 / (d1 - d3))
+        elif d6 >= 0.0 and d5 <= d6:
+            q = c
+        elif vb <= 0.0 and d2 >= 0.0 and d6 <= 0.0:
+            q = a + ac * (d2 / (d2 - d6))
+        elif va <= 0.0 and (d4 - d3) >= 0.0 and (d5 - d6) >= 0.0:
+            q = b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)))
+        else:
+            den = 1.0 / (va + vb + vc)
+            q = a + ab * (vb * den) + ac * (vc * den)
+    r = p - q
+    return np.dot(r, r)
+
+
+@njit(cache=True, parallel=True)
+def _caps(P, N, own, blo, bhi, tri, tlo, thi, start, items, bi0, bj0, x0, y0, bs, nbx, nby,
+          reach, out):
+    """Segment length before the ray leaves the stock box or meets another triangle."""
+    m = P.shape[0]
+    for q in prange(m):
+        p = P[q]
+        n = N[q]
+        U = min(_box_exit(p, n, blo, bhi), reach)
+        if U > 0.0:
+            ex = p + n * U
+            qx0 = min(p[0], ex[0])
+            qx1 = max(p[0], ex[0])
+            qy0 = min(p[1], ex[1])
+            qy1 = max(p[1], ex[1])
+            ia, ib, ja, jb = bucket_range(x0, y0, bs, nbx, nby, qx0, qy0, qx1, qy1)
+            for bj in range(ja, jb + 1):
+                for bi in range(ia, ib + 1):
+                    b = bj * nbx + bi
+                    for k in range(start[b], start[b + 1]):
+                        t = items[k]
+                        if t == own[q] or not first_bucket(bi, bj, bi0[t], bj0[t], ia, ja):
+                            continue
+                        if (thi[t, 0] < qx0 or tlo[t, 0] > qx1 or thi[t, 1] < qy0
+                                or tlo[t, 1] > qy1):
+                            continue
+                        # Moller-Trumbore
+                        a0 = tri[t, 0]
+                        e1 = tri[t, 1] - a0
+                        e2 = tri[t, 2] - a0
+                        h = np.cross(n, e2)
+                        det = np.dot(e1, h)
+                        if abs(det) < 1e-14:
+                            continue
+                        f = 1.0 / det
+                        sv = p - a0
+                        u = f * np.dot(sv, h)
+                        if u < -1e-12 or u > 1.0 + 1e-12:
+                            continue
+                        qv = np.cross(sv, e1)
+                        v = f * np.dot(n, qv)
+                        if v < -1e-12 or u + v > 1.0 + 1e-12:
+                            continue
+                        tt = f * np.dot(e2, qv)
+                        if 1e-7 < tt < U:
+                            U = tt
+        out[q] = U
+
+
+@njit(cache=True, parallel=True)
+def _medial(P, N, own, tri, tlo, thi, start, items, bi0, bj0, x0, y0, bs, nbx, nby, margin,
+            out):
+    """Shorten each ``out[q]`` to where another triangle becomes nearer to
+    ``P[q] + t N[q]`` than ``t`` (beyond it the point is no longer ``t`` from the design:
+    concave corners, the far side of a slot). Triangles more than ``margin`` beside the
+    ray are not looked at (a wall that far off bounds only uncut stock)."""
+    m = P.shape[0]
+    for q in prange(m):
+        p = P[q]
+        n = N[q]
+        U = out[q]
+        if U <= 0.0:
+            continue
+        ex = p + n * U
+        w = min(U, margin)
+        qx0 = min(p[0], ex[0]) - w
+        qx1 = max(p[0], ex[0]) + w
+        qy0 = min(p[1], ex[1]) - w
+        qy1 = max(p[1], ex[1]) + w
+        qz0 = min(p[2], ex[2]) - w
+        qz1 = max(p[2], ex[2]) + w
+        ia, ib, ja, jb = bucket_range(x0, y0, bs, nbx, nby, qx0, qy0, qx1, qy1)
+        for bj in range(ja, jb + 1):
+            for bi in range(ia, ib + 1):
+                b = bj * nbx + bi
+                for k in range(start[b], start[b + 1]):
+                    t = items[k]
+                    if t == own[q] or not first_bucket(bi, bj, bi0[t], bj0[t], ia, ja):
+                        continue
+                    if (thi[t, 0] < qx0 or tlo[t, 0] > qx1 or thi[t, 1] < qy0
+                            or tlo[t, 1] > qy1 or thi[t, 2] < qz0 or tlo[t, 2] > qz1):
+                        continue
+                    # strictly nearer (a neighbour across a convex edge is exactly as
+                    # near as the design point: rounding must not cap the ray there)
+                    if _tri_dist2(p + n * U, tri[t, 0], tri[t, 1], tri[t, 2]) >= U * U * SLACK:
+                        continue
+                    lo = 0.0
+                    hi = U
+                    for _ in range(40):
+                        mid = 0.5 * (lo + hi)
+                        if (_tri_dist2(p + n * mid, tri[t, 0], tri[t, 1], tri[t, 2])
+                                < mid * mid * SLACK):
+                            hi = mid
+                        else:
+                            lo = mid
+                        if hi - lo < 1e-7:
+                            break
+                    U = lo
+
+        out[q] = U
+
+
+@njit(cache=True, inline="always")
+def _xy_seg_dist2(ax, ay, bx, by, cx, cy, dx, dy):
+    """Squared distance between 2D segments a-b and c-d."""
+    return segment_segment_dist2(ax, ay, 0.0, bx, by, 0.0, cx, cy, 0.0, dx, dy, 0.0)
+
+
+@njit(cache=True, parallel=True)
+def _left(P, N, U0, S, E, slot, kind, R, rc, k, zb, L, clo, chi, start, items, bi0, bj0,
+          x0, y0, bs, nbx, nby, tol, out, out_c):
+    m = P.shape[0]
+    for q in prange(m):
+        rr = np.empty(3)
+        rh = np.empty(3)
+        T = np.empty((3, 3))
+        Q1 = np.empty((3, 3))
+        Q2 = np.empty((3, 3))
+        box = np.empty(4)
+        p = P[q]
+        n = N[q]
+        U = U0[q]
+        who = -1
+        if U > 0.0:
+            ex = p + n * U
+            qx0 = min(p[0], ex[0])
+            qx1 = max(p[0], ex[0])
+            qy0 = min(p[1], ex[1])
+            qy1 = max(p[1], ex[1])
+            qz0 = min(p[2], ex[2])
+            qz1 = max(p[2], ex[2])
+            ia, ib, ja, jb = bucket_range(x0, y0, bs, nbx, nby, qx0, qy0, qx1, qy1)
+            for bj in range(ja, jb + 1):
+                for bi in range(ia, ib + 1):
+                    b = bj * nbx + bi
+                    for it in range(start[b], start[b + 1]):
+                        c = items[it]
+                        if not first_bucket(bi, bj, bi0[c], bj0[c], ia, ja):
+                            continue
+                        if U <= 0.0:
+                            break
+                        if (chi[c, 0] < qx0 or clo[c, 0] > qx1 or chi[c, 1] < qy0
+                                or clo[c, 1] > qy1 or chi[c, 2] < qz0 or clo[c, 2] > qz1):
+                            continue
+                        s = slot[c]
+                        # the tool's underside over the ray's box is above the ray
+                        box[0] = qx0
+                        box[1] = qy0
+                        box[2] = qx1
+                        box[3] = qy1
+                        if qz1 < underside(S[c], E[c], kind[s, 0], R[s, 0], rc[s, 0], k[s, 0],
+                                           0.0, box, 0.0):
+                            continue
+                        # the cutter lies within R of its axis: a chord whose XY path
+                        # stays more than R from the ray's XY path cannot reach it
+                        if _xy_seg_dist2(p[0], p[1], ex[0], ex[1], S[c, 0], S[c, 1],
+                                         E[c, 0], E[c, 1]) > R[s, 0] * R[s, 0]:
+                            continue
+                        if kind[s, 0] == BALL:      # exact distances to the swept core
+                            Rb = R[s, 0]
+                            R2 = Rb * Rb
+                            fc = ball_core(S[c], E[c], Rb, L[s, 0], Q1, Q2)
+                            if core_segment_dist2(p[0], p[1], p[2], p[0] + n[0] * U,
+                                                  p[1] + n[1] * U, p[2] + n[2] * U,
+                                                  fc, Q1, Q2) > R2:
+                                continue
+                            who = c
+                            if core_segment_dist2(p[0], p[1], p[2], p[0], p[1], p[2],
+                                                  fc, Q1, Q2) <= R2:
+                                U = 0.0
+                                break
+                            lo = 0.0
+                            hi = U
+                            # safe steps first (the distance to the core changes no
+                            # faster than t): a ray meeting the ball head-on ends in one
+                            t = 0.0
+                            for _ in range(8):
+                                dd = math.sqrt(core_point_dist2(p[0] + n[0] * t,
+                                                                p[1] + n[1] * t,
+                                                                p[2] + n[2] * t, fc, Q1,
+                                                                Q2)) - Rb
+                                if dd <= tol:
+                                    break
+                                t += dd
+                                if t >= hi:
+                                    break
+                            if t < hi:
+                                lo = t
+                                mid = min(t + tol, hi)
+                                if core_segment_dist2(p[0], p[1], p[2], p[0] + n[0] * mid,
+                                                      p[1] + n[1] * mid, p[2] + n[2] * mid,
+                                                      fc, Q1, Q2) <= R2:
+                                    hi = mid
+                            while hi - lo > tol:
+                                mid = 0.5 * (lo + hi)
+                                if core_segment_dist2(p[0], p[1], p[2], p[0] + n[0] * mid,
+                                                      p[1] + n[1] * mid, p[2] + n[2] * mid,
+                                                      fc, Q1, Q2) <= R2:
+                                    hi = mid
+                                else:
+                                    lo = mid
+                            U = hi
+                            for a in range(3):          # the shorter ray: a smaller box
+                                ex[a] = p[a] + n[a] * U
+                            qx0 = min(p[0], ex[0])
+                            qx1 = max(p[0], ex[0])
+                            qy0 = min(p[1], ex[1])
+                            qy1 = max(p[1], ex[1])
+                            qz0 = min(p[2], ex[2])
+                            qz1 = max(p[2], ex[2])
+                            continue
+                        nr, rho = shape_rings(kind[s, 0], R[s, 0], rc[s, 0], k[s, 0], 0.0,
+                                              L[s, 0], 0.0, rr, rh)
+                        if nr == 0:
+                            continue
+                        for a in range(3):
+                            T[0, a] = p[a]
+                            T[1, a] = p[a] + n[a] * U
+                            T[2, a] = T[1, a]
+                        if not meets(T, S[c], E[c], nr, rr, rh, rho, 0.0):
+                            continue
+                        for a in range(3):
+                            T[1, a] = p[a]
+                            T[2, a] = p[a]
+                        who = c
+                        if meets(T, S[c], E[c], nr, rr, rh, rho, 0.0):
+                            U = 0.0
+                            break
+                        lo = 0.0
+                        hi = U
+                        while hi - lo > tol:
+                            mid = 0.5 * (lo + hi)
+                            for a in range(3):
+                                T[1, a] = p[a] + n[a] * mid
+                                T[2, a] = T[1, a]
+                            if meets(T, S[c], E[c], nr, rr, rh, rho, 0.0):
+                                hi = mid
+                            else:
+                                lo = mid
+                        U = hi
+                        for a in range(3):          # the shorter ray: a smaller box
+                            ex[a] = p[a] + n[a] * U
+                        qx0 = min(p[0], ex[0])
+                        qx1 = max(p[0], ex[0])
+                        qy0 = min(p[1], ex[1])
+                        qy1 = max(p[1], ex[1])
+                        qz0 = min(p[2], ex[2])
+                        qz1 = max(p[2], ex[2])
+        out[q] = U
+        out_c[q] = who
+
+
+def ray_caps(points, normals, owner, stock_box, triangles, tri_index: BoxIndex,
+             reach: float) -> np.ndarray:
+    """Length of each ray before it leaves the stock box or meets another triangle of
+    the design, at most ``reach``."""
+    m = len(points)
+    U0 = np.zeros(m)
+    if m:
+        _caps(np.ascontiguousarray(points, float), np.ascontiguousarray(normals, float),
+              np.ascontiguousarray(owner, np.int64), np.asarray(stock_box[:3], float),
+              np.asarray(stock_box[3:], float), triangles, *tri_index.arrays(),
+              float(reach), U0)
+    return U0
+
+
+def chord_index(S, E, slot, shapes) -> BoxIndex:
+    """Bucket index over the boxes of the cutters swept along chords S -> E."""
+    Rc = shapes.R[slot, 0]
+    Lc = shapes.L[slot, 0]
+    clo = np.minimum(S, E)
+    chi = np.maximum(S, E)
+    clo[:, :2] -= Rc[:, None]
+    chi[:, :2] += Rc[:, None]
+    chi[:, 2] += Lc
+    return BoxIndex.build(clo, chi)
+
+
+def shorten_rays(points, normals, lengths, S, E, slot, shapes, cidx: BoxIndex,
+                 accuracy: float) -> tuple[np.ndarray, np.ndarray]:
+    """Each ray ``points + t normals`` (``0 <= t <= lengths``) cut back to where it first
+    enters a cutter swept along a chord (to ``accuracy / 20``), and that chord (-1:
+    none)."""
+    m = len(points)
+    out = np.zeros(m)
+    who = np.full(m, -1, np.int64)
+    if m == 0 or len(S) == 0:
+        return np.asarray(lengths, float).copy(), who
+    _left(np.ascontiguousarray(points, float), np.ascontiguousarray(normals, float),
+          np.ascontiguousarray(lengths, float), np.ascontiguousarray(S, float),
+          np.ascontiguousarray(E, float), np.ascontiguousarray(slot, np.int64),
+          *shapes.arrays()[:6], cidx.lo, cidx.hi, cidx.start, cidx.items, cidx.bi0,
+          cidx.bj0, cidx.x0, cidx.y0, cidx.bs, cidx.nbx, cidx.nby, accuracy / 20.0, out, who)
+    return out, who
+
+
+def medial_cap(points, normals, owner, triangles, tri_index: BoxIndex, margin: float,
+               lengths) -> np.ndarray:
+    """``lengths`` shortened to where another triangle of the design becomes nearer
+    than the design point (see :func:`_medial`)."""
+    out = np.array(lengths, float)
+    if len(out):
+        _medial(np.ascontiguousarray(points, float), np.ascontiguousarray(normals, float),
+                np.ascontiguousarray(owner, np.int64), triangles, *tri_index.arrays(),
+                margin, out)
+    return out
