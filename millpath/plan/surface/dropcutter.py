@@ -297,9 +297,16 @@ def _drop_one(x, y, R, rc, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts, 
                     continue
                 if ztop[t] - _h(math.sqrt(db2), rc, a) <= best:
                     continue
-                # the drop onto the triangle's whole plane bounds the drop onto it
+                # the drop onto the triangle's whole plane (contact at px, py, pz; tool
+                # tip at ``tip``) bounds the drop onto it, and is the facet's own drop
+                # when the contact lies on the triangle
                 nzz = plane[t, 2]
-                if nzz > 1e-12:
+                facet = nzz > 1e-12
+                tip = -math.inf
+                px = x
+                py = y
+                pz = 0.0
+                if facet:
                     nxx = plane[t, 0]
                     nyy = plane[t, 1]
                     s = math.sqrt(nxx * nxx + nyy * nyy)
@@ -309,37 +316,27 @@ def _drop_one(x, y, R, rc, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts, 
                     else:
                         px = x
                         py = y
-                    if (plane[t, 3] - nxx * px - nyy * py) / nzz - rc + rc * nzz <= best:
+                    pz = (plane[t, 3] - nxx * px - nyy * py) / nzz
+                    tip = pz - rc + rc * nzz
+                    if tip <= best:
                         continue
                 # vertices
                 for i in range(3):
-                    pz = tri[t, i, 2]
-                    if pz <= best:
+                    vz = tri[t, i, 2]
+                    if vz <= best:
                         continue
                     dx = tri[t, i, 0] - x
                     dy = tri[t, i, 1] - y
                     d2 = dx * dx + dy * dy
                     if d2 <= R2:
-                        z = pz - _h(math.sqrt(d2), rc, a)
+                        z = vz - _h(math.sqrt(d2), rc, a)
                         if z > best:
                             best = z
                             ccx = tri[t, i, 0]
                             ccy = tri[t, i, 1]
-                            ccz = pz
+                            ccz = vz
                 # facet
-                nxx = plane[t, 0]
-                nyy = plane[t, 1]
-                nzz = plane[t, 2]
-                if nzz > 1e-12:
-                    s = math.sqrt(nxx * nxx + nyy * nyy)
-                    if s > 1e-14:
-                        px = x - a * nxx / s - rc * nxx
-                        py = y - a * nyy / s - rc * nyy
-                    else:
-                        px = x
-                        py = y
-                    pz = (plane[t, 3] - nxx * px - nyy * py) / nzz
-                    tip = pz - rc + rc * nzz
+                if facet:
                     if tip > best:
                         if _inside_xy(tri, t, px, py, 1e-12):
                             best = tip
