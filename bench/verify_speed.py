@@ -26,7 +26,6 @@ import argparse
 import os
 import resource
 import sys
-import time
 from pathlib import Path
 
 import numpy as np

@@ -318,7 +318,6 @@ def _locate(T, P0, P1, kind, R, rc, k, zb, L, g, tol):
     a = 0.0
     b = 1.0
     A = P0.copy()
-    B = P1.copy()
     for _ in range(50):
         m = 0.5 * (a + b)
         M = P0 + (P1 - P0) * m
