@@ -141,6 +141,37 @@ def _cross(a, b, out):
     out[2] = z
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def _edge_or_vertex(s, a, b, ab, ao, d, tmp):
+    """The origin's nearest feature of segment a-b (a the newest point, ``ab = b - a``,
+    ``ao = -a``): the edge (simplex [b, a], direction ``(ab x ao) x ab``) when the origin
+    lies beyond a along ab, else the vertex a. Returns the simplex size."""
+    if _dot(ab, ao) > 0.0:
+        s[0] = b
+        s[1] = a
+        _cross(ab, ao, tmp)
+        _cross(tmp, ab, d)
+        return 2
+    s[0] = a
+    d[0] = ao[0]
+    d[1] = ao[1]
+    d[2] = ao[2]
+    return 1
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _face(s, p, q, a, nrm, sign, d):
+    """The origin's nearest feature is triangle (p, q, a) (a the newest point): that
+    simplex, direction ``sign * nrm``. Returns the simplex size."""
+    s[0] = p
+    s[1] = q
+    s[2] = a
+    d[0] = sign * nrm[0]
+    d[1] = sign * nrm[1]
+    d[2] = sign * nrm[2]
+    return 3
+
+
 @njit(cache=True, error_model="numpy")
 def meets(T, P0, P1, nr, rr, rh, rho, tol):
     """True when triangle ``T`` (3, 3) meets the swept solid (rings, rho along
@@ -183,15 +214,7 @@ def meets(T, P0, P1, nr, rr, rh, rho, tol):
             b = s[0]
             ab = b - a
             ao = -a
-            if _dot(ab, ao) > 0.0:
-                _cross(ab, ao, t1)
-                _cross(t1, ab, d)
-            else:
-                s[0] = a
-                ns = 1
-                d[0] = ao[0]
-                d[1] = ao[1]
-                d[2] = ao[2]
+            ns = _edge_or_vertex(s, a, b, ab, ao, d, t1)
         elif ns == 3:
             b = s[1].copy()
             c = s[0].copy()
@@ -203,49 +226,19 @@ def meets(T, P0, P1, nr, rr, rh, rho, tol):
             _cross(abc, ac, t1)
             if _dot(t1, ao) > 0.0:
                 if _dot(ac, ao) > 0.0:
-                    s[0] = c
-                    s[1] = a
-                    ns = 2
-                    _cross(ac, ao, t2)
-                    _cross(t2, ac, d)
+                    ns = _edge_or_vertex(s, a, c, ac, ao, d, t2)
                 else:
-                    if _dot(ab, ao) > 0.0:
-                        s[0] = b
-                        s[1] = a
-                        ns = 2
-                        _cross(ab, ao, t2)
-                        _cross(t2, ab, d)
-                    else:
-                        s[0] = a
-                        ns = 1
-                        d[:] = ao
+                    ns = _edge_or_vertex(s, a, b, ab, ao, d, t2)
             else:
                 _cross(ab, abc, t1)
                 if _dot(t1, ao) > 0.0:
-                    if _dot(ab, ao) > 0.0:
-                        s[0] = b
-                        s[1] = a
-                        ns = 2
-                        _cross(ab, ao, t2)
-                        _cross(t2, ab, d)
-                    else:
-                        s[0] = a
-                        ns = 1
-                        d[:] = ao
+                    ns = _edge_or_vertex(s, a, b, ab, ao, d, t2)
                 else:
                     v = _dot(abc, ao)
                     if v > 0.0:
-                        s[0] = c
-                        s[1] = b
-                        s[2] = a
-                        d[:] = abc
+                        ns = _face(s, c, b, a, abc, 1.0, d)
                     elif v < 0.0:
-                        s[0] = b
-                        s[1] = c
-                        s[2] = a
-                        d[0] = -abc[0]
-                        d[1] = -abc[1]
-                        d[2] = -abc[2]
+                        ns = _face(s, b, c, a, abc, -1.0, d)
                     else:
                         return True            # origin on the triangle
         else:
@@ -270,23 +263,11 @@ def meets(T, P0, P1, nr, rr, rh, rho, tol):
             if _dot(adb, ac) > 0.0:
                 adb = -adb
             if _dot(abc, ao) > 0.0:
-                s[0] = c
-                s[1] = b
-                s[2] = a
-                ns = 3
-                d[:] = abc
+                ns = _face(s, c, b, a, abc, 1.0, d)
             elif _dot(acd, ao) > 0.0:
-                s[0] = dd
-                s[1] = c
-                s[2] = a
-                ns = 3
-                d[:] = acd
+                ns = _face(s, dd, c, a, acd, 1.0, d)
             elif _dot(adb, ao) > 0.0:
-                s[0] = b
-                s[1] = dd
-                s[2] = a
-                ns = 3
-                d[:] = adb
+                ns = _face(s, b, dd, a, adb, 1.0, d)
             else:
                 return True                    # origin inside the tetrahedron
         if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < 1e-30:

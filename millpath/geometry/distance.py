@@ -19,6 +19,34 @@ def _d3(ax, ay, az, bx, by, bz):
     return ax * bx + ay * by + az * bz
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def _to_edge2(px, py, pz, ax, ay, az, ex, ey, ez, t):
+    """Squared distance from p to the point ``a + t e`` of an edge."""
+    qx, qy, qz = ax + t * ex, ay + t * ey, az + t * ez
+    return (px - qx) ** 2 + (py - qy) ** 2 + (pz - qz) ** 2
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _from_vertex(px, py, pz, T, i, abx, aby, abz, acx, acy, acz):
+    """(ab . w, ac . w, |w|^2) of ``w = p - T[i]``: the closest-point region tests."""
+    wx, wy, wz = px - T[i, 0], py - T[i, 1], pz - T[i, 2]
+    return (_d3(abx, aby, abz, wx, wy, wz), _d3(acx, acy, acz, wx, wy, wz),
+            wx * wx + wy * wy + wz * wz)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _corner(px, py, pz, ax, ay, az, ex, ey, ez, ae, af, xe, xf, x2):
+    """The regions of vertex X = A + e and of edge A-X (B or C, the other edge f; ``ae``,
+    ``af``: A's dots with e and f, ``xe``, ``xf``: X's, ``x2``: |p - X|^2): (squared
+    distance, or -1 when p is in neither; the edge's barycentric test value)."""
+    if xe >= 0.0 and xf <= xe:
+        return x2, 0.0
+    v = ae * xf - xe * af
+    if v <= 0.0 and ae >= 0.0 and xe <= 0.0:
+        return _to_edge2(px, py, pz, ax, ay, az, ex, ey, ez, ae / (ae - xe)), v
+    return -1.0, v
+
+
 @njit(cache=True, error_model="numpy")
 def point_triangle_dist2(px, py, pz, T):
     """Squared distance from a point to triangle ``T`` (3, 3) (closest-point regions;
@@ -26,38 +54,22 @@ def point_triangle_dist2(px, py, pz, T):
     ax, ay, az = T[0, 0], T[0, 1], T[0, 2]
     abx, aby, abz = T[1, 0] - ax, T[1, 1] - ay, T[1, 2] - az
     acx, acy, acz = T[2, 0] - ax, T[2, 1] - ay, T[2, 2] - az
-    apx, apy, apz = px - ax, py - ay, pz - az
-    d1 = _d3(abx, aby, abz, apx, apy, apz)
-    d2 = _d3(acx, acy, acz, apx, apy, apz)
+    d1, d2, a2 = _from_vertex(px, py, pz, T, 0, abx, aby, abz, acx, acy, acz)
     if d1 <= 0.0 and d2 <= 0.0:
-        return apx * apx + apy * apy + apz * apz
-    bpx, bpy, bpz = px - T[1, 0], py - T[1, 1], pz - T[1, 2]
-    d3 = _d3(abx, aby, abz, bpx, bpy, bpz)
-    d4 = _d3(acx, acy, acz, bpx, bpy, bpz)
-    if d3 >= 0.0 and d4 <= d3:
-        return bpx * bpx + bpy * bpy + bpz * bpz
-    vc = d1 * d4 - d3 * d2
-    if vc <= 0.0 and d1 >= 0.0 and d3 <= 0.0:
-        v = d1 / (d1 - d3)
-        qx, qy, qz = ax + v * abx, ay + v * aby, az + v * abz
-        return (px - qx) ** 2 + (py - qy) ** 2 + (pz - qz) ** 2
-    cpx, cpy, cpz = px - T[2, 0], py - T[2, 1], pz - T[2, 2]
-    d5 = _d3(abx, aby, abz, cpx, cpy, cpz)
-    d6 = _d3(acx, acy, acz, cpx, cpy, cpz)
-    if d6 >= 0.0 and d5 <= d6:
-        return cpx * cpx + cpy * cpy + cpz * cpz
-    vb = d5 * d2 - d1 * d6
-    if vb <= 0.0 and d2 >= 0.0 and d6 <= 0.0:
-        w = d2 / (d2 - d6)
-        qx, qy, qz = ax + w * acx, ay + w * acy, az + w * acz
-        return (px - qx) ** 2 + (py - qy) ** 2 + (pz - qz) ** 2
+        return a2
+    d3, d4, b2 = _from_vertex(px, py, pz, T, 1, abx, aby, abz, acx, acy, acz)
+    r, vc = _corner(px, py, pz, ax, ay, az, abx, aby, abz, d1, d2, d3, d4, b2)
+    if r >= 0.0:
+        return r
+    d5, d6, c2 = _from_vertex(px, py, pz, T, 2, abx, aby, abz, acx, acy, acz)
+    r, vb = _corner(px, py, pz, ax, ay, az, acx, acy, acz, d2, d1, d6, d5, c2)
+    if r >= 0.0:
+        return r
     va = d3 * d6 - d5 * d4
     if va <= 0.0 and (d4 - d3) >= 0.0 and (d5 - d6) >= 0.0:
-        w = (d4 - d3) / ((d4 - d3) + (d5 - d6))
-        qx = T[1, 0] + w * (T[2, 0] - T[1, 0])
-        qy = T[1, 1] + w * (T[2, 1] - T[1, 1])
-        qz = T[1, 2] + w * (T[2, 2] - T[1, 2])
-        return (px - qx) ** 2 + (py - qy) ** 2 + (pz - qz) ** 2
+        return _to_edge2(px, py, pz, T[1, 0], T[1, 1], T[1, 2], T[2, 0] - T[1, 0],
+                         T[2, 1] - T[1, 1], T[2, 2] - T[1, 2],
+                         (d4 - d3) / ((d4 - d3) + (d5 - d6)))
     s = va + vb + vc
     if s <= 0.0:                    # degenerate triangle: nearest of its edges
         best = np.inf

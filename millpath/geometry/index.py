@@ -25,6 +25,8 @@ class BoxIndex:
     items: np.ndarray       # item numbers, bucket by bucket
     bi0: np.ndarray         # (n,) first bucket column of each item
     bj0: np.ndarray         # (n,) first bucket row
+    blo: np.ndarray         # (nbx * nby, 3) minima of the boxes listed in each bucket
+    bhi: np.ndarray         # (nbx * nby, 3) their maxima (empty buckets: -inf)
     x0: float
     y0: float
     bs: float               # bucket size
@@ -38,7 +40,8 @@ class BoxIndex:
         n = len(lo)
         if n == 0:
             return cls(lo, hi, np.zeros(2, np.int64), np.zeros(0, np.int64),
-                       np.zeros(0, np.int64), np.zeros(0, np.int64), 0.0, 0.0, 1.0, 1, 1)
+                       np.zeros(0, np.int64), np.zeros(0, np.int64), np.full((1, 3), np.inf),
+                       np.full((1, 3), -np.inf), 0.0, 0.0, 1.0, 1, 1)
         gx0, gy0 = lo[:, 0].min(), lo[:, 1].min()
         gx1, gy1 = hi[:, 0].max(), hi[:, 1].max()
         span = max(gx1 - gx0, gy1 - gy0, 1e-9)
@@ -67,12 +70,19 @@ class BoxIndex:
         order = np.argsort(bucket_of, kind="stable")
         items = np.ascontiguousarray(owner[order])
         start = np.searchsorted(bucket_of[order], np.arange(nbx * nby + 1)).astype(np.int64)
-        return cls(lo, hi, start, items, i0, j0, float(gx0), float(gy0), bs, nbx, nby)
+        blo = np.full((nbx * nby, 3), np.inf)
+        bhi = np.full((nbx * nby, 3), -np.inf)
+        full = np.flatnonzero(np.diff(start) > 0)
+        if len(full):
+            blo[full] = np.minimum.reduceat(lo[items], start[full], axis=0)
+            bhi[full] = np.maximum.reduceat(hi[items], start[full], axis=0)
+        return cls(lo, hi, start, items, i0, j0, blo, bhi, float(gx0), float(gy0), bs,
+                   nbx, nby)
 
     def arrays(self):
-        """The arrays and numbers the numba query loops take, in order."""
-        return (self.lo, self.hi, self.start, self.items, self.bi0, self.bj0,
-                self.x0, self.y0, self.bs, self.nbx, self.nby)
+        """The index as one tuple for numba (see :func:`box_candidates`)."""
+        return (self.lo, self.hi, self.start, self.items, self.bi0, self.bj0, self.blo,
+                self.bhi, self.x0, self.y0, self.bs, self.nbx, self.nby)
 
 
 @njit(cache=True, inline="always")
@@ -94,3 +104,35 @@ def first_bucket(i, j, it_i0, it_j0, ia, ja):
     """True when bucket (i, j) is the first one shared by an item starting at bucket
     (it_i0, it_j0) and a query starting at (ia, ja)."""
     return i == max(it_i0, ia) and j == max(it_j0, ja)
+
+
+@njit(cache=True)
+def box_candidates(ix, qx0, qy0, qz0, qx1, qy1, qz1, buf):
+    """Items of the index ``ix`` (:meth:`BoxIndex.arrays`) whose box overlaps the query
+    box, each once, bucket by bucket, written to ``buf`` (an int64 array, replaced by
+    one twice as long when full; give ``qz0 = -inf, qz1 = inf`` for an XY query).
+    Buckets whose items' boxes all miss the query box are passed over whole. Returns
+    (count, buffer)."""
+    lo, hi, start, items, bi0, bj0, blo, bhi, x0, y0, bs, nbx, nby = ix
+    ia, ib, ja, jb = bucket_range(x0, y0, bs, nbx, nby, qx0, qy0, qx1, qy1)
+    n = 0
+    for bj in range(ja, jb + 1):
+        for bi in range(ia, ib + 1):
+            b = bj * nbx + bi
+            if (bhi[b, 0] < qx0 or blo[b, 0] > qx1 or bhi[b, 1] < qy0 or blo[b, 1] > qy1
+                    or bhi[b, 2] < qz0 or blo[b, 2] > qz1):
+                continue
+            for p in range(start[b], start[b + 1]):
+                t = items[p]
+                if not first_bucket(bi, bj, bi0[t], bj0[t], ia, ja):
+                    continue
+                if (hi[t, 0] < qx0 or lo[t, 0] > qx1 or hi[t, 1] < qy0 or lo[t, 1] > qy1
+                        or hi[t, 2] < qz0 or lo[t, 2] > qz1):
+                    continue
+                if n == buf.shape[0]:
+                    grown = np.empty(2 * n + 16, np.int64)
+                    grown[:n] = buf[:n]
+                    buf = grown
+                buf[n] = t
+                n += 1
+    return n, buf

@@ -25,7 +25,7 @@ from millpath.geometry.convex import (BALL, BULL, CYL, DRILL, FLAT, depth, meets
                                       support_swept, underside)
 from millpath.geometry.distance import (ball_core, core_point_dist2, core_triangle_dist2,
                                         point_triangle_dist2)
-from millpath.geometry.index import BoxIndex, bucket_range, first_bucket
+from millpath.geometry.index import BoxIndex, box_candidates
 from millpath.model.tool import Tool
 
 KIND = {"flat": FLAT, "ball": BALL, "bull": BULL, "drill": DRILL}
@@ -69,25 +69,9 @@ class ToolShapes:
         return self.kind, self.R, self.rc, self.k, self.zb, self.L, self.n
 
 
-def bucket_bounds(index: BoxIndex) -> np.ndarray:
-    """(nbuckets, 5): the XY box holding every item listed in each bucket (x0, y0, x1,
-    y1) and their highest point (empty buckets: -inf). A bucket whose items all lie
-    below a tool over that box can be passed over whole (items spread over several
-    buckets are taken in their first one only)."""
-    nb = len(index.start) - 1
-    out = np.zeros((nb, 5))
-    out[:, 4] = -np.inf
-    if len(index.items):
-        it = index.items
-        cnt = np.diff(index.start)
-        full = np.flatnonzero(cnt > 0)
-        st = index.start[full]
-        out[full, 0] = np.minimum.reduceat(index.lo[it, 0], st)
-        out[full, 1] = np.minimum.reduceat(index.lo[it, 1], st)
-        out[full, 2] = np.maximum.reduceat(index.hi[it, 0], st)
-        out[full, 3] = np.maximum.reduceat(index.hi[it, 1], st)
-        out[full, 4] = np.maximum.reduceat(index.hi[it, 2], st)
-    return out
+def _xy_boxes(index: BoxIndex) -> np.ndarray:
+    """(n, 4): each item's XY box (x0, y0, x1, y1), for :func:`underside`."""
+    return np.ascontiguousarray(np.concatenate([index.lo[:, :2], index.hi[:, :2]], axis=1))
 
 
 @njit(cache=True, error_model="numpy")
@@ -111,34 +95,26 @@ def in_triangle(T, q):
 
 
 @njit(cache=True, error_model="numpy")
-def surface_dist2(X, r, tri, tlo, thi, start, items, bi0, bj0, x0, y0, bs, nbx, nby):
-    """Squared distance from point X to the nearest triangle, at most ``r**2``."""
+def surface_dist2(X, r, tri, ix, buf):
+    """Squared distance from point X to the nearest triangle, at most ``r**2``
+    (``buf``: a scratch int64 array, see :func:`box_candidates`)."""
     best = r * r
-    ia, ib, ja, jb = bucket_range(x0, y0, bs, nbx, nby, X[0] - r, X[1] - r, X[0] + r,
-                                  X[1] + r)
-    for bj in range(ja, jb + 1):
-        for bi in range(ia, ib + 1):
-            b = bj * nbx + bi
-            for p in range(start[b], start[b + 1]):
-                t = items[p]
-                if not first_bucket(bi, bj, bi0[t], bj0[t], ia, ja):
-                    continue
-                if (thi[t, 0] < X[0] - r or tlo[t, 0] > X[0] + r or thi[t, 1] < X[1] - r
-                        or tlo[t, 1] > X[1] + r or thi[t, 2] < X[2] - r
-                        or tlo[t, 2] > X[2] + r):
-                    continue
-                d = point_triangle_dist2(X[0], X[1], X[2], tri[t])
-                if d < best:
-                    best = d
+    nc, buf = box_candidates(ix,
+                             X[0] - r, X[1] - r, X[2] - r, X[0] + r, X[1] + r, X[2] + r, buf)
+    for p in range(nc):
+        d = point_triangle_dist2(X[0], X[1], X[2], tri[buf[p]])
+        if d < best:
+            best = d
     return best
 
 
 @njit(cache=True, error_model="numpy", parallel=True)
-def _gouge_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, tc, tr, bzmax,
-                  tlo, thi, start, items, bi0, bj0, x0, y0, bs, nbx, nby,
+def _gouge_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, tc, tr, txy, ix,
                   e0, tol, out_g, out_t, out_s, out_r, out_x):
     n = S.shape[0]
     for c in prange(n):
+        buf = np.empty(256, np.int64)
+        sbuf = np.empty(64, np.int64)
         rr = np.empty(3)
         rh = np.empty(3)
         s = slot[c]
@@ -173,71 +149,63 @@ def _gouge_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, tc, tr, bz
             qy1 = max(P0[1], P1[1]) + Rj
             qz0 = min(P0[2], P1[2]) + zb[s, j] - 1e-9
             qz1 = max(P0[2], P1[2]) + L[s, j] + 1e-9
-            ia, ib, ja, jb = bucket_range(x0, y0, bs, nbx, nby, qx0, qy0, qx1, qy1)
-            for bj in range(ja, jb + 1):
-                for bi in range(ia, ib + 1):
-                    b = bj * nbx + bi
-                    if bzmax[b, 4] < underside(P0, P1, kind[s, j], Rj, rc[s, j], k[s, j],
-                                               zb[s, j], bzmax[b], 0.0):
+            nc, buf = box_candidates(ix,
+                                     qx0, qy0, qz0, qx1, qy1, qz1, buf)
+            for p in range(nc):
+                t = buf[p]
+                # wholly below the tool over its own XY box
+                if ix[1][t, 2] < underside(P0, P1, kind[s, j], Rj, rc[s, j], k[s, j], zb[s, j],
+                                         txy[t], 0.0):
+                    continue
+                lo = e0 if e0 > best else best
+                if is_ball:
+                    # a bound first: the core is at least (distance from the
+                    # triangle's centre) - (its radius) from the triangle
+                    far = Rj - lo + tr[t]
+                    if core_point_dist2(tc[t, 0], tc[t, 1], tc[t, 2], flat_core,
+                                        Q1, Q2) > far * far:
                         continue
-                    for p in range(start[b], start[b + 1]):
-                        t = items[p]
-                        if not first_bucket(bi, bj, bi0[t], bj0[t], ia, ja):
-                            continue
-                        if (thi[t, 0] < qx0 or tlo[t, 0] > qx1 or thi[t, 1] < qy0
-                                or tlo[t, 1] > qy1 or thi[t, 2] < qz0 or tlo[t, 2] > qz1):
-                            continue
-                        lo = e0 if e0 > best else best
-                        if is_ball:
-                            # a bound first: the core is at least (distance from the
-                            # triangle's centre) - (its radius) from the triangle
-                            far = Rj - lo + tr[t]
-                            if core_point_dist2(tc[t, 0], tc[t, 1], tc[t, 2], flat_core,
-                                                Q1, Q2) > far * far:
-                                continue
-                        # the plane of t must cut the solid's C_e0, else no point of t
-                        # can be e0 deep in it (one support point each way)
-                        nx, ny, nz = tn[t, 0], tn[t, 1], tn[t, 2]
-                        pd = nx * tri[t, 0, 0] + ny * tri[t, 0, 1] + nz * tri[t, 0, 2]
-                        support_swept(P0, P1, nr0, rr, rh, rho0, nx, ny, nz, sp)
-                        if sp[0] * nx + sp[1] * ny + sp[2] * nz < pd:
-                            continue
-                        support_swept(P0, P1, nr0, rr, rh, rho0, -nx, -ny, -nz, sp)
-                        if sp[0] * nx + sp[1] * ny + sp[2] * nz > pd:
-                            continue
-                        if not is_ball and nrf > 0:
-                            # the tool's deepest point along the design's normal: a
-                            # sharp rim or point goes deeper into the part than any
-                            # ball inside the tool reaches out of it
-                            support_swept(P0, P1, nrf, rrf, rhf, rhof, -nx, -ny, -nz, sp)
-                            dp = pd - (sp[0] * nx + sp[1] * ny + sp[2] * nz)
-                            if dp > lo and dp > best:
+                # the plane of t must cut the solid's C_e0, else no point of t
+                # can be e0 deep in it (one support point each way)
+                nx, ny, nz = tn[t, 0], tn[t, 1], tn[t, 2]
+                pd = nx * tri[t, 0, 0] + ny * tri[t, 0, 1] + nz * tri[t, 0, 2]
+                support_swept(P0, P1, nr0, rr, rh, rho0, nx, ny, nz, sp)
+                if sp[0] * nx + sp[1] * ny + sp[2] * nz < pd:
+                    continue
+                support_swept(P0, P1, nr0, rr, rh, rho0, -nx, -ny, -nz, sp)
+                if sp[0] * nx + sp[1] * ny + sp[2] * nz > pd:
+                    continue
+                if not is_ball and nrf > 0:
+                    # the tool's deepest point along the design's normal: a
+                    # sharp rim or point goes deeper into the part than any
+                    # ball inside the tool reaches out of it
+                    support_swept(P0, P1, nrf, rrf, rhf, rhof, -nx, -ny, -nz, sp)
+                    dp = pd - (sp[0] * nx + sp[1] * ny + sp[2] * nz)
+                    if dp > lo and dp > best:
+                        for a in range(3):
+                            qp[a] = sp[a] + dp * tn[t, a]
+                        if in_triangle(tri[t], qp):
+                            ds = math.sqrt(surface_dist2(sp, dp, tri, ix, sbuf))
+                            if ds >= lo and ds > best:
+                                best = ds
+                                bt = t
+                                bsh = j
+                                on_rim = 1
                                 for a in range(3):
-                                    qp[a] = sp[a] + dp * tn[t, a]
-                                if in_triangle(tri[t], qp):
-                                    ds = math.sqrt(surface_dist2(sp, dp, tri, tlo, thi, start,
-                                                                 items, bi0, bj0, x0, y0, bs,
-                                                                 nbx, nby))
-                                    if ds >= lo and ds > best:
-                                        best = ds
-                                        bt = t
-                                        bsh = j
-                                        on_rim = 1
-                                        for a in range(3):
-                                            xs[a] = qp[a]
-                        if is_ball:     # exact: R - distance to the swept core
-                            d2 = core_triangle_dist2(tri[t], flat_core, Q1, Q2)
-                            d = Rj - math.sqrt(d2)
-                            if d < lo:
-                                continue
-                        else:
-                            d = depth(tri[t], P0, P1, kind[s, j], Rj, rc[s, j], k[s, j],
-                                      zb[s, j], L[s, j], lo, tol, rr, rh)
-                        if d > best:
-                            best = d
-                            bt = t
-                            bsh = j
-                            on_rim = 0
+                                    xs[a] = qp[a]
+                if is_ball:     # exact: R - distance to the swept core
+                    d2 = core_triangle_dist2(tri[t], flat_core, Q1, Q2)
+                    d = Rj - math.sqrt(d2)
+                    if d < lo:
+                        continue
+                else:
+                    d = depth(tri[t], P0, P1, kind[s, j], Rj, rc[s, j], k[s, j],
+                              zb[s, j], L[s, j], lo, tol, rr, rh)
+                if d > best:
+                    best = d
+                    bt = t
+                    bsh = j
+                    on_rim = 0
         out_g[c] = best
         out_t[c] = bt
         out_s[c] = bsh
@@ -247,12 +215,13 @@ def _gouge_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, tc, tr, bz
 
 
 @njit(cache=True, error_model="numpy", parallel=True)
-def _near_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, bzmax, tlo, thi,
-                 start, items, bi0, bj0, x0, y0, bs, nbx, nby, e0, grow, out):
+def _near_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, txy, ix, e0, grow,
+                 out):
     """out[c] = 1 when some triangle comes within ``grow`` of the part of chord c's
     swept tool that is ``e0`` deep (one GJK test per triangle, no bisection)."""
     n = S.shape[0]
     for c in prange(n):
+        buf = np.empty(256, np.int64)
         rr = np.empty(3)
         rh = np.empty(3)
         sp = np.empty(3)
@@ -275,35 +244,24 @@ def _near_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, bzmax, tlo,
             qy1 = max(P0[1], P1[1]) + Rj + g
             qz0 = min(P0[2], P1[2]) + zb[s, j] - g - 1e-9
             qz1 = max(P0[2], P1[2]) + L[s, j] + g + 1e-9
-            ia, ib, ja, jb = bucket_range(x0, y0, bs, nbx, nby, qx0, qy0, qx1, qy1)
-            for bj in range(ja, jb + 1):
-                if hit:
+            nc, buf = box_candidates(ix,
+                                     qx0, qy0, qz0, qx1, qy1, qz1, buf)
+            for p in range(nc):
+                t = buf[p]
+                if ix[1][t, 2] < underside(P0, P1, kind[s, j], Rj, rc[s, j], k[s, j], zb[s, j],
+                                         txy[t], g):
+                    continue
+                nx, ny, nz = tn[t, 0], tn[t, 1], tn[t, 2]
+                pd = nx * tri[t, 0, 0] + ny * tri[t, 0, 1] + nz * tri[t, 0, 2]
+                support_swept(P0, P1, nr, rr, rh, rho + g, nx, ny, nz, sp)
+                if sp[0] * nx + sp[1] * ny + sp[2] * nz < pd:
+                    continue
+                support_swept(P0, P1, nr, rr, rh, rho + g, -nx, -ny, -nz, sp)
+                if sp[0] * nx + sp[1] * ny + sp[2] * nz > pd:
+                    continue
+                if meets(tri[t], P0, P1, nr, rr, rh, rho, g):
+                    hit = 1
                     break
-                for bi in range(ia, ib + 1):
-                    if hit:
-                        break
-                    b = bj * nbx + bi
-                    if bzmax[b, 4] < underside(P0, P1, kind[s, j], Rj, rc[s, j], k[s, j],
-                                               zb[s, j], bzmax[b], g):
-                        continue
-                    for p in range(start[b], start[b + 1]):
-                        t = items[p]
-                        if not first_bucket(bi, bj, bi0[t], bj0[t], ia, ja):
-                            continue
-                        if (thi[t, 0] < qx0 or tlo[t, 0] > qx1 or thi[t, 1] < qy0
-                                or tlo[t, 1] > qy1 or thi[t, 2] < qz0 or tlo[t, 2] > qz1):
-                            continue
-                        nx, ny, nz = tn[t, 0], tn[t, 1], tn[t, 2]
-                        pd = nx * tri[t, 0, 0] + ny * tri[t, 0, 1] + nz * tri[t, 0, 2]
-                        support_swept(P0, P1, nr, rr, rh, rho + g, nx, ny, nz, sp)
-                        if sp[0] * nx + sp[1] * ny + sp[2] * nz < pd:
-                            continue
-                        support_swept(P0, P1, nr, rr, rh, rho + g, -nx, -ny, -nz, sp)
-                        if sp[0] * nx + sp[1] * ny + sp[2] * nz > pd:
-                            continue
-                        if meets(tri[t], P0, P1, nr, rr, rh, rho, g):
-                            hit = 1
-                            break
         out[c] = hit
 
 
@@ -391,7 +349,7 @@ def gouge_chords(S: np.ndarray, E: np.ndarray, slot: np.ndarray, shapes: ToolSha
         _gouge_chords(np.ascontiguousarray(S, float), np.ascontiguousarray(E, float),
                       np.ascontiguousarray(slot, np.int64), *shapes.arrays(),
                       triangles, _normals(triangles), *_spheres(triangles),
-                      bucket_bounds(index), *index.arrays(), accuracy / 2.0,
+                      _xy_boxes(index), index.arrays(), accuracy / 2.0,
                       accuracy * 1e-4, g, t, s, rim, pt)
     return GougeResult(g, t, s, rim, pt)
 
@@ -419,5 +377,6 @@ def near_chords(S: np.ndarray, E: np.ndarray, slot: np.ndarray, shapes: ToolShap
     if len(S) and len(triangles):
         _near_chords(np.ascontiguousarray(S, float), np.ascontiguousarray(E, float),
                      np.ascontiguousarray(slot, np.int64), *shapes.arrays(), triangles,
-                     _normals(triangles), bucket_bounds(index), *index.arrays(), accuracy / 2.0, float(grow), out)
+                     _normals(triangles), _xy_boxes(index), index.arrays(), accuracy / 2.0,
+                     float(grow), out)
     return out.astype(bool)

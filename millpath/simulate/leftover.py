@@ -18,8 +18,8 @@ from numba import njit, prange
 
 from millpath.geometry.convex import BALL, meets, shape_rings, underside
 from millpath.geometry.distance import (ball_core, core_point_dist2, core_segment_dist2,
-                                        segment_segment_dist2)
-from millpath.geometry.index import BoxIndex, bucket_range, first_bucket
+                                        point_triangle_dist2, segment_segment_dist2)
+from millpath.geometry.index import BoxIndex, box_candidates
 
 
 def sample_triangles(tri: np.ndarray, spacing: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -89,46 +89,24 @@ def _box_exit(p, n, lo, hi):
     return max(t, 0.0)
 
 
-@njit(cache=True)
-def _tri_dist2(p, a, b, c):
-    """Squared distance from point p to triangle abc (closest-point regions)."""
-    ab = b - a
-    ac = c - a
-    ap = p - a
-    d1 = np.dot(ab, ap)
-    d2 = np.dot(ac, ap)
-    if d1 <= 0.0 and d2 <= 0.0:
-        q = a
-    else:
-        bp = p - b
-        d3 = np.dot(ab, bp)
-        d4 = np.dot(ac, bp)
-        vc = d1 * d4 - d3 * d2
-        cp = p - c
-        d5 = np.dot(ab, cp)
-        d6 = np.dot(ac, cp)
-        vb = d5 * d2 - d1 * d6
-        va = d3 * d6 - d5 * d4
-        if d3 >= 0.0 and d4 <= d3:
-            q = b
-        elif vc <= 0.0 and d1 >= 0.0 and d3 <= 0.0:
-            q = a + ab * (d1 / (d1 - d3))
-        elif d6 >= 0.0 and d5 <= d6:
-            q = c
-        elif vb <= 0.0 and d2 >= 0.0 and d6 <= 0.0:
-            q = a + ac * (d2 / (d2 - d6))
-        elif va <= 0.0 and (d4 - d3) >= 0.0 and (d5 - d6) >= 0.0:
-            q = b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)))
-        else:
-            den = 1.0 / (va + vb + vc)
-            q = a + ab * (vb * den) + ac * (vc * den)
-    r = p - q
-    return np.dot(r, r)
+@njit(cache=True, inline="always")
+def _ray_box(p, n, U, ex):
+    """Fill ``ex`` with the end ``p + U n`` of a ray; return the segment's box
+    (x0, y0, z0, x1, y1, z1)."""
+    for a in range(3):
+        ex[a] = p[a] + n[a] * U
+    return (min(p[0], ex[0]), min(p[1], ex[1]), min(p[2], ex[2]),
+            max(p[0], ex[0]), max(p[1], ex[1]), max(p[2], ex[2]))
+
+
+@njit(cache=True, inline="always")
+def _point_dist2(p, n, t, T):
+    """Squared distance from the ray's point ``p + t n`` to triangle T."""
+    return point_triangle_dist2(p[0] + n[0] * t, p[1] + n[1] * t, p[2] + n[2] * t, T)
 
 
 @njit(cache=True, parallel=True)
-def _caps(P, N, own, blo, bhi, tri, tlo, thi, start, items, bi0, bj0, x0, y0, bs, nbx, nby,
-          reach, out):
+def _caps(P, N, own, blo, bhi, tri, ix, reach, out):
     """Segment length before the ray leaves the stock box or meets another triangle."""
     m = P.shape[0]
     for q in prange(m):
@@ -136,95 +114,74 @@ def _caps(P, N, own, blo, bhi, tri, tlo, thi, start, items, bi0, bj0, x0, y0, bs
         n = N[q]
         U = min(_box_exit(p, n, blo, bhi), reach)
         if U > 0.0:
-            ex = p + n * U
-            qx0 = min(p[0], ex[0])
-            qx1 = max(p[0], ex[0])
-            qy0 = min(p[1], ex[1])
-            qy1 = max(p[1], ex[1])
-            ia, ib, ja, jb = bucket_range(x0, y0, bs, nbx, nby, qx0, qy0, qx1, qy1)
-            for bj in range(ja, jb + 1):
-                for bi in range(ia, ib + 1):
-                    b = bj * nbx + bi
-                    for k in range(start[b], start[b + 1]):
-                        t = items[k]
-                        if t == own[q] or not first_bucket(bi, bj, bi0[t], bj0[t], ia, ja):
-                            continue
-                        if (thi[t, 0] < qx0 or tlo[t, 0] > qx1 or thi[t, 1] < qy0
-                                or tlo[t, 1] > qy1):
-                            continue
-                        # Moller-Trumbore
-                        a0 = tri[t, 0]
-                        e1 = tri[t, 1] - a0
-                        e2 = tri[t, 2] - a0
-                        h = np.cross(n, e2)
-                        det = np.dot(e1, h)
-                        if abs(det) < 1e-14:
-                            continue
-                        f = 1.0 / det
-                        sv = p - a0
-                        u = f * np.dot(sv, h)
-                        if u < -1e-12 or u > 1.0 + 1e-12:
-                            continue
-                        qv = np.cross(sv, e1)
-                        v = f * np.dot(n, qv)
-                        if v < -1e-12 or u + v > 1.0 + 1e-12:
-                            continue
-                        tt = f * np.dot(e2, qv)
-                        if 1e-7 < tt < U:
-                            U = tt
+            buf = np.empty(64, np.int64)
+            ex = np.empty(3)
+            qx0, qy0, _, qx1, qy1, _ = _ray_box(p, n, U, ex)
+            nc, buf = box_candidates(ix, qx0, qy0, -np.inf, qx1, qy1, np.inf, buf)
+            for k in range(nc):
+                t = buf[k]
+                if t == own[q]:
+                    continue
+                # Moller-Trumbore
+                a0 = tri[t, 0]
+                e1 = tri[t, 1] - a0
+                e2 = tri[t, 2] - a0
+                h = np.cross(n, e2)
+                det = np.dot(e1, h)
+                if abs(det) < 1e-14:
+                    continue
+                f = 1.0 / det
+                sv = p - a0
+                u = f * np.dot(sv, h)
+                if u < -1e-12 or u > 1.0 + 1e-12:
+                    continue
+                qv = np.cross(sv, e1)
+                v = f * np.dot(n, qv)
+                if v < -1e-12 or u + v > 1.0 + 1e-12:
+                    continue
+                tt = f * np.dot(e2, qv)
+                if 1e-7 < tt < U:
+                    U = tt
         out[q] = U
 
 
 @njit(cache=True, parallel=True)
-def _medial(P, N, own, tri, tlo, thi, start, items, bi0, bj0, x0, y0, bs, nbx, nby, margin,
-            out):
+def _medial(P, N, own, tri, ix, margin, out):
     """Shorten each ``out[q]`` to where another triangle becomes nearer to
     ``P[q] + t N[q]`` than ``t`` (beyond it the point is no longer ``t`` from the design:
     concave corners, the far side of a slot). Triangles more than ``margin`` beside the
     ray are not looked at (a wall that far off bounds only uncut stock)."""
     m = P.shape[0]
     for q in prange(m):
+        buf = np.empty(64, np.int64)
+        ex = np.empty(3)
         p = P[q]
         n = N[q]
         U = out[q]
         if U <= 0.0:
             continue
-        ex = p + n * U
         w = min(U, margin)
-        qx0 = min(p[0], ex[0]) - w
-        qx1 = max(p[0], ex[0]) + w
-        qy0 = min(p[1], ex[1]) - w
-        qy1 = max(p[1], ex[1]) + w
-        qz0 = min(p[2], ex[2]) - w
-        qz1 = max(p[2], ex[2]) + w
-        ia, ib, ja, jb = bucket_range(x0, y0, bs, nbx, nby, qx0, qy0, qx1, qy1)
-        for bj in range(ja, jb + 1):
-            for bi in range(ia, ib + 1):
-                b = bj * nbx + bi
-                for k in range(start[b], start[b + 1]):
-                    t = items[k]
-                    if t == own[q] or not first_bucket(bi, bj, bi0[t], bj0[t], ia, ja):
-                        continue
-                    if (thi[t, 0] < qx0 or tlo[t, 0] > qx1 or thi[t, 1] < qy0
-                            or tlo[t, 1] > qy1 or thi[t, 2] < qz0 or tlo[t, 2] > qz1):
-                        continue
-                    # strictly nearer (a neighbour across a convex edge is exactly as
-                    # near as the design point: rounding must not cap the ray there)
-                    if _tri_dist2(p + n * U, tri[t, 0], tri[t, 1], tri[t, 2]) >= U * U * SLACK:
-                        continue
-                    lo = 0.0
-                    hi = U
-                    for _ in range(40):
-                        mid = 0.5 * (lo + hi)
-                        if (_tri_dist2(p + n * mid, tri[t, 0], tri[t, 1], tri[t, 2])
-                                < mid * mid * SLACK):
-                            hi = mid
-                        else:
-                            lo = mid
-                        if hi - lo < 1e-7:
-                            break
-                    U = lo
-
+        qx0, qy0, qz0, qx1, qy1, qz1 = _ray_box(p, n, U, ex)
+        nc, buf = box_candidates(ix, qx0 - w, qy0 - w, qz0 - w, qx1 + w, qy1 + w, qz1 + w, buf)
+        for k in range(nc):
+            t = buf[k]
+            if t == own[q]:
+                continue
+            # strictly nearer (a neighbour across a convex edge is exactly as
+            # near as the design point: rounding must not cap the ray there)
+            if _point_dist2(p, n, U, tri[t]) >= U * U * SLACK:
+                continue
+            lo = 0.0
+            hi = U
+            for _ in range(40):
+                mid = 0.5 * (lo + hi)
+                if _point_dist2(p, n, mid, tri[t]) < mid * mid * SLACK:
+                    hi = mid
+                else:
+                    lo = mid
+                if hi - lo < 1e-7:
+                    break
+            U = lo
         out[q] = U
 
 
@@ -235,145 +192,125 @@ def _xy_seg_dist2(ax, ay, bx, by, cx, cy, dx, dy):
 
 
 @njit(cache=True, parallel=True)
-def _left(P, N, U0, S, E, slot, kind, R, rc, k, zb, L, clo, chi, start, items, bi0, bj0,
-          x0, y0, bs, nbx, nby, tol, out, out_c):
+def _left(P, N, U0, S, E, slot, kind, R, rc, k, zb, L, cix, tol, out, out_c):
     m = P.shape[0]
+    clo = cix[0]
+    chi = cix[1]
     for q in prange(m):
+        buf = np.empty(256, np.int64)
         rr = np.empty(3)
         rh = np.empty(3)
         T = np.empty((3, 3))
         Q1 = np.empty((3, 3))
         Q2 = np.empty((3, 3))
         box = np.empty(4)
+        ex = np.empty(3)
         p = P[q]
         n = N[q]
         U = U0[q]
         who = -1
         if U > 0.0:
-            ex = p + n * U
-            qx0 = min(p[0], ex[0])
-            qx1 = max(p[0], ex[0])
-            qy0 = min(p[1], ex[1])
-            qy1 = max(p[1], ex[1])
-            qz0 = min(p[2], ex[2])
-            qz1 = max(p[2], ex[2])
-            ia, ib, ja, jb = bucket_range(x0, y0, bs, nbx, nby, qx0, qy0, qx1, qy1)
-            for bj in range(ja, jb + 1):
-                for bi in range(ia, ib + 1):
-                    b = bj * nbx + bi
-                    for it in range(start[b], start[b + 1]):
-                        c = items[it]
-                        if not first_bucket(bi, bj, bi0[c], bj0[c], ia, ja):
-                            continue
-                        if U <= 0.0:
+            qx0, qy0, qz0, qx1, qy1, qz1 = _ray_box(p, n, U, ex)
+            nc, buf = box_candidates(cix,
+                                     qx0, qy0, qz0, qx1, qy1, qz1, buf)
+            for it in range(nc):
+                c = buf[it]
+                if U <= 0.0:
+                    break
+                if (chi[c, 0] < qx0 or clo[c, 0] > qx1 or chi[c, 1] < qy0
+                        or clo[c, 1] > qy1 or chi[c, 2] < qz0 or clo[c, 2] > qz1):
+                    # (the box of the ray shortened so far)
+                    continue
+                s = slot[c]
+                # the tool's underside over the ray's box is above the ray
+                box[0] = qx0
+                box[1] = qy0
+                box[2] = qx1
+                box[3] = qy1
+                if qz1 < underside(S[c], E[c], kind[s, 0], R[s, 0], rc[s, 0], k[s, 0],
+                                   0.0, box, 0.0):
+                    continue
+                # the cutter lies within R of its axis: a chord whose XY path
+                # stays more than R from the ray's XY path cannot reach it
+                if _xy_seg_dist2(p[0], p[1], ex[0], ex[1], S[c, 0], S[c, 1],
+                                 E[c, 0], E[c, 1]) > R[s, 0] * R[s, 0]:
+                    continue
+                if kind[s, 0] == BALL:      # exact distances to the swept core
+                    Rb = R[s, 0]
+                    R2 = Rb * Rb
+                    fc = ball_core(S[c], E[c], Rb, L[s, 0], Q1, Q2)
+                    if core_segment_dist2(p[0], p[1], p[2], p[0] + n[0] * U,
+                                          p[1] + n[1] * U, p[2] + n[2] * U,
+                                          fc, Q1, Q2) > R2:
+                        continue
+                    who = c
+                    if core_segment_dist2(p[0], p[1], p[2], p[0], p[1], p[2],
+                                          fc, Q1, Q2) <= R2:
+                        U = 0.0
+                        break
+                    lo = 0.0
+                    hi = U
+                    # safe steps first (the distance to the core changes no
+                    # faster than t): a ray meeting the ball head-on ends in one
+                    t = 0.0
+                    for _ in range(8):
+                        dd = math.sqrt(core_point_dist2(p[0] + n[0] * t,
+                                                        p[1] + n[1] * t,
+                                                        p[2] + n[2] * t, fc, Q1,
+                                                        Q2)) - Rb
+                        if dd <= tol:
                             break
-                        if (chi[c, 0] < qx0 or clo[c, 0] > qx1 or chi[c, 1] < qy0
-                                or clo[c, 1] > qy1 or chi[c, 2] < qz0 or clo[c, 2] > qz1):
-                            continue
-                        s = slot[c]
-                        # the tool's underside over the ray's box is above the ray
-                        box[0] = qx0
-                        box[1] = qy0
-                        box[2] = qx1
-                        box[3] = qy1
-                        if qz1 < underside(S[c], E[c], kind[s, 0], R[s, 0], rc[s, 0], k[s, 0],
-                                           0.0, box, 0.0):
-                            continue
-                        # the cutter lies within R of its axis: a chord whose XY path
-                        # stays more than R from the ray's XY path cannot reach it
-                        if _xy_seg_dist2(p[0], p[1], ex[0], ex[1], S[c, 0], S[c, 1],
-                                         E[c, 0], E[c, 1]) > R[s, 0] * R[s, 0]:
-                            continue
-                        if kind[s, 0] == BALL:      # exact distances to the swept core
-                            Rb = R[s, 0]
-                            R2 = Rb * Rb
-                            fc = ball_core(S[c], E[c], Rb, L[s, 0], Q1, Q2)
-                            if core_segment_dist2(p[0], p[1], p[2], p[0] + n[0] * U,
-                                                  p[1] + n[1] * U, p[2] + n[2] * U,
-                                                  fc, Q1, Q2) > R2:
-                                continue
-                            who = c
-                            if core_segment_dist2(p[0], p[1], p[2], p[0], p[1], p[2],
-                                                  fc, Q1, Q2) <= R2:
-                                U = 0.0
-                                break
-                            lo = 0.0
-                            hi = U
-                            # safe steps first (the distance to the core changes no
-                            # faster than t): a ray meeting the ball head-on ends in one
-                            t = 0.0
-                            for _ in range(8):
-                                dd = math.sqrt(core_point_dist2(p[0] + n[0] * t,
-                                                                p[1] + n[1] * t,
-                                                                p[2] + n[2] * t, fc, Q1,
-                                                                Q2)) - Rb
-                                if dd <= tol:
-                                    break
-                                t += dd
-                                if t >= hi:
-                                    break
-                            if t < hi:
-                                lo = t
-                                mid = min(t + tol, hi)
-                                if core_segment_dist2(p[0], p[1], p[2], p[0] + n[0] * mid,
-                                                      p[1] + n[1] * mid, p[2] + n[2] * mid,
-                                                      fc, Q1, Q2) <= R2:
-                                    hi = mid
-                            while hi - lo > tol:
-                                mid = 0.5 * (lo + hi)
-                                if core_segment_dist2(p[0], p[1], p[2], p[0] + n[0] * mid,
-                                                      p[1] + n[1] * mid, p[2] + n[2] * mid,
-                                                      fc, Q1, Q2) <= R2:
-                                    hi = mid
-                                else:
-                                    lo = mid
-                            U = hi
-                            for a in range(3):          # the shorter ray: a smaller box
-                                ex[a] = p[a] + n[a] * U
-                            qx0 = min(p[0], ex[0])
-                            qx1 = max(p[0], ex[0])
-                            qy0 = min(p[1], ex[1])
-                            qy1 = max(p[1], ex[1])
-                            qz0 = min(p[2], ex[2])
-                            qz1 = max(p[2], ex[2])
-                            continue
-                        nr, rho = shape_rings(kind[s, 0], R[s, 0], rc[s, 0], k[s, 0], 0.0,
-                                              L[s, 0], 0.0, rr, rh)
-                        if nr == 0:
-                            continue
-                        for a in range(3):
-                            T[0, a] = p[a]
-                            T[1, a] = p[a] + n[a] * U
-                            T[2, a] = T[1, a]
-                        if not meets(T, S[c], E[c], nr, rr, rh, rho, 0.0):
-                            continue
-                        for a in range(3):
-                            T[1, a] = p[a]
-                            T[2, a] = p[a]
-                        who = c
-                        if meets(T, S[c], E[c], nr, rr, rh, rho, 0.0):
-                            U = 0.0
+                        t += dd
+                        if t >= hi:
                             break
-                        lo = 0.0
-                        hi = U
-                        while hi - lo > tol:
-                            mid = 0.5 * (lo + hi)
-                            for a in range(3):
-                                T[1, a] = p[a] + n[a] * mid
-                                T[2, a] = T[1, a]
-                            if meets(T, S[c], E[c], nr, rr, rh, rho, 0.0):
-                                hi = mid
-                            else:
-                                lo = mid
-                        U = hi
-                        for a in range(3):          # the shorter ray: a smaller box
-                            ex[a] = p[a] + n[a] * U
-                        qx0 = min(p[0], ex[0])
-                        qx1 = max(p[0], ex[0])
-                        qy0 = min(p[1], ex[1])
-                        qy1 = max(p[1], ex[1])
-                        qz0 = min(p[2], ex[2])
-                        qz1 = max(p[2], ex[2])
+                    if t < hi:
+                        lo = t
+                        mid = min(t + tol, hi)
+                        if core_segment_dist2(p[0], p[1], p[2], p[0] + n[0] * mid,
+                                              p[1] + n[1] * mid, p[2] + n[2] * mid,
+                                              fc, Q1, Q2) <= R2:
+                            hi = mid
+                    while hi - lo > tol:
+                        mid = 0.5 * (lo + hi)
+                        if core_segment_dist2(p[0], p[1], p[2], p[0] + n[0] * mid,
+                                              p[1] + n[1] * mid, p[2] + n[2] * mid,
+                                              fc, Q1, Q2) <= R2:
+                            hi = mid
+                        else:
+                            lo = mid
+                    U = hi
+                    qx0, qy0, qz0, qx1, qy1, qz1 = _ray_box(p, n, U, ex)     # shorter: smaller
+                    continue
+                nr, rho = shape_rings(kind[s, 0], R[s, 0], rc[s, 0], k[s, 0], 0.0,
+                                      L[s, 0], 0.0, rr, rh)
+                if nr == 0:
+                    continue
+                for a in range(3):
+                    T[0, a] = p[a]
+                    T[1, a] = p[a] + n[a] * U
+                    T[2, a] = T[1, a]
+                if not meets(T, S[c], E[c], nr, rr, rh, rho, 0.0):
+                    continue
+                for a in range(3):
+                    T[1, a] = p[a]
+                    T[2, a] = p[a]
+                who = c
+                if meets(T, S[c], E[c], nr, rr, rh, rho, 0.0):
+                    U = 0.0
+                    break
+                lo = 0.0
+                hi = U
+                while hi - lo > tol:
+                    mid = 0.5 * (lo + hi)
+                    for a in range(3):
+                        T[1, a] = p[a] + n[a] * mid
+                        T[2, a] = T[1, a]
+                    if meets(T, S[c], E[c], nr, rr, rh, rho, 0.0):
+                        hi = mid
+                    else:
+                        lo = mid
+                U = hi
+                qx0, qy0, qz0, qx1, qy1, qz1 = _ray_box(p, n, U, ex)     # shorter: smaller
         out[q] = U
         out_c[q] = who
 
@@ -387,7 +324,7 @@ def ray_caps(points, normals, owner, stock_box, triangles, tri_index: BoxIndex,
     if m:
         _caps(np.ascontiguousarray(points, float), np.ascontiguousarray(normals, float),
               np.ascontiguousarray(owner, np.int64), np.asarray(stock_box[:3], float),
-              np.asarray(stock_box[3:], float), triangles, *tri_index.arrays(),
+              np.asarray(stock_box[3:], float), triangles, tri_index.arrays(),
               float(reach), U0)
     return U0
 
@@ -417,8 +354,7 @@ def shorten_rays(points, normals, lengths, S, E, slot, shapes, cidx: BoxIndex,
     _left(np.ascontiguousarray(points, float), np.ascontiguousarray(normals, float),
           np.ascontiguousarray(lengths, float), np.ascontiguousarray(S, float),
           np.ascontiguousarray(E, float), np.ascontiguousarray(slot, np.int64),
-          *shapes.arrays()[:6], cidx.lo, cidx.hi, cidx.start, cidx.items, cidx.bi0,
-          cidx.bj0, cidx.x0, cidx.y0, cidx.bs, cidx.nbx, cidx.nby, accuracy / 20.0, out, who)
+          *shapes.arrays()[:6], cidx.arrays(), accuracy / 20.0, out, who)
     return out, who
 
 
@@ -429,6 +365,6 @@ def medial_cap(points, normals, owner, triangles, tri_index: BoxIndex, margin: f
     out = np.array(lengths, float)
     if len(out):
         _medial(np.ascontiguousarray(points, float), np.ascontiguousarray(normals, float),
-                np.ascontiguousarray(owner, np.int64), triangles, *tri_index.arrays(),
+                np.ascontiguousarray(owner, np.int64), triangles, tri_index.arrays(),
                 margin, out)
     return out
