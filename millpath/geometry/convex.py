@@ -175,7 +175,9 @@ def _face(s, p, q, a, nrm, sign, d):
 @njit(cache=True, error_model="numpy")
 def meets(T, P0, P1, nr, rr, rh, rho, tol):
     """True when triangle ``T`` (3, 3) meets the swept solid (rings, rho along
-    P0 -> P1) or comes within ``tol`` of it (GJK on the Minkowski difference)."""
+    P0 -> P1) or comes within ``tol`` of it (GJK on the Minkowski difference; within
+    ``tol`` of the solid is in the solid grown by a ball of radius ``tol``)."""
+    rho = rho + tol
     s = np.empty((4, 3))           # simplex, newest last
     ns = 0
     pa = np.empty(3)
@@ -196,9 +198,9 @@ def meets(T, P0, P1, nr, rr, rh, rho, tol):
         for i in range(3):
             w[i] = pa[i] - pb[i]
         dn = math.sqrt(_dot(d, d))
-        if ns > 0 and _dot(w, d) < tol * dn:
-            return False               # a separating plane: no point within tol
-        if ns == 0 and _dot(w, d) < tol * dn and it > 0:
+        if ns > 0 and _dot(w, d) < 0.0:
+            return False               # a separating plane
+        if ns == 0 and _dot(w, d) < 0.0 and it > 0:
             return False
         s[ns, 0] = w[0]
         s[ns, 1] = w[1]

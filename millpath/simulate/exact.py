@@ -21,10 +21,12 @@ from millpath.geometry.index import BoxIndex
 from millpath.model.motion import Motion
 from millpath.model.stock import Stock
 from millpath.model.tool import Tool
-from millpath.simulate.gouge import ToolShapes, gouge_chords, locate, near_chords
+from millpath.simulate.gouge import (GougeResult, ToolShapes, gouge_chords, locate,
+                                     near_chords)
 from millpath.simulate.leftover import (chord_index, medial_cap, ray_caps, sample_triangles,
                                         shorten_rays)
-from millpath.simulate.path import is_curve, motion_segments
+from millpath.simulate.groups import chord_groups
+from millpath.simulate.path import motion_segments
 
 
 @dataclass
@@ -96,7 +98,7 @@ class ExactResult:
 
 
 MOTION_BLOCK = 100_000      # motions turned into chords at a time (bounds memory)
-COARSE = 20.0               # coarse chords of curves: within COARSE * accuracy
+GROUP_DEV = 10.0            # runs of chords checked first as one within GROUP_DEV * accuracy
 
 
 @dataclass
@@ -112,12 +114,12 @@ class _Chords:
 
 
 def _chords(motions: list[Motion], first: int, mop: np.ndarray, lut: np.ndarray,
-            chord: float, numbers: np.ndarray | None = None) -> _Chords:
+            chord: float) -> _Chords:
     """Chords within ``chord`` of ``motions`` (tool 0 left out); their motion numbers
-    are ``first + k``, or ``numbers[k]``."""
+    are ``first + k``."""
     segs = motion_segments(motions, chord)
     keep = segs.tool != 0
-    mo = segs.motion[keep] + first if numbers is None else numbers[segs.motion[keep]]
+    mo = segs.motion[keep] + first
     return _Chords(np.ascontiguousarray(segs.start[keep], float),
                    np.ascontiguousarray(segs.end[keep], float), mo,
                    lut[segs.tool[keep]] if keep.any() else np.zeros(0, np.int64),
@@ -131,10 +133,6 @@ def _blocks(motions: list[Motion], mop: np.ndarray, lut: np.ndarray, chord: floa
     they shorten first are cheaper for all the others)."""
     for a in reversed(range(0, len(motions), block)):
         yield a, _chords(motions[a:a + block], a, mop, lut, chord)
-
-
-def _take(ch: _Chords, keep: np.ndarray) -> _Chords:
-    return _Chords(ch.S[keep], ch.E[keep], ch.motion[keep], ch.slot[keep], ch.op[keep])
 
 
 @dataclass
@@ -174,8 +172,9 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
         rmin = min((tools[t].radius for t in numbers), default=1.0)
         spacing = max(rmin / 4.0, accuracy * 10)
     chord = accuracy / 4.0
+    group_len = 2.0 * min((tools[t].radius for t in numbers), default=1.0)
     motion_g = np.zeros(nm)
-    best_g, g_at = 0.0, None
+    best_g, g_at, worst = 0.0, None, None
     refs = []
     for ref in references:
         tri = np.ascontiguousarray(ref.triangles, float)
@@ -194,29 +193,27 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
         states.append(_LeftState(pts, nrm, own, cap, near, near.copy(),
                                  np.full(len(pts), -1, np.int64)))
     nchords = 0
-    grow = COARSE * accuracy
-    for a, ch in _blocks(motions, mop, lut, chord, block):
+    dmax = GROUP_DEV * accuracy
+    for _, ch in _blocks(motions, mop, lut, chord, block):
         nchords += len(ch.S)
         if not len(ch.S):
             continue
         cidx = _last_first(ch, shapes)
-        # curves (arcs, helices, cubics): coarse chords within ``grow`` first; the fine
-        # chords of a curve are checked only where a coarse one comes within ``grow`` of
-        # the design
-        curve = np.array([a + i for i, m in enumerate(motions[a:a + block]) if is_curve(m)],
-                         np.int64)
-        coarse = (_chords([motions[i] for i in curve], 0, mop, lut, grow, curve)
-                  if len(curve) else None)
+        # runs of connected chords (the fine chords of a curve, a raster's short
+        # lines): their chords are checked only where the coarse chord of the run,
+        # grown by the run's deviation, may gouge (see millpath.simulate.groups)
+        grp = chord_groups(ch.S, ch.E, ch.slot, ch.op, dmax, group_len)
+        gslot = ch.slot[grp.start[:-1]]
+        gop = ch.op[grp.start[:-1]]
+        single = grp.count == 1
         for (ref, tri, idx), st in zip(refs, states):
-            sel = np.ones(len(ch.S), bool) if ref.ops is None else np.isin(ch.op, ref.ops)
-            if coarse is not None:
-                csel = (np.ones(len(coarse.S), bool) if ref.ops is None
-                        else np.isin(coarse.op, ref.ops))
-                cc = _take(coarse, csel)
-                near = near_chords(cc.S, cc.E, cc.slot, shapes, tri, idx, accuracy, grow)
-                skip = np.setdiff1d(curve, cc.motion[near])
-                sel &= ~np.isin(ch.motion, skip)
-            cs = np.flatnonzero(sel)
+            gsel = np.ones(len(gop), bool) if ref.ops is None else np.isin(gop, ref.ops)
+            flag = gsel & single
+            test = np.flatnonzero(gsel & ~single)
+            if len(test):
+                flag[test] = near_chords(grp.S[test], grp.E[test], gslot[test], shapes, tri,
+                                         idx, accuracy, grp.dev[test] + 1e-9)
+            cs = grp.chords(flag)
             if len(cs):
                 res = gouge_chords(ch.S[cs], ch.E[cs], ch.slot[cs], shapes, tri, idx,
                                    accuracy)
@@ -224,15 +221,22 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
                 np.maximum.at(motion_g, ch.motion[cs], g)
                 c = int(np.argmax(g))
                 if g[c] > best_g:
+                    # where: located once, for the worst chord of all (below)
                     best_g = float(g[c])
-                    _, X = locate(ch.S[cs], ch.E[cs], ch.slot[cs], shapes, tri, res, c,
-                                  accuracy)
-                    mo = motions[int(ch.motion[cs[c]])]
-                    g_at = {"x": float(X[0]), "y": float(X[1]), "z": float(X[2]),
-                            "line": int(mo.line), "operation": int(ch.op[cs[c]])}
+                    worst = (ch.S[cs[c]:cs[c] + 1].copy(), ch.E[cs[c]:cs[c] + 1].copy(),
+                             ch.slot[cs[c]:cs[c] + 1].copy(), tri,
+                             GougeResult(*(None if v is None else v[c:c + 1].copy()
+                                           for v in (res.gouge, res.triangle, res.shape,
+                                                     res.rim, res.point))),
+                             int(ch.motion[cs[c]]), int(ch.op[cs[c]]))
             # material left on this reference, by all cutting chords: the rays near
             # the design first
             _shorten(st, np.arange(len(st.pts)), ch, cidx, shapes, accuracy)
+    if worst is not None:
+        S, E, slot, tri, res, w, o = worst
+        _, X = locate(S, E, slot, shapes, tri, res, 0, accuracy)
+        g_at = {"x": float(X[0]), "y": float(X[1]), "z": float(X[2]),
+                "line": int(motions[w].line), "operation": o}
     # the full ray only where nothing cut within ``near``: a second pass over the chords
     far = [np.flatnonzero((st.out >= st.near) & (st.cap > st.near)) for st in states]
     for st, f in zip(states, far):

@@ -237,7 +237,7 @@ def _near_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, txy, ix, e0
                                   rr, rh)
             if nr == 0:
                 continue
-            g = grow
+            g = grow[c]
             qx0 = min(P0[0], P1[0]) - Rj - g
             qx1 = max(P0[0], P1[0]) + Rj + g
             qy0 = min(P0[1], P1[1]) - Rj - g
@@ -369,14 +369,16 @@ def locate(S, E, slot, shapes: ToolShapes, triangles, res: GougeResult, c: int,
 
 def near_chords(S: np.ndarray, E: np.ndarray, slot: np.ndarray, shapes: ToolShapes,
                 triangles: np.ndarray, index: BoxIndex, accuracy: float,
-                grow: float) -> np.ndarray:
+                grow) -> np.ndarray:
     """Chords that may gouge by ``accuracy / 2`` or more with the tool anywhere within
-    ``grow`` of them (a conservative test: a chord not flagged cannot; a curve cut into
-    chords within ``grow`` of it needs fine chords only where a chord is flagged)."""
+    ``grow`` (a number, or one per chord) of them (a conservative test: a chord not
+    flagged cannot; chords within ``grow`` of a flagged one need checking, see
+    :mod:`millpath.simulate.groups`)."""
     out = np.zeros(len(S), np.int8)
+    grow = np.ascontiguousarray(np.broadcast_to(np.asarray(grow, float), (len(S),)))
     if len(S) and len(triangles):
         _near_chords(np.ascontiguousarray(S, float), np.ascontiguousarray(E, float),
                      np.ascontiguousarray(slot, np.int64), *shapes.arrays(), triangles,
                      _normals(triangles), _xy_boxes(index), index.arrays(), accuracy / 2.0,
-                     float(grow), out)
+                     grow, out)
     return out.astype(bool)

@@ -43,3 +43,31 @@ def test_ball_depth_matches_gjk():
             n += 1
             assert abs(g - exact) < 1e-4      # GJK meets() stops within ~5e-5; accuracy is 1e-3
     assert n > 50
+
+
+def test_meets_within_tol_agrees_with_the_exact_ball_distance():
+    """meets(..., tol) is "within tol of the swept solid": for a swept ball that is
+    exactly "distance to the core <= radius + tol" (closed form of geometry.distance).
+    It once answered "no" for triangles within tol, and even for shallow cuts, which
+    let the coarse pre-test of the gouge check pass over gouging chords."""
+    from millpath.geometry.convex import meets, shape_rings
+    rng = np.random.default_rng(1516)
+    R, L, e0 = 3.0, 20.0, 0.0005
+    rr, rh = np.empty(3), np.empty(3)
+    Q1, Q2 = np.empty((3, 3)), np.empty((3, 3))
+    nr, rho = shape_rings(BALL, R, 0.0, 0.0, 0.0, L, e0, rr, rh)
+    checked = {True: 0, False: 0}
+    for _ in range(600):
+        P0 = rng.uniform(-2, 2, 3)
+        P1 = P0 + rng.uniform(-3, 3, 3) * (rng.random() > 0.2)
+        T = rng.uniform(-4, 4, (3, 3)) + np.array([0, 0, 1.0])
+        tol = float(rng.choice([0.0, 0.002, 0.02, 0.2]))
+        # C_e0 of a ball is its core (axis from R to L - e0) grown by R - e0
+        fc = ball_core(P0, P1, R, L - e0, Q1, Q2)
+        gap = np.sqrt(core_triangle_dist2(T, fc, Q1, Q2)) - (R - e0)
+        if abs(gap - tol) < 1e-6:
+            continue                        # on the boundary: either answer
+        want = gap <= tol
+        assert meets(T, P0, P1, nr, rr, rh, rho, tol) == want, (gap, tol)
+        checked[want] += 1
+    assert checked[True] > 50 and checked[False] > 50
