@@ -23,9 +23,9 @@ from millpath.model.stock import Stock
 from millpath.model.tool import Tool
 from millpath.simulate.gouge import (GougeResult, ToolShapes, gouge_chords, locate,
                                      near_chords)
-from millpath.simulate.leftover import (chord_index, medial_cap, ray_caps, sample_triangles,
-                                        shorten_rays)
-from millpath.simulate.groups import chord_groups
+from millpath.simulate.leftover import (SweptChords, medial_cap, ray_caps, sample_triangles,
+                                        shorten_rays, swept_chords)
+from millpath.simulate.groups import ChordGroups, chord_groups
 from millpath.simulate.path import motion_segments
 
 
@@ -198,11 +198,11 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
         nchords += len(ch.S)
         if not len(ch.S):
             continue
-        cidx = _last_first(ch, shapes)
         # runs of connected chords (the fine chords of a curve, a raster's short
         # lines): their chords are checked only where the coarse chord of the run,
-        # grown by the run's deviation, may gouge (see millpath.simulate.groups)
+        # grown by the run's deviation, may gouge or cut a ray (millpath.simulate.groups)
         grp = chord_groups(ch.S, ch.E, ch.slot, ch.op, dmax, group_len)
+        cidx = _last_first(ch, grp, shapes)
         gslot = ch.slot[grp.start[:-1]]
         gop = ch.op[grp.start[:-1]]
         single = grp.count == 1
@@ -245,7 +245,8 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
         for _, ch in _blocks(motions, mop, lut, chord, block):
             if not len(ch.S):
                 continue
-            cidx = _last_first(ch, shapes)
+            cidx = _last_first(ch, chord_groups(ch.S, ch.E, ch.slot, ch.op, dmax, group_len),
+                               shapes)
             for st, f in zip(states, far):
                 if len(f):
                     _shorten(st, f, ch, cidx, shapes, accuracy)
@@ -278,21 +279,18 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
                        nchords)
 
 
-def _last_first(ch: _Chords, shapes: ToolShapes):
-    """The chords in reverse order (material-left rays meet the later, finishing
-    chords first) and their bucket index."""
-    S = np.ascontiguousarray(ch.S[::-1])
-    E = np.ascontiguousarray(ch.E[::-1])
-    slot = np.ascontiguousarray(ch.slot[::-1])
-    return S, E, slot, chord_index(S, E, slot, shapes)
+def _last_first(ch: _Chords, grp: ChordGroups, shapes: ToolShapes) -> SweptChords:
+    """The chords and their groups in reverse order (material-left rays meet the
+    later, finishing chords first)."""
+    n = len(ch.S)
+    return swept_chords(ch.S[::-1], ch.E[::-1], ch.slot[::-1], shapes, n - grp.start[::-1],
+                        grp.S[::-1], grp.E[::-1], grp.dev[::-1] + 1e-9)
 
 
-def _shorten(st: _LeftState, rows: np.ndarray, ch: _Chords, cidx,
+def _shorten(st: _LeftState, rows: np.ndarray, ch: _Chords, sw: SweptChords,
              shapes: ToolShapes, accuracy: float) -> None:
     """Shorten the material-left rays ``rows`` of ``st`` by the chords ``ch``."""
-    S, E, slot, index = cidx
-    out, who = shorten_rays(st.pts[rows], st.nrm[rows], st.out[rows], S, E, slot, shapes,
-                            index, accuracy)
+    out, who = shorten_rays(st.pts[rows], st.nrm[rows], st.out[rows], sw, shapes, accuracy)
     # (the chords were given last first, see ``_last_first``)
     who = np.where(who >= 0, len(ch.S) - 1 - who, -1)
     hit = who >= 0

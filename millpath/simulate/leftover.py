@@ -12,6 +12,7 @@ is interpolated by the sampling (``spacing``, reported). Program units.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 from numba import njit, prange
@@ -192,10 +193,13 @@ def _xy_seg_dist2(ax, ay, bx, by, cx, cy, dx, dy):
 
 
 @njit(cache=True, parallel=True)
-def _left(P, N, U0, S, E, slot, kind, R, rc, k, zb, L, cix, tol, out, out_c):
+def _left(P, N, U0, S, E, slot, clo, chi, gstart, gS, gE, gdev, kind, R, rc, k, zb, L, gix,
+          tol, out, out_c):
+    """See :func:`shorten_rays`: the chords in groups (``gstart``), each group looked
+    at whole first (its coarse chord ``gS -> gE`` grown by ``gdev``)."""
     m = P.shape[0]
-    clo = cix[0]
-    chi = cix[1]
+    glo = gix[0]
+    ghi = gix[1]
     for q in prange(m):
         buf = np.empty(256, np.int64)
         rr = np.empty(3)
@@ -211,106 +215,135 @@ def _left(P, N, U0, S, E, slot, kind, R, rc, k, zb, L, cix, tol, out, out_c):
         who = -1
         if U > 0.0:
             qx0, qy0, qz0, qx1, qy1, qz1 = _ray_box(p, n, U, ex)
-            nc, buf = box_candidates(cix,
-                                     qx0, qy0, qz0, qx1, qy1, qz1, buf)
+            nc, buf = box_candidates(gix, qx0, qy0, qz0, qx1, qy1, qz1, buf)
             for it in range(nc):
-                c = buf[it]
+                gi = buf[it]
                 if U <= 0.0:
                     break
-                if (chi[c, 0] < qx0 or clo[c, 0] > qx1 or chi[c, 1] < qy0
-                        or clo[c, 1] > qy1 or chi[c, 2] < qz0 or clo[c, 2] > qz1):
-                    # (the box of the ray shortened so far)
+                if (ghi[gi, 0] < qx0 or glo[gi, 0] > qx1 or ghi[gi, 1] < qy0
+                        or glo[gi, 1] > qy1 or ghi[gi, 2] < qz0 or glo[gi, 2] > qz1):
                     continue
-                s = slot[c]
-                # the tool's underside over the ray's box is above the ray
-                box[0] = qx0
-                box[1] = qy0
-                box[2] = qx1
-                box[3] = qy1
-                if qz1 < underside(S[c], E[c], kind[s, 0], R[s, 0], rc[s, 0], k[s, 0],
-                                   0.0, box, 0.0):
-                    continue
-                # the cutter lies within R of its axis: a chord whose XY path
-                # stays more than R from the ray's XY path cannot reach it
-                if _xy_seg_dist2(p[0], p[1], ex[0], ex[1], S[c, 0], S[c, 1],
-                                 E[c, 0], E[c, 1]) > R[s, 0] * R[s, 0]:
-                    continue
-                if kind[s, 0] == BALL:      # exact distances to the swept core
-                    Rb = R[s, 0]
-                    R2 = Rb * Rb
-                    fc = ball_core(S[c], E[c], Rb, L[s, 0], Q1, Q2)
-                    if core_segment_dist2(p[0], p[1], p[2], p[0] + n[0] * U,
-                                          p[1] + n[1] * U, p[2] + n[2] * U,
-                                          fc, Q1, Q2) > R2:
+                s = slot[gstart[gi]]
+                dv = gdev[gi]
+                if gstart[gi + 1] - gstart[gi] > 1:
+                    # the whole run: within its deviation of the coarse chord's sweep
+                    Rg = R[s, 0] + dv
+                    if _xy_seg_dist2(p[0], p[1], ex[0], ex[1], gS[gi, 0], gS[gi, 1],
+                                     gE[gi, 0], gE[gi, 1]) > Rg * Rg:
                         continue
+                    if kind[s, 0] == BALL:
+                        fc = ball_core(gS[gi], gE[gi], R[s, 0], L[s, 0], Q1, Q2)
+                        if core_segment_dist2(p[0], p[1], p[2], ex[0], ex[1], ex[2], fc,
+                                              Q1, Q2) > Rg * Rg:
+                            continue
+                    else:
+                        nr, rho = shape_rings(kind[s, 0], R[s, 0], rc[s, 0], k[s, 0], 0.0,
+                                              L[s, 0], 0.0, rr, rh)
+                        if nr == 0:
+                            continue
+                        for a in range(3):
+                            T[0, a] = p[a]
+                            T[1, a] = ex[a]
+                            T[2, a] = ex[a]
+                        if not meets(T, gS[gi], gE[gi], nr, rr, rh, rho, dv):
+                            continue
+                for c in range(gstart[gi], gstart[gi + 1]):
+                    if U <= 0.0:
+                        break
+                    if (chi[c, 0] < qx0 or clo[c, 0] > qx1 or chi[c, 1] < qy0
+                            or clo[c, 1] > qy1 or chi[c, 2] < qz0 or clo[c, 2] > qz1):
+                        # (the box of the ray shortened so far)
+                        continue
+                    s = slot[c]
+                    # the tool's underside over the ray's box is above the ray
+                    box[0] = qx0
+                    box[1] = qy0
+                    box[2] = qx1
+                    box[3] = qy1
+                    if qz1 < underside(S[c], E[c], kind[s, 0], R[s, 0], rc[s, 0], k[s, 0],
+                                       0.0, box, 0.0):
+                        continue
+                    # the cutter lies within R of its axis: a chord whose XY path
+                    # stays more than R from the ray's XY path cannot reach it
+                    if _xy_seg_dist2(p[0], p[1], ex[0], ex[1], S[c, 0], S[c, 1],
+                                     E[c, 0], E[c, 1]) > R[s, 0] * R[s, 0]:
+                        continue
+                    if kind[s, 0] == BALL:      # exact distances to the swept core
+                        Rb = R[s, 0]
+                        R2 = Rb * Rb
+                        fc = ball_core(S[c], E[c], Rb, L[s, 0], Q1, Q2)
+                        if core_segment_dist2(p[0], p[1], p[2], p[0] + n[0] * U,
+                                              p[1] + n[1] * U, p[2] + n[2] * U,
+                                              fc, Q1, Q2) > R2:
+                            continue
+                        who = c
+                        if core_segment_dist2(p[0], p[1], p[2], p[0], p[1], p[2],
+                                              fc, Q1, Q2) <= R2:
+                            U = 0.0
+                            break
+                        lo = 0.0
+                        hi = U
+                        # safe steps first (the distance to the core changes no
+                        # faster than t): a ray meeting the ball head-on ends in one
+                        t = 0.0
+                        for _ in range(8):
+                            dd = math.sqrt(core_point_dist2(p[0] + n[0] * t,
+                                                            p[1] + n[1] * t,
+                                                            p[2] + n[2] * t, fc, Q1,
+                                                            Q2)) - Rb
+                            if dd <= tol:
+                                break
+                            t += dd
+                            if t >= hi:
+                                break
+                        if t < hi:
+                            lo = t
+                            mid = min(t + tol, hi)
+                            if core_segment_dist2(p[0], p[1], p[2], p[0] + n[0] * mid,
+                                                  p[1] + n[1] * mid, p[2] + n[2] * mid,
+                                                  fc, Q1, Q2) <= R2:
+                                hi = mid
+                        while hi - lo > tol:
+                            mid = 0.5 * (lo + hi)
+                            if core_segment_dist2(p[0], p[1], p[2], p[0] + n[0] * mid,
+                                                  p[1] + n[1] * mid, p[2] + n[2] * mid,
+                                                  fc, Q1, Q2) <= R2:
+                                hi = mid
+                            else:
+                                lo = mid
+                        U = hi
+                        qx0, qy0, qz0, qx1, qy1, qz1 = _ray_box(p, n, U, ex)     # shorter: smaller
+                        continue
+                    nr, rho = shape_rings(kind[s, 0], R[s, 0], rc[s, 0], k[s, 0], 0.0,
+                                          L[s, 0], 0.0, rr, rh)
+                    if nr == 0:
+                        continue
+                    for a in range(3):
+                        T[0, a] = p[a]
+                        T[1, a] = p[a] + n[a] * U
+                        T[2, a] = T[1, a]
+                    if not meets(T, S[c], E[c], nr, rr, rh, rho, 0.0):
+                        continue
+                    for a in range(3):
+                        T[1, a] = p[a]
+                        T[2, a] = p[a]
                     who = c
-                    if core_segment_dist2(p[0], p[1], p[2], p[0], p[1], p[2],
-                                          fc, Q1, Q2) <= R2:
+                    if meets(T, S[c], E[c], nr, rr, rh, rho, 0.0):
                         U = 0.0
                         break
                     lo = 0.0
                     hi = U
-                    # safe steps first (the distance to the core changes no
-                    # faster than t): a ray meeting the ball head-on ends in one
-                    t = 0.0
-                    for _ in range(8):
-                        dd = math.sqrt(core_point_dist2(p[0] + n[0] * t,
-                                                        p[1] + n[1] * t,
-                                                        p[2] + n[2] * t, fc, Q1,
-                                                        Q2)) - Rb
-                        if dd <= tol:
-                            break
-                        t += dd
-                        if t >= hi:
-                            break
-                    if t < hi:
-                        lo = t
-                        mid = min(t + tol, hi)
-                        if core_segment_dist2(p[0], p[1], p[2], p[0] + n[0] * mid,
-                                              p[1] + n[1] * mid, p[2] + n[2] * mid,
-                                              fc, Q1, Q2) <= R2:
-                            hi = mid
                     while hi - lo > tol:
                         mid = 0.5 * (lo + hi)
-                        if core_segment_dist2(p[0], p[1], p[2], p[0] + n[0] * mid,
-                                              p[1] + n[1] * mid, p[2] + n[2] * mid,
-                                              fc, Q1, Q2) <= R2:
+                        for a in range(3):
+                            T[1, a] = p[a] + n[a] * mid
+                            T[2, a] = T[1, a]
+                        if meets(T, S[c], E[c], nr, rr, rh, rho, 0.0):
                             hi = mid
                         else:
                             lo = mid
                     U = hi
                     qx0, qy0, qz0, qx1, qy1, qz1 = _ray_box(p, n, U, ex)     # shorter: smaller
-                    continue
-                nr, rho = shape_rings(kind[s, 0], R[s, 0], rc[s, 0], k[s, 0], 0.0,
-                                      L[s, 0], 0.0, rr, rh)
-                if nr == 0:
-                    continue
-                for a in range(3):
-                    T[0, a] = p[a]
-                    T[1, a] = p[a] + n[a] * U
-                    T[2, a] = T[1, a]
-                if not meets(T, S[c], E[c], nr, rr, rh, rho, 0.0):
-                    continue
-                for a in range(3):
-                    T[1, a] = p[a]
-                    T[2, a] = p[a]
-                who = c
-                if meets(T, S[c], E[c], nr, rr, rh, rho, 0.0):
-                    U = 0.0
-                    break
-                lo = 0.0
-                hi = U
-                while hi - lo > tol:
-                    mid = 0.5 * (lo + hi)
-                    for a in range(3):
-                        T[1, a] = p[a] + n[a] * mid
-                        T[2, a] = T[1, a]
-                    if meets(T, S[c], E[c], nr, rr, rh, rho, 0.0):
-                        hi = mid
-                    else:
-                        lo = mid
-                U = hi
-                qx0, qy0, qz0, qx1, qy1, qz1 = _ray_box(p, n, U, ex)     # shorter: smaller
         out[q] = U
         out_c[q] = who
 
@@ -329,8 +362,31 @@ def ray_caps(points, normals, owner, stock_box, triangles, tri_index: BoxIndex,
     return U0
 
 
-def chord_index(S, E, slot, shapes) -> BoxIndex:
-    """Bucket index over the boxes of the cutters swept along chords S -> E."""
+@dataclass
+class SweptChords:
+    """Chords of the material-left pass, in the order rays meet them, in groups of
+    consecutive chords (``start``, coarse chords ``gS -> gE`` within ``dev`` of every
+    chord of the group, see :mod:`millpath.simulate.groups`) and a bucket index over
+    the groups' boxes."""
+
+    S: np.ndarray
+    E: np.ndarray
+    slot: np.ndarray
+    clo: np.ndarray          # (n, 3) box of the cutter swept along each chord
+    chi: np.ndarray
+    start: np.ndarray
+    gS: np.ndarray
+    gE: np.ndarray
+    dev: np.ndarray
+    index: BoxIndex
+
+
+def swept_chords(S, E, slot, shapes, start=None, gS=None, gE=None, dev=None) -> SweptChords:
+    """:class:`SweptChords` of chords S -> E (tool slots ``slot``); without groups each
+    chord is its own."""
+    S = np.ascontiguousarray(S, float)
+    E = np.ascontiguousarray(E, float)
+    slot = np.ascontiguousarray(slot, np.int64)
     Rc = shapes.R[slot, 0]
     Lc = shapes.L[slot, 0]
     clo = np.minimum(S, E)
@@ -338,23 +394,31 @@ def chord_index(S, E, slot, shapes) -> BoxIndex:
     clo[:, :2] -= Rc[:, None]
     chi[:, :2] += Rc[:, None]
     chi[:, 2] += Lc
-    return BoxIndex.build(clo, chi)
+    if start is None:
+        start = np.arange(len(S) + 1, dtype=np.int64)
+        gS, gE, dev = S, E, np.zeros(len(S))
+    first = start[:-1]
+    glo = np.minimum.reduceat(clo, first, axis=0) if len(first) else clo
+    ghi = np.maximum.reduceat(chi, first, axis=0) if len(first) else chi
+    return SweptChords(S, E, slot, clo, chi, np.ascontiguousarray(start, np.int64),
+                       np.ascontiguousarray(gS, float), np.ascontiguousarray(gE, float),
+                       np.ascontiguousarray(dev, float), BoxIndex.build(glo, ghi))
 
 
-def shorten_rays(points, normals, lengths, S, E, slot, shapes, cidx: BoxIndex,
+def shorten_rays(points, normals, lengths, sw: SweptChords, shapes,
                  accuracy: float) -> tuple[np.ndarray, np.ndarray]:
     """Each ray ``points + t normals`` (``0 <= t <= lengths``) cut back to where it first
-    enters a cutter swept along a chord (to ``accuracy / 20``), and that chord (-1:
-    none)."""
+    enters a cutter swept along a chord of ``sw`` (to ``accuracy / 20``), and that
+    chord (-1: none)."""
     m = len(points)
     out = np.zeros(m)
     who = np.full(m, -1, np.int64)
-    if m == 0 or len(S) == 0:
+    if m == 0 or len(sw.S) == 0:
         return np.asarray(lengths, float).copy(), who
     _left(np.ascontiguousarray(points, float), np.ascontiguousarray(normals, float),
-          np.ascontiguousarray(lengths, float), np.ascontiguousarray(S, float),
-          np.ascontiguousarray(E, float), np.ascontiguousarray(slot, np.int64),
-          *shapes.arrays()[:6], cidx.arrays(), accuracy / 20.0, out, who)
+          np.ascontiguousarray(lengths, float), sw.S, sw.E, sw.slot, sw.clo, sw.chi,
+          sw.start, sw.gS, sw.gE, sw.dev, *shapes.arrays()[:6], sw.index.arrays(),
+          accuracy / 20.0, out, who)
     return out, who
 
 
