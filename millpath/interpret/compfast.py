@@ -213,7 +213,10 @@ def comp_run(m, lines: list[str], k: int, end_k: int, first, second, base: int) 
             if set_end:
                 e0, e1 = ne0, ne1
                 evalid = True
-            qline, qstate, qz, qfeed = n, state, ez, mfeed
+            qline = n
+            qstate = state
+            qz = ez
+            qfeed = mfeed
             qx, qy = nx, ny
             if code <= 10:
                 qt = STRAIGHT
