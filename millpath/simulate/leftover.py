@@ -216,24 +216,9 @@ def _left(P, N, U0, S, E, slot, clo, chi, gstart, gS, gE, gdev, kind, R, rc, k, 
         if U > 0.0:
             qx0, qy0, qz0, qx1, qy1, qz1 = _ray_box(p, n, U, ex)
             nc, buf = box_candidates(gix, qx0, qy0, qz0, qx1, qy1, qz1, buf)
-            # nearest runs first: a ray enters a ball cutter's sweep no nearer than
-            # its start's distance to the swept core less the radius (and the run's
-            # deviation), so once that bound passes the ray's length, nothing more
-            # can shorten it
-            lb = np.empty(nc)
             for it in range(nc):
                 gi = buf[it]
-                s = slot[gstart[gi]]
-                lb[it] = -1.0
-                if kind[s, 0] == BALL:
-                    fc = ball_core(gS[gi], gE[gi], R[s, 0], L[s, 0], Q1, Q2)
-                    lb[it] = (math.sqrt(core_point_dist2(p[0], p[1], p[2], fc, Q1, Q2))
-                              - R[s, 0] - gdev[gi])
-            order = np.argsort(lb)
-            for o in range(nc):
-                it = order[o]
-                gi = buf[it]
-                if U <= 0.0 or lb[it] >= U:
+                if U <= 0.0:
                     break
                 if (ghi[gi, 0] < qx0 or glo[gi, 0] > qx1 or ghi[gi, 1] < qy0
                         or glo[gi, 1] > qy1 or ghi[gi, 2] < qz0 or glo[gi, 2] > qz1):
