@@ -187,6 +187,17 @@ def _medial(P, N, own, tri, ix, margin, out):
 
 
 @njit(cache=True, inline="always")
+def _cutter_and_ray(kind, R, rc, k, L, p, ex, rr, rh, T):
+    """The cutter's rings (``rr``/``rh``; returns (count, rho), see ``shape_rings``) and
+    the ray p -> ex as a degenerate triangle in ``T``, for ``meets``."""
+    for a in range(3):
+        T[0, a] = p[a]
+        T[1, a] = ex[a]
+        T[2, a] = ex[a]
+    return shape_rings(kind, R, rc, k, 0.0, L, 0.0, rr, rh)
+
+
+@njit(cache=True, inline="always")
 def _xy_seg_dist2(ax, ay, bx, by, cx, cy, dx, dy):
     """Squared distance between 2D segments a-b and c-d."""
     return segment_segment_dist2(ax, ay, 0.0, bx, by, 0.0, cx, cy, 0.0, dx, dy, 0.0)
@@ -237,14 +248,10 @@ def _left(P, N, U0, S, E, slot, clo, chi, gstart, gS, gE, gdev, kind, R, rc, k, 
                                               Q1, Q2) > Rg * Rg:
                             continue
                     else:
-                        nr, rho = shape_rings(kind[s, 0], R[s, 0], rc[s, 0], k[s, 0], 0.0,
-                                              L[s, 0], 0.0, rr, rh)
+                        nr, rho = _cutter_and_ray(kind[s, 0], R[s, 0], rc[s, 0], k[s, 0],
+                                                  L[s, 0], p, ex, rr, rh, T)
                         if nr == 0:
                             continue
-                        for a in range(3):
-                            T[0, a] = p[a]
-                            T[1, a] = ex[a]
-                            T[2, a] = ex[a]
                         if not meets(T, gS[gi], gE[gi], nr, rr, rh, rho, dv):
                             continue
                 for c in range(gstart[gi], gstart[gi + 1]):
@@ -314,14 +321,10 @@ def _left(P, N, U0, S, E, slot, clo, chi, gstart, gS, gE, gdev, kind, R, rc, k, 
                         U = hi
                         qx0, qy0, qz0, qx1, qy1, qz1 = _ray_box(p, n, U, ex)     # shorter: smaller
                         continue
-                    nr, rho = shape_rings(kind[s, 0], R[s, 0], rc[s, 0], k[s, 0], 0.0,
-                                          L[s, 0], 0.0, rr, rh)
+                    nr, rho = _cutter_and_ray(kind[s, 0], R[s, 0], rc[s, 0], k[s, 0], L[s, 0],
+                                              p, ex, rr, rh, T)
                     if nr == 0:
                         continue
-                    for a in range(3):
-                        T[0, a] = p[a]
-                        T[1, a] = p[a] + n[a] * U
-                        T[2, a] = T[1, a]
                     if not meets(T, S[c], E[c], nr, rr, rh, rho, 0.0):
                         continue
                     for a in range(3):
