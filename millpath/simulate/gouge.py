@@ -26,6 +26,7 @@ from millpath.geometry.convex import (BALL, BULL, CYL, DRILL, FLAT, depth, meets
 from millpath.geometry.distance import (ball_core, core_point_dist2, core_triangle_dist2,
                                         point_triangle_dist2)
 from millpath.geometry.index import BoxIndex, bucket_range, first_bucket
+from millpath.geometry.inside import in_material_behind
 from millpath.model.tool import Tool
 
 KIND = {"flat": FLAT, "ball": BALL, "bull": BULL, "drill": DRILL}
@@ -214,7 +215,11 @@ def _gouge_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, tc, tr, bz
                             if dp > lo and dp > best:
                                 for a in range(3):
                                     qp[a] = sp[a] + dp * tn[t, a]
-                                if in_triangle(tri[t], qp):
+                                # and that point in the material (not outside,
+                                # behind another face)
+                                if in_triangle(tri[t], qp) and in_material_behind(
+                                        sp, tn[t], dp, t, tri, tlo, thi, start, items, bi0,
+                                        bj0, x0, y0, bs, nbx, nby):
                                     ds = math.sqrt(surface_dist2(sp, dp, tri, tlo, thi, start,
                                                                  items, bi0, bj0, x0, y0, bs,
                                                                  nbx, nby))
