@@ -26,7 +26,7 @@ from millpath.geometry.convex import (BALL, BULL, CYL, DRILL, FLAT, depth, meets
 from millpath.geometry.distance import (ball_core, core_point_dist2, core_triangle_dist2,
                                         point_triangle_dist2)
 from millpath.geometry.index import BoxIndex, bucket_range, first_bucket
-from millpath.geometry.inside import in_material_behind
+from millpath.geometry.inside import in_material
 from millpath.model.tool import Tool
 
 KIND = {"flat": FLAT, "ball": BALL, "bull": BULL, "drill": DRILL}
@@ -216,10 +216,9 @@ def _gouge_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, tc, tr, bz
                                 for a in range(3):
                                     qp[a] = sp[a] + dp * tn[t, a]
                                 # and that point in the material (not outside,
-                                # behind another face)
-                                if in_triangle(tri[t], qp) and in_material_behind(
-                                        sp, tn[t], dp, t, tri, tlo, thi, start, items, bi0,
-                                        bj0, x0, y0, bs, nbx, nby):
+                                # behind another face or beyond the design's edge)
+                                if in_triangle(tri[t], qp) and in_material(
+                                        sp, tri, start, items, x0, y0, bs, nbx, nby):
                                     ds = math.sqrt(surface_dist2(sp, dp, tri, tlo, thi, start,
                                                                  items, bi0, bj0, x0, y0, bs,
                                                                  nbx, nby))

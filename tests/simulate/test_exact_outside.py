@@ -77,3 +77,73 @@ def test_cutter_beside_a_wall_behind_another_face(kind, clearance):
     else:
         assert r.max_gouge == pytest.approx(-clearance, abs=TOL)
         assert r.gouging_moves == 3           # the plunge and the retract too
+
+
+@pytest.mark.parametrize("depth", [0.0, 0.05])
+def test_cutter_beyond_the_edge_of_a_height_field(depth):
+    # a step (28 for x >= 10, 25 below) meshed as a height field over the stock box, an
+    # open sheet with no wall at the box's sides; a flat cutter runs along the step
+    # 2.2 mm inside the box's edges, its far side beyond them: behind the plane of the
+    # step's wall x = 10, with its foot on it, yet outside the part (solid-hole-model's
+    # false 2.2 mm). Truth: the cutter's bottom ``depth`` below the 28 level.
+    from millpath.simulate.design import BoxDesign
+    from millpath.simulate.exact import design_triangles
+    stock = Stock(0, 0, 0, 50, 25, 31)
+    tri = design_triangles(BoxDesign(28.0, [(0.0, 0.0, 10.0, 25.0, 25.0)]), stock, 0.001, 1.0)
+    z = 28.0 - depth
+    moves = [Motion("feed", 1, (47.2, 2.8, z), (47.2, 22.2, z), feed=500, tool=1),
+             Motion("feed", 2, (47.2, 22.2, z), (13.2, 22.2, z), feed=500, tool=1)]
+    tool = Tool(1, "flat", 10.0, flute_length=30, stickout=45, holder=[(32.0, 50.0)])
+    r = verify_exact(moves, {1: tool}, stock, [Reference(tri, "step")])
+    if depth == 0.0:
+        assert r.max_gouge == 0.0 and r.gouging_moves == 0
+    else:
+        assert r.max_gouge == pytest.approx(depth, abs=TOL)
+        assert r.gouging_moves == 2
+
+
+def test_a_job_operation_design_covers_all_its_tool_path_operations():
+    # a job operation that plans one tool path operation per tool (features, ...) and a
+    # second job operation: each design is the reference of the tool path operations
+    # its job operation planned (the motion's operation numbers are the tool path's).
+    # Before, job operation 0's design was applied to tool path operation 0 only: the
+    # gouge of tool path operation 1 (job operation 0's second tool) went unchecked.
+    from types import SimpleNamespace
+
+    from millpath.model import Operation, Toolpath
+    from millpath.plan.base import PlanResult
+    from millpath.pipeline import _references
+    from millpath.simulate.design import PlaneDesign
+
+    def planned(ops):
+        tp = Toolpath("mm")
+        for tool, z in ops:
+            tp.begin(Operation("t", f"T{tool}", tool))
+            tp.rapid(5.0, 20.0, 5.0)
+            tp.line(5.0, 20.0, z, 100.0)
+            tp.line(35.0, 20.0, z, 100.0)
+        return tp
+
+    tools = {1: Tool(1, "flat", 6.0, flute_length=20, stickout=30),
+             2: Tool(2, "flat", 3.0, flute_length=20, stickout=30)}
+    stock = Stock(0, 0, -5, 40, 40, 0)
+    # job operation 0: tool 1 on its floor, then tool 2 0.05 below it; operation 1: above
+    results = [PlanResult(planned([(1, -2.0), (2, -2.05)]), PlaneDesign(-2.0)),
+               PlanResult(planned([(1, -1.0)]), PlaneDesign(-3.0))]
+    tp = Toolpath("mm")
+    for r in results:
+        tp.extend(r.toolpath)
+    job = SimpleNamespace(simulation={"exact": True}, tools=tools, units="mm")
+    refs = _references(job, results, stock, tp)
+    assert [r.ops for r in refs] == [[0, 1], [2]]
+    motions, mop, pos = [], [], (5.0, 20.0, 5.0)
+    for m in tp.moves:
+        if m.kind == "line":
+            motions.append(Motion("feed", len(motions) + 1, pos, m.end, feed=100,
+                                  tool=tp.ops[m.op].tool))
+            mop.append(m.op)
+        pos = m.end
+    r = verify_exact(motions, tools, stock, refs, motion_op=np.array(mop))
+    assert r.max_gouge == pytest.approx(0.05, abs=TOL)
+    assert r.gouge_at["operation"] == 1
+    assert r.op_gouge[0] == 0.0 and r.op_gouge[2] == 0.0
