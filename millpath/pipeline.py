@@ -25,7 +25,7 @@ from millpath.model import Stock, Toolpath
 from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.registry import strategy
 from millpath.progress import QUIET, Progress
-from millpath.model.units import default
+from millpath.model.units import default, length_scale
 
 
 class MinDesign:
@@ -197,17 +197,19 @@ def _run(job_path: str | Path, outdir: str | Path, prog: Progress, force: bool) 
 
     from millpath.interpret import InterpreterError, interpret
     table = tool_table_text(job.tools, job.units, job.table_units)
+    entries = parse_tool_table(table)
     try:        # the program as the machine will run it: with tools.tbl as written
         with prog.task("interpreting the program", total=1) as bar:
-            motions = interpret(program, parse_tool_table(table),
-                                machine_units=job.table_units)
+            motions = interpret(program, entries, machine_units=job.table_units)
             bar.advance()
     except InterpreterError as e:
         raise MillpathError(f"the generated program does not interpret: line {e.line}: "
                             f"{e.message}", job.path) from None
     from millpath.verify.roundtrip import compare_toolpath
     tol = default("roundtrip", job.units)
-    diffs = compare_toolpath(tp, move_lines, motions, tol)
+    scale = length_scale(job.table_units, job.units)
+    radii = {e.number: e.diameter / 2 * scale for e in entries}
+    diffs = compare_toolpath(tp, move_lines, motions, tol, radii)
     if diffs:
         raise MillpathError("interpreted program differs from the planned tool path: "
                             + diffs[0] + (f" (+{len(diffs) - 1} more)" if len(diffs) > 1 else ""),

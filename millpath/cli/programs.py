@@ -11,6 +11,7 @@ the ``step-brep`` extra). Errors are :class:`MillpathError` naming the file and 
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -20,10 +21,35 @@ import click
 from millpath.errors import MillpathError
 
 
-def program_options(design_help: str):
+@dataclass
+class ProgramArgs:
+    """What ``millpath simulate`` and ``millpath view`` are given about a program: the
+    PROGRAM argument, ``--tools``, ``--stock`` (text), ``--design``, ``--resolution``,
+    ``--machine-units`` and ``--tool`` (see :func:`program_options`)."""
+
+    program: Path
+    tools: Path | None
+    stock: str
+    design: Path | None
+    resolution: float | None
+    machine_units: str | None
+    spindle_tool: int
+
+    def simulate(self, *, progress: bool = False,
+                 max_feed: float | None = None) -> "SimulatedProgram":
+        """The program interpreted and simulated (:func:`simulate_program`)."""
+        return simulate_program(self.program, self.tools, self.stock, self.design,
+                                self.resolution, progress=progress,
+                                machine_units=self.machine_units,
+                                spindle_tool=self.spindle_tool, max_feed=max_feed)
+
+
+def program_options(design_use: str):
     """The options ``millpath simulate`` and ``millpath view`` share: the PROGRAM
-    argument, ``--tools``, ``--stock``, ``--design`` (help text ``design_help``),
-    ``--resolution``, ``--machine-units`` and ``--tool``, applied in that order."""
+    argument, ``--tools``, ``--stock``, ``--design`` (``design_use``: what the command
+    does with the design, for its help),
+    ``--resolution``, ``--machine-units`` and ``--tool``, applied in that order and
+    handed to the command as one :class:`ProgramArgs`, its argument ``program``."""
     options = [
         click.argument("program", type=click.Path(path_type=Path)),
         click.option("--tools", "tools_path", type=click.Path(path_type=Path), default=None,
@@ -31,7 +57,8 @@ def program_options(design_help: str):
         click.option("--stock", "stock_text", required=True,
                      help="Stock box XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX in program units."),
         click.option("--design", "design_path", type=click.Path(path_type=Path),
-                     default=None, help=design_help),
+                     default=None, help="Designed part (STL, or any surface millpath "
+                                        f"drop reads): {design_use}"),
         click.option("--resolution", type=float, default=None,
                      help="Z-map cell size (default: stock size / 1000, at most D/10 of "
                           "the smallest tool the program cuts with)."),
@@ -45,9 +72,15 @@ def program_options(design_help: str):
     ]
 
     def apply(func):
+        @functools.wraps(func)
+        def command(program: Path, tools_path: Path | None, stock_text: str,
+                    design_path: Path | None, resolution: float | None,
+                    machine_units: str | None, spindle_tool: int, **others):
+            return func(ProgramArgs(program, tools_path, stock_text, design_path, resolution,
+                                    machine_units, spindle_tool), **others)
         for option in reversed(options):
-            func = option(func)
-        return func
+            command = option(command)
+        return command
     return apply
 
 

@@ -15,12 +15,11 @@ from pathlib import Path
 
 import click
 
-from millpath.cli.programs import program_options, simulate_program
+from millpath.cli.programs import ProgramArgs, program_options
 
 
 @click.command()
-@program_options("Designed part (STL, or any surface millpath drop reads) for the exact "
-                 "gouge and material-left checks (normal to the design).")
+@program_options("exact gouge and material-left checks, measured normal to it.")
 @click.option("--max-feed", type=float, default=None,
               help="Machine's feed limit for the cycle time, program units/min (default "
                    "3000 mm/min, 120 in/min); faster feeds are capped with a warning.")
@@ -28,18 +27,14 @@ from millpath.cli.programs import program_options, simulate_program
 @click.option("--png", "png", type=click.Path(path_type=Path), default=None,
               help="Write a shaded picture of the stock (and FILE_deviation.png with "
                    "--design).")
-def command(program: Path, tools_path: Path | None, stock_text: str,
-            design_path: Path | None, resolution: float | None, machine_units: str | None,
-            spindle_tool: int, max_feed: float | None, as_json: bool,
+def command(args: ProgramArgs, max_feed: float | None, as_json: bool,
             png: Path | None) -> None:
     """Simulate PROGRAM on a block of stock: removed volume, gouges, material left,
     rapids through material, holder contacts and cycle time."""
     from millpath.simulate import render_deviation, render_stock
 
-    sp = simulate_program(program, tools_path, stock_text, design_path, resolution,
-                          progress=not as_json and sys.stderr.isatty(),
-                          machine_units=machine_units, spindle_tool=spindle_tool,
-                          max_feed=max_feed)
+    sp = args.simulate(progress=not as_json and sys.stderr.isatty(), max_feed=max_feed)
+    program, tools_path = args.program, args.tools
     r, design, units, motions = sp.result, sp.design, sp.units, sp.motions
     resolution = sp.resolution
     if png is not None:

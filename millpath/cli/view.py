@@ -13,22 +13,18 @@ from pathlib import Path
 
 import click
 
-from millpath.cli.programs import program_options, simulate_program
+from millpath.cli.programs import ProgramArgs, program_options
 from millpath.errors import MillpathError
 
 
 @click.command()
-@program_options("Designed part (STL, or any surface millpath drop reads): the stock "
-                 "is coloured by deviation from it.")
+@program_options("the stock is coloured by deviation from it.")
 @click.option("--tolerance", type=float, default=None,
               help="Deviation drawn as neutral (default 0.01 mm / 0.0005 inch); the page "
                    "can change it.")
 @click.option("-o", "--output", "output", type=click.Path(path_type=Path),
               default=Path("view.html"), show_default=True, help="HTML file to write.")
-def command(program: Path, tools_path: Path | None, stock_text: str,
-            design_path: Path | None, resolution: float | None, machine_units: str | None,
-            spindle_tool: int,
-            tolerance: float | None, output: Path) -> None:
+def command(args: ProgramArgs, tolerance: float | None, output: Path) -> None:
     """Write an interactive 3D view of PROGRAM: tool path, stock, simulated stock
     coloured by deviation from the design, and a player that runs it move by move."""
     from millpath.report.viewer import write_view
@@ -36,9 +32,8 @@ def command(program: Path, tools_path: Path | None, stock_text: str,
 
     if tolerance is not None and not tolerance >= 0:
         raise MillpathError(f"--tolerance must be a length >= 0, not {tolerance}")
-    sp = simulate_program(program, tools_path, stock_text, design_path, resolution,
-                          progress=sys.stderr.isatty(), machine_units=machine_units,
-                          spindle_tool=spindle_tool)
+    program = args.program
+    sp = args.simulate(progress=sys.stderr.isatty())
     motions = approach_from_above(sp.motions, sp.stock.zmax)
     if not motions:
         raise MillpathError("the program has no motion to show", program)

@@ -13,20 +13,17 @@ from __future__ import annotations
 
 import math
 
-from millpath.interpret.arcs import arc_center_ijk, arc_center_r, find_turn
+from millpath.interpret.arcs import SPIRAL_TOLERANCE, arc_center_ijk, arc_center_r, find_turn
+from millpath.interpret.corners import CONCAVE, CONVEX, arc_corner, straight_corner
 from millpath.interpret.errors import GCodeError
 from millpath.interpret.store import KIND_CODE, PACK, PLANE_CODE
 
 LEFT, RIGHT = 2, 1
-_atan2, _cos, _sin, _hypot = math.atan2, math.cos, math.sin, math.hypot
+_hypot = math.hypot
 T_ARC = KIND_CODE["arc"]
 T_DWELL = KIND_CODE["dwell"]
-PI = math.pi
 HALF_PI = math.pi / 2.0
-SMALL = 0.05                    # radians: LinuxCNC's TOLERANCE_CONCAVE_CORNER
 TOLERANCE_EQUAL = 1e-6
-RADIUS_TOLERANCE = {"inch": 0.00005, "mm": 0.00005 * 25.4}
-SPIRAL_TOLERANCE = {"inch": 2 * 0.001 * math.sqrt(2.0), "mm": 2 * 0.01 * math.sqrt(2.0)}
 
 
 def _inside(side: int, turn: int) -> bool:
@@ -121,6 +118,40 @@ class Compensation:
                     c2: float, turn: int, e3: float, feed: float) -> None:
         self.queue.append(["A", line, original, e1, e2, c1, c2, turn, e3, feed,
                            self.m.state_index])
+
+    def corner_move(self, arc: bool, line: int, x: float, y: float, z: float, c1: float,
+                    c2: float, feed: float) -> None:
+        """The move around a convex corner to (x, y, z) (plane coordinates), with the
+        queue empty: an arc about the programmed corner (c1, c2) (G1 and arcs), or a
+        traverse (G0). Emitted at once; (x, y) becomes the end point."""
+        turn = -1 if self.side == LEFT else 1
+        if self.m.axes[0] == 0:
+            # XY: plane coordinates are x, y, z
+            o0, o1, o2 = self.m.out
+            if arc:
+                self.m.store.buf += PACK(o0, o1, o2, x, y, z, feed, c1, c2, o2, T_ARC, line,
+                                         turn, PLANE_CODE[self.m.plane], self.m.state_index)
+            else:
+                self.m.store.buf += PACK(o0, o1, o2, x, y, z, 0.0, 0.0, 0.0, 0.0, 0, line, 0,
+                                         PLANE_CODE[self.m.plane], self.m.state_index)
+            self.m.out = [x, y, z]
+        else:
+            if arc:
+                self.queue.append(["A", line, 0.0, x, y, c1, c2, turn, z, feed,
+                                   self.m.state_index])
+            else:
+                self.queue.append(["S", 0, line, 0.0, 0.0, 0.0, x, y, z, 0.0,
+                                   self.m.state_index])
+            self.dequeue()
+        self.set_endpoint(x, y)
+
+    def queued_arc(self) -> tuple[int, float, float, float, float]:
+        """The queued move as :mod:`corners` takes it: (turn, end1, end2, center1,
+        center2) of a queued arc first in the queue, turn 0 for anything else."""
+        if self.queue and self.queue[0][0] == "A":
+            q = self.queue[0]
+            return q[7], q[3], q[4], q[5], q[6]
+        return 0, 0.0, 0.0, 0.0, 0.0
 
     def enqueue_dwell(self, line: int, seconds: float) -> None:
         if not self.queue:
@@ -304,97 +335,13 @@ class Compensation:
         else:
             side = self.side
             radius = self.radius
-            theta = _atan2(cy - opy, cx - opx)
-            alpha = _atan2(py - opy, px - opx)
-            if side == LEFT:
-                if theta < alpha:
-                    theta = theta + 2 * PI
-                beta = (theta - alpha) - HALF_PI
-                gamma = HALF_PI
-            else:
-                if alpha < theta:
-                    alpha = alpha + 2 * PI
-                beta = (alpha - theta) - HALF_PI
-                gamma = -HALF_PI
-            rc = radius * _cos(alpha + gamma)
-            rs = radius * _sin(alpha + gamma)
-            end_x = px + rc
-            end_y = py + rs
-            mid_x = opx + rc
-            mid_y = opy + rs
-            front = self.queue[0] if self.queue else None
-            if beta < -SMALL or beta > PI + SMALL:
-                concave = True
-            elif (beta > PI - SMALL and front is not None and front[0] == "A"
-                  and ((side == RIGHT and front[7] > 0) or (side == LEFT and front[7] < 0))):
-                concave = True
-            else:
-                concave = False
-            if not concave and beta > SMALL:
+            corner, mid_x, mid_y, end_x, end_y = straight_corner(
+                side == LEFT, radius, cx, cy, opx, opy, px, py, *self.queued_arc())
+            if corner == CONVEX:
                 self.move_endpoint_and_flush(cx, cy)
-                if a1 == 0:
-                    # XY, queue now empty: emit the corner move at once
-                    o0, o1, o2 = self.m.out
-                    if move == 10:
-                        self.m.store.buf += PACK(o0, o1, o2, mid_x, mid_y, cz, feed, opx, opy,
-                                               o2, T_ARC, line, -1 if side == LEFT else 1,
-                                               PLANE_CODE[self.m.plane], self.m.state_index)
-                    else:
-                        self.m.store.buf += PACK(o0, o1, o2, mid_x, mid_y, cz, 0.0, 0.0, 0.0,
-                                               0.0, 0, line, 0, PLANE_CODE[self.m.plane],
-                                               self.m.state_index)
-                    self.m.out = [mid_x, mid_y, cz]
-                else:
-                    if move == 10:
-                        self.queue.append(["A", line, 0.0, mid_x, mid_y, opx, opy,
-                                           -1 if side == LEFT else 1, cz, feed,
-                                           self.m.state_index])
-                    else:
-                        self.queue.append(["S", 0, line, 0.0, 0.0, 0.0, mid_x, mid_y, cz, 0.0,
-                                           self.m.state_index])
-                    self.dequeue()
-                self.endpoint = [mid_x, mid_y]
-                self.endpoint_valid = True
-            elif concave:
-                if front is None or front[0] != "A":
-                    halfcorner = (beta + PI) / 2.0
-                    if halfcorner == 0.0:
-                        raise GCodeError("Zero degree inside corner is invalid for cutter "
-                                         "compensation")
-                    retreat = radius / math.tan(halfcorner)
-                    mid_x = cx + retreat * math.cos(theta + gamma)
-                    mid_y = cy + retreat * math.sin(theta + gamma)
-                    self.move_endpoint_and_flush(mid_x, mid_y)
-                else:
-                    prev = front
-                    oldrad = math.hypot(prev[6] - prev[4], prev[5] - prev[3])
-                    base_dir = math.atan2(py - opy, px - opx)
-                    th = base_dir + HALF_PI if prev[7] > 0 else base_dir - HALF_PI
-                    phi = math.atan2(prev[6] - opy, prev[5] - opx)
-                    inside = _inside(side, prev[7])
-                    oldrad_uncomp = oldrad + radius if inside else oldrad - radius
-                    d = oldrad_uncomp * math.cos(th - phi)
-                    if inside:
-                        lv = (d - radius) / oldrad
-                        if lv > 1.0 or lv < -1.0:
-                            raise GCodeError("Arc to straight motion makes a corner the "
-                                             "compensated tool can't fit in without gouging")
-                        if prev[7] > 0:
-                            ang = -math.acos(lv) + th + PI
-                        else:
-                            ang = math.acos(lv) + th + PI
-                    else:
-                        lv = (d + radius) / oldrad
-                        if lv > 1.0 or lv < -1.0:
-                            raise GCodeError("Arc to straight motion makes a corner the "
-                                             "compensated tool can't fit in without gouging")
-                        if prev[7] > 0:
-                            ang = math.acos(lv) + th + PI
-                        else:
-                            ang = -math.acos(lv) + th + PI
-                    mid_x = prev[5] + oldrad * math.cos(ang)
-                    mid_y = prev[6] + oldrad * math.sin(ang)
-                    self.move_endpoint_and_flush(mid_x, mid_y)
+                self.corner_move(move == 10, line, mid_x, mid_y, cz, opx, opy, feed)
+            elif corner == CONCAVE:
+                self.move_endpoint_and_flush(mid_x, mid_y)
             else:
                 self.dequeue()
                 self.set_endpoint(cx, cy)
@@ -427,7 +374,7 @@ class Compensation:
                 raise GCodeError("Tool radius not less than arc radius with comp")
             center_x, center_y = arc_center_r(move == 20, self.m.units, cx, cy, ex, ey, w["r"])
         else:
-            center_x, center_y, arc_radius, _ = arc_center_ijk(
+            center_x, center_y, arc_radius = arc_center_ijk(
                 self.m.plane, self.m.units, cx, cy, ex, ey, self.m.ijk_abs, off1, off2)
             if arc_radius <= radius and _inside(side, 1 if move == 30 else -1):
                 raise GCodeError("Tool radius not less than arc radius with comp")
@@ -467,109 +414,23 @@ class Compensation:
             centerx, centery = arc_center_r(move == 20, self.m.units, opx, opy, end_x, end_y,
                                             r_word)
         else:
-            centerx, centery, _, _ = arc_center_ijk(self.m.plane, self.m.units, opx, opy, end_x,
+            centerx, centery, _ = arc_center_ijk(self.m.plane, self.m.units, opx, opy, end_x,
                                                     end_y, self.m.ijk_abs, off1, off2)
         side = self.side
         tool_radius = self.radius
-        arc_radius = _hypot(centerx - end_x, centery - end_y)
-        theta = _atan2(cy - opy, cx - opx)
-        theta = theta - HALF_PI if side == LEFT else theta + HALF_PI
-        delta = _atan2(centery - opy, centerx - opx)
-        alpha = delta - HALF_PI if move == 30 else delta + HALF_PI
-        beta = theta - alpha if side == LEFT else alpha - theta
-        if beta > 1.5 * PI:
-            beta -= 2 * PI
-        elif beta < -HALF_PI:
-            beta += 2 * PI
-        if (side == LEFT and move == 30) or (side == RIGHT and move == 20):
-            gamma = _atan2(centery - end_y, centerx - end_x)
-            if arc_radius <= tool_radius:
-                raise GCodeError("Tool radius not less than arc radius with comp")
-        else:
-            gamma = _atan2(end_y - centery, end_x - centerx)
-            delta = delta + PI
-        new_end_x = end_x + tool_radius * _cos(gamma)
-        new_end_y = end_y + tool_radius * _sin(gamma)
-        inside = (side == LEFT and turn > 0) or (side == RIGHT and turn < 0)
-        if beta < -SMALL or beta > PI + SMALL or (abs(beta - PI) < SMALL and not inside):
-            front = self.queue[0] if self.queue else None
-            if front is None or front[0] != "A":
-                cyy = arc_radius * math.sin(beta - HALF_PI)
-                if inside:
-                    dist_from_center = arc_radius - tool_radius
-                    lv = (cyy + tool_radius) / dist_from_center
-                    if lv > 1.0 or lv < -1.0:
-                        raise GCodeError("Arc move in concave corner cannot be reached by the "
-                                         "tool without gouging")
-                    ang = theta + math.asin(lv) if turn > 0 else theta - math.asin(lv)
-                else:
-                    dist_from_center = arc_radius + tool_radius
-                    lv = (cyy - tool_radius) / dist_from_center
-                    if lv > 1.0 or lv < -1.0:
-                        raise GCodeError("Arc move in concave corner cannot be reached by the "
-                                         "tool without gouging")
-                    if turn > 0:
-                        ang = theta + PI - math.asin(lv)
-                    else:
-                        ang = theta + PI + math.asin(lv)
-                midx = centerx + dist_from_center * math.cos(ang)
-                midy = centery + dist_from_center * math.sin(ang)
-                self.move_endpoint_and_flush(midx, midy)
-            else:
-                prev = front
-                oldrad = math.hypot(prev[6] - prev[4], prev[5] - prev[3])
-                newrad = arc_radius - tool_radius if inside else arc_radius + tool_radius
-                arc_cc = math.hypot(prev[6] - centery, prev[5] - centerx)
-                if oldrad == 0 or arc_cc == 0:
-                    raise GCodeError("Arc to arc motion is invalid because the arcs have the "
-                                     "same center")
-                a = (oldrad ** 2 + arc_cc ** 2 - newrad ** 2) / (2 * oldrad * arc_cc)
-                if a > 1.0 or a < -1.0:
-                    raise GCodeError("Arc to arc motion makes a corner the compensated tool "
-                                     "can't fit in without gouging")
-                pullback = math.acos(a)
-                cc_dir = math.atan2(centery - prev[6], centerx - prev[5])
-                if _inside(side, prev[7]):
-                    direction = cc_dir + pullback if turn > 0 else cc_dir - pullback
-                else:
-                    direction = cc_dir - pullback if turn > 0 else cc_dir + pullback
-                midx = prev[5] + oldrad * math.cos(direction)
-                midy = prev[6] + oldrad * math.sin(direction)
-                self.move_endpoint_and_flush(midx, midy)
-            self.enqueue_arc(line, find_turn(opx, opy, centerx, centery, turn, end_x, end_y),
-                             new_end_x, new_end_y, centerx, centery, turn, end_z, feed)
-        elif beta > SMALL:
-            midx = opx + tool_radius * _cos(delta)
-            midy = opy + tool_radius * _sin(delta)
+        corner, midx, midy, new_end_x, new_end_y = arc_corner(
+            side == LEFT, tool_radius, move == 30, turn, cx, cy, opx, opy, end_x, end_y,
+            centerx, centery, *self.queued_arc())
+        if corner == CONCAVE:
+            self.move_endpoint_and_flush(midx, midy)
+        elif corner == CONVEX:
             self.dequeue()
-            if a1 == 0:
-                # XY, queue now empty: emit the corner arc at once
-                o0, o1, o2 = self.m.out
-                self.m.store.buf += PACK(o0, o1, o2, midx, midy, cz, feed, opx, opy, o2, T_ARC,
-                                       line, -1 if side == LEFT else 1,
-                                       PLANE_CODE[self.m.plane], self.m.state_index)
-                self.m.out = [midx, midy, cz]
-            else:
-                self.queue.append(["A", line, 0.0, midx, midy, opx, opy,
-                                   -1 if side == LEFT else 1, cz, feed, self.m.state_index])
-                self.dequeue()
-            self.endpoint = [midx, midy]
-            self.endpoint_valid = True
-            self.queue.append(["A", line, find_turn(opx, opy, centerx, centery, turn, end_x,
-                                                    end_y),
-                               new_end_x, new_end_y, centerx, centery, turn, end_z, feed,
-                               self.m.state_index])
+            self.corner_move(True, line, midx, midy, cz, opx, opy, feed)
         else:
-            if self.queue:
-                self.dequeue()
-            else:
-                self.endpoint_valid = False
-            self.endpoint = [cx, cy]
-            self.endpoint_valid = True
-            self.queue.append(["A", line, find_turn(opx, opy, centerx, centery, turn, end_x,
-                                                    end_y),
-                               new_end_x, new_end_y, centerx, centery, turn, end_z, feed,
-                               self.m.state_index])
+            self.dequeue()
+            self.set_endpoint(cx, cy)
+        self.enqueue_arc(line, find_turn(opx, opy, centerx, centery, turn, end_x, end_y),
+                         new_end_x, new_end_y, centerx, centery, turn, end_z, feed)
         if a1 == 0:
             self.prog = [end_x, end_y, end_z]
             self.m.cur = [new_end_x, new_end_y, end_z]

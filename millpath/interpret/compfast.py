@@ -4,9 +4,11 @@ local variables (the hot loop of a compensated program).
 The same computation as :class:`millpath.interpret.comp.Compensation`'s
 ``straight2``, ``arc2`` and ``move_endpoint_and_flush`` (LinuxCNC's
 convert_straight_comp2, convert_arc_comp2, move_endpoint_and_flush) for the usual case,
-XY with at most one queued move, written out in one function: no method calls, lists or
-queue entries per move. The queued move lives in a handful of locals and goes back to
-``machine.queue`` (its list format) when the run ends.
+XY with at most one queued move, in one function: the corners' geometry is the
+executor's own (:mod:`millpath.interpret.corners`, arc centers and checks from
+:mod:`millpath.interpret.arcs`); the queue handling is written out, with no method
+calls, lists or queue entries per move. The queued move lives in a handful of locals and
+goes back to ``machine.queue`` (its list format) when the run ends.
 
 A line this code does not take (another shape, another plane, a zero-length move, a
 second queued move) or one that would fail (any G-code error: gouges, bad arcs) ends
@@ -17,17 +19,16 @@ messages are the machine's; only the time differs. Lengths are program units.
 
 from __future__ import annotations
 
-from math import acos, asin, atan2, cos, hypot, pi, sin, tan
+from math import atan2, hypot
 
-from millpath.interpret.arcs import (RADIUS_TOLERANCE, SPIRAL_RELATIVE, SPIRAL_TOLERANCE,
-                                     TINY)
-from millpath.interpret.comp import LEFT, RIGHT, SMALL
+from millpath.interpret.arcs import (RADIUS_TOLERANCE, SPIRAL_TOLERANCE, arc_center_r,
+                                     check_arc)
+from millpath.interpret.comp import LEFT
+from millpath.interpret.corners import CONCAVE, CONVEX, TWO_PI, arc_corner, straight_corner
+from millpath.interpret.errors import GCodeError
 from millpath.interpret.store import KIND_CODE, PACK
 
 T_ARC = KIND_CODE["arc"]
-HALF_PI = pi / 2.0
-TWO_PI = 2 * pi
-ONE_MINUS_TINY = 1.0 - TINY
 #: queued move kinds (``machine.queue`` entries start with "S" or "A")
 NONE, STRAIGHT, ARC = 0, 1, 2
 
@@ -63,10 +64,10 @@ def comp_run(m, lines: list[str], k: int, end_k: int, first, second, base: int) 
     evalid = m.comp.endpoint_valid
     feed_rate = m.feed_rate
     mode = m.motion_mode
-    arcs_ok = not m.ijk_abs and not m.comp.arc_not_allowed
+    ijk_ok = not m.ijk_abs                        # arcs: only incremental I/J
+    arcs_ok = ijk_ok and not m.comp.arc_not_allowed
     side = m.comp.side
     left = side == LEFT
-    right = side == RIGHT
     radius = m.comp.radius
     units = m.units
     rtol = RADIUS_TOLERANCE[units]
@@ -115,72 +116,18 @@ def comp_run(m, lines: list[str], k: int, end_k: int, first, second, base: int) 
                     mfeed = 0.0
                 if ey == py and ex == px:
                     return k                       # queued without a flush: the machine's
-                theta = atan2(cy - py, cx - px)
-                alpha = atan2(ey - py, ex - px)
-                if left:
-                    if theta < alpha:
-                        theta = theta + TWO_PI
-                    beta = (theta - alpha) - HALF_PI
-                    gamma = HALF_PI
-                else:
-                    if alpha < theta:
-                        alpha = alpha + TWO_PI
-                    beta = (alpha - theta) - HALF_PI
-                    gamma = -HALF_PI
-                rc = radius * cos(alpha + gamma)
-                rs = radius * sin(alpha + gamma)
-                nx = ex + rc
-                ny = ey + rs
-                if beta < -SMALL or beta > pi + SMALL:
-                    concave = True
-                elif (beta > pi - SMALL and qt == ARC
-                      and ((right and qturn > 0) or (left and qturn < 0))):
-                    concave = True
-                else:
-                    concave = False
-                if not concave and beta > SMALL:
-                    # convex corner: flush to the current point, then an arc around the
-                    # programmed corner (a traverse for G0)
+                shape, ux, uy, nx, ny = straight_corner(left, radius, cx, cy, px, py, ex, ey,
+                                                        qturn, qx, qy, qc1, qc2)
+                if shape == CONVEX:
+                    # flush to the current point, then an arc around the programmed
+                    # corner (a traverse for G0)
+                    mid_x, mid_y = ux, uy
                     ux, uy = cx, cy
                     check = qt != NONE
                     corner = 1 if code == 10 else 2
-                    mid_x = px + rc
-                    mid_y = py + rs
                     set_end, ne0, ne1 = True, mid_x, mid_y
-                elif concave:
-                    if qt != ARC:
-                        halfcorner = (beta + pi) / 2.0
-                        if halfcorner == 0.0:
-                            return k
-                        retreat = radius / tan(halfcorner)
-                        ux = cx + retreat * cos(theta + gamma)
-                        uy = cy + retreat * sin(theta + gamma)
-                    else:
-                        oldrad = hypot(qc2 - qy, qc1 - qx)
-                        base_dir = atan2(ey - py, ex - px)
-                        th = base_dir + HALF_PI if qturn > 0 else base_dir - HALF_PI
-                        phi = atan2(qc2 - py, qc1 - px)
-                        inside = (left and qturn > 0) or (right and qturn < 0)
-                        oldrad_uncomp = oldrad + radius if inside else oldrad - radius
-                        d = oldrad_uncomp * cos(th - phi)
-                        if inside:
-                            lv = (d - radius) / oldrad
-                            if lv > 1.0 or lv < -1.0:
-                                return k
-                            if qturn > 0:
-                                ang = -acos(lv) + th + pi
-                            else:
-                                ang = acos(lv) + th + pi
-                        else:
-                            lv = (d + radius) / oldrad
-                            if lv > 1.0 or lv < -1.0:
-                                return k
-                            if qturn > 0:
-                                ang = acos(lv) + th + pi
-                            else:
-                                ang = -acos(lv) + th + pi
-                        ux = qc1 + oldrad * cos(ang)
-                        uy = qc2 + oldrad * sin(ang)
+                elif shape == CONCAVE:
+                    # flush to a trimmed point
                     check = qt != NONE
                     corner = 0
                     set_end, ne0, ne1 = check, ux, uy      # unchanged with nothing queued
@@ -200,113 +147,32 @@ def comp_run(m, lines: list[str], k: int, end_k: int, first, second, base: int) 
                 if r is not None:
                     if x is None and y is None:
                         return k
-                    # arc_center_r(code == 20, units, px, py, ex, ey, R), written out;
-                    # its errors go to the machine's code
-                    if ex == px and ey == py:
-                        return k
-                    radius_word = float(r)
-                    abs_r = abs(radius_word)
-                    mx = (ex + px) / 2.0
-                    my = (ey + py) / 2.0
-                    half = hypot(mx - ex, my - ey)
-                    if half - abs_r > rtol:
-                        return k
-                    if abs_r == 0.0 or half / abs_r > ONE_MINUS_TINY:
-                        half = abs_r
-                    theta = atan2(ey - py, ex - px)
-                    if ((code == 20 and radius_word > 0)
-                            or (code != 20 and radius_word < 0)):
-                        theta = theta - HALF_PI
-                    else:
-                        theta = theta + HALF_PI
-                    off = abs_r * cos(asin(half / abs_r) if abs_r else 0.0)
-                    centerx = mx + off * cos(theta)
-                    centery = my + off * sin(theta)
+                    centerx, centery = arc_center_r(code == 20, units, px, py, ex, ey,
+                                                    float(r))
                 else:
                     centerx = px if i is None else px + float(i)
                     centery = py if j is None else py + float(j)
-                    r1 = hypot(centerx - px, centery - py)
-                    r2 = hypot(centerx - ex, centery - ey)
-                    if r1 < rtol or r2 < rtol:
-                        return k
-                    abs_err = abs(r1 - r2)
-                    if abs_err > stol and abs_err / max(r1, r2) > SPIRAL_RELATIVE:
-                        return k
+                    check_arc("XY", px, py, centerx, centery, ex, ey, rtol, stol)
                 turn = -1 if code == 20 else 1
-                arc_radius = hypot(centerx - ex, centery - ey)
-                theta = atan2(cy - py, cx - px)
-                theta = theta - HALF_PI if left else theta + HALF_PI
-                delta = atan2(centery - py, centerx - px)
-                alpha = delta - HALF_PI if code == 30 else delta + HALF_PI
-                beta = theta - alpha if left else alpha - theta
-                if beta > 1.5 * pi:
-                    beta -= TWO_PI
-                elif beta < -HALF_PI:
-                    beta += TWO_PI
-                if (left and code == 30) or (right and code == 20):
-                    gamma = atan2(centery - ey, centerx - ex)
-                    if arc_radius <= radius:
-                        return k
-                else:
-                    gamma = atan2(ey - centery, ex - centerx)
-                    delta = delta + pi
-                nx = ex + radius * cos(gamma)
-                ny = ey + radius * sin(gamma)
-                inside = (left and turn > 0) or (right and turn < 0)
-                if beta < -SMALL or beta > pi + SMALL or (abs(beta - pi) < SMALL
-                                                          and not inside):
-                    # concave: flush to a trimmed point
-                    if qt != ARC:
-                        cyy = arc_radius * sin(beta - HALF_PI)
-                        if inside:
-                            dist_from_center = arc_radius - radius
-                            lv = (cyy + radius) / dist_from_center
-                            if lv > 1.0 or lv < -1.0:
-                                return k
-                            ang = theta + asin(lv) if turn > 0 else theta - asin(lv)
-                        else:
-                            dist_from_center = arc_radius + radius
-                            lv = (cyy - radius) / dist_from_center
-                            if lv > 1.0 or lv < -1.0:
-                                return k
-                            if turn > 0:
-                                ang = theta + pi - asin(lv)
-                            else:
-                                ang = theta + pi + asin(lv)
-                        ux = centerx + dist_from_center * cos(ang)
-                        uy = centery + dist_from_center * sin(ang)
-                    else:
-                        oldrad = hypot(qc2 - qy, qc1 - qx)
-                        newrad = arc_radius - radius if inside else arc_radius + radius
-                        arc_cc = hypot(qc2 - centery, qc1 - centerx)
-                        if oldrad == 0 or arc_cc == 0:
-                            return k
-                        a = (oldrad ** 2 + arc_cc ** 2 - newrad ** 2) / (2 * oldrad * arc_cc)
-                        if a > 1.0 or a < -1.0:
-                            return k
-                        pullback = acos(a)
-                        cc_dir = atan2(centery - qc2, centerx - qc1)
-                        if (left and qturn > 0) or (right and qturn < 0):
-                            direction = cc_dir + pullback if turn > 0 else cc_dir - pullback
-                        else:
-                            direction = cc_dir - pullback if turn > 0 else cc_dir + pullback
-                        ux = qc1 + oldrad * cos(direction)
-                        uy = qc2 + oldrad * sin(direction)
+                shape, ux, uy, nx, ny = arc_corner(left, radius, code == 30, turn, cx, cy,
+                                                   px, py, ex, ey, centerx, centery, qturn,
+                                                   qx, qy, qc1, qc2)
+                if shape == CONCAVE:
+                    # flush to a trimmed point
                     check = qt != NONE
                     corner = 0
                     set_end, ne0, ne1 = check, ux, uy
                 else:
                     # convex (a corner arc) or tangent: dequeue as it is
-                    ux, uy = qx, qy
                     check = False
-                    if beta > SMALL:
+                    if shape == CONVEX:
                         corner = 1
-                        mid_x = px + radius * cos(delta)
-                        mid_y = py + radius * sin(delta)
+                        mid_x, mid_y = ux, uy
                         set_end, ne0, ne1 = True, mid_x, mid_y
                     else:
                         corner = 0
                         set_end, ne0, ne1 = True, cx, cy
+                    ux, uy = qx, qy
             else:
                 return k
             if check:
@@ -347,13 +213,17 @@ def comp_run(m, lines: list[str], k: int, end_k: int, first, second, base: int) 
             if set_end:
                 e0, e1 = ne0, ne1
                 evalid = True
-            qline, qstate, qz, qfeed = n, state, ez, mfeed
+            qline = n
+            qstate = state
+            qz = ez
+            qfeed = mfeed
             qx, qy = nx, ny
             if code <= 10:
                 qt = STRAIGHT
+                qturn = 0
                 qkind = 1 if code == 10 else 0
                 qa, qb, qd2 = ex - px, ey - py, ez - pz
-                arcs_ok = not m.ijk_abs
+                arcs_ok = ijk_ok
             else:
                 qt = ARC
                 qturn = turn
@@ -374,6 +244,8 @@ def comp_run(m, lines: list[str], k: int, end_k: int, first, second, base: int) 
             px, py, pz = ex, ey, ez
             k += 1
         return k
+    except GCodeError:
+        return k                # a corner or arc the tool cannot cut: the machine's error
     finally:
         if k > start:
             m.cur = [cx, cy, cz]

@@ -12,13 +12,12 @@ errors are the same either way; only the time differs.
 from __future__ import annotations
 
 import re
-from math import hypot
 
 from millpath.interpret.compfast import comp_run
 from millpath.interpret.cycles import CYCLES
 from millpath.interpret.errors import GCodeError
-from millpath.interpret.arcs import (RADIUS_TOLERANCE, SPIRAL_RELATIVE, SPIRAL_TOLERANCE,
-                                     arc_center_r)
+from millpath.interpret.arcs import (RADIUS_TOLERANCE, SPIRAL_TOLERANCE, arc_center_r,
+                                     check_arc)
 from millpath.gcode.lexer import Block
 from millpath.interpret.store import PACK, PLANE_CODE
 
@@ -281,13 +280,10 @@ class FastPath:
                             return k
                         c1 = cx if i is None else cx + float(i)
                         c2 = cy if j is None else cy + float(j)
-                        r1 = hypot(c1 - cx, c2 - cy)
-                        r2 = hypot(c1 - ex, c2 - ey)
-                        if r1 < rtol or r2 < rtol:
-                            return k
-                        err = abs(r1 - r2)
-                        if err > stol and err > SPIRAL_RELATIVE * max(r1, r2):
-                            return k
+                        try:
+                            check_arc("XY", cx, cy, c1, c2, ex, ey, rtol, stol)
+                        except GCodeError:
+                            return k                    # the machine's error
                     buf += pack(ox, oy, oz, ex, ey, ez, feed, c1, c2, cz,
                                 2, base + k + 1, -1 if code == 20 else 1, pcode, state)
                 ox = cx = ex
@@ -447,14 +443,11 @@ class FastPath:
             s1, s2 = cur[a1], cur[a2]
             c1 = s1 + (0.0 if o1 is None else float(o1))
             c2 = s2 + (0.0 if o2 is None else float(o2))
-            r1 = hypot(c1 - s1, c2 - s2)
-            r2 = hypot(c1 - end[a1], c2 - end[a2])
-            tol = RADIUS_TOLERANCE[m.units]
-            if r1 < tol or r2 < tol:
-                return False
-            err = abs(r1 - r2)
-            if err > SPIRAL_TOLERANCE[m.units] and err / max(r1, r2) > SPIRAL_RELATIVE:
-                return False
+            try:
+                check_arc(plane, s1, s2, c1, c2, end[a1], end[a2], RADIUS_TOLERANCE[m.units],
+                          SPIRAL_TOLERANCE[m.units])
+            except GCodeError:
+                return False                  # the general path raises the error
             center = [0.0, 0.0, 0.0]
             center[a1] = c1
             center[a2] = c2

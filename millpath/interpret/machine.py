@@ -564,7 +564,7 @@ class Machine(MachineState):
             c1, c2 = arc_center_r(code == 20, self.units, c[a1], c[a2], end[a1], end[a2],
                                   w["r"])
         else:
-            c1, c2, _, _ = arc_center_ijk(plane, self.units, c[a1], c[a2], end[a1], end[a2],
+            c1, c2, _ = arc_center_ijk(plane, self.units, c[a1], c[a2], end[a1], end[a2],
                                           self.ijk_abs, off1, off2)
         center = [0.0, 0.0, 0.0]
         center[a1], center[a2], center[an] = c1, c2, c[an]

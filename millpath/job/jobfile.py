@@ -89,16 +89,9 @@ POST = {
     "preamble": Param("str", "", doc="G-code lines after the setup"),
     "postamble": Param("str", "", doc="G-code lines before the program end"),
 }
-LIMITS = {
-    "max_extent": Param("float", None, positive=True, unit="length",
-                        doc="largest stock side (default 10000 mm / 400 in)"),
-    "max_layers": Param("int", None, positive=True, unit="count",
-                        doc="depth passes of one operation: stock height / stepdown "
-                            "(default 2000)"),
-    "max_passes": Param("int", None, positive=True, unit="count",
-                        doc="side-by-side passes of one operation: largest stock side / "
-                            "stepover (default 20000)"),
-}
+#: the bounds of [limits], described by the Limits dataclass itself
+LIMITS = {name: Param(kind, None, positive=True, unit=unit, doc=doc)
+          for name, kind, unit, doc in Limits.described()}
 #: operation keys that set a depth per layer / a distance between side-by-side passes
 LAYER_KEYS = ("stepdown", "stepdown_max")
 PASS_KEYS = ("stepover",)

@@ -58,3 +58,14 @@ DEFAULTS: dict[str, PerUnits] = {
 def default(name: str, units: str) -> float:
     """``DEFAULTS[name]`` for a job in ``units``."""
     return DEFAULTS[name](units)
+
+
+#: millimetres per inch
+MM_PER_INCH = 25.4
+
+
+def length_scale(from_units: str, to_units: str) -> float:
+    """Factor turning a length in ``from_units`` into ``to_units`` ("mm" or "inch")."""
+    if from_units == to_units:
+        return 1.0
+    return MM_PER_INCH if from_units == "inch" else 1.0 / MM_PER_INCH

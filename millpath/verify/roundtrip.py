@@ -3,8 +3,10 @@
 :func:`compare_toolpath` pairs each toolpath move with the motions the interpreter made
 for the program line that carries it (see ``post_with_lines``) and lists every
 difference beyond ``tol`` (job units). Moves under cutter radius compensation are moved
-by the control on purpose and are not compared point by point; canned cycles are
-compared by where they leave the tool.
+by the control on purpose: given the tools' ``radii``, their motion is compared with the
+offset path the planner expects (:mod:`millpath.verify.compcheck`), else not at all.
+G5 cubics are compared by end point and both control points; canned cycles by where
+they leave the tool.
 """
 
 from __future__ import annotations
@@ -13,7 +15,8 @@ from collections import defaultdict
 
 from millpath.model.motion import Motion
 from millpath.model import Toolpath
-from millpath.model.toolpath import PLANE_AXES
+from millpath.model.toolpath import PLANE_AXES, Move
+from millpath.verify.compcheck import Segment, compensation_diffs
 
 _KIND = {"rapid": "traverse", "line": "feed", "arc": "arc", "cubic": "cubic"}
 
@@ -22,22 +25,44 @@ def _dist(a, b) -> float:
     return max(abs(p - q) for p, q in zip(a, b))
 
 
+def _segment(m: Move, start, line: int | None) -> Segment:
+    if m.kind == "arc" and m.plane == "XY" and m.center is not None:
+        return Segment((start[0], start[1]), (m.end[0], m.end[1]), line,
+                       (m.center[0], m.center[1]), m.clockwise)
+    return Segment((start[0], start[1]), (m.end[0], m.end[1]), line)
+
+
 def compare_toolpath(toolpath: Toolpath, move_lines: list[int | None],
-                     motions: list[Motion], tol: float) -> list[str]:
-    """Differences between the planned ``toolpath`` and interpreted ``motions``."""
+                     motions: list[Motion], tol: float,
+                     radii: dict[int, float] | None = None) -> list[str]:
+    """Differences between the planned ``toolpath`` and interpreted ``motions``.
+
+    ``radii``: tool number -> radius in the toolpath's units, as the interpreter's tool
+    table has it; with it, moves under G41/G42 are checked against the offset path of
+    the programmed contour, without it they are not compared."""
     by_line: dict[int, list[Motion]] = defaultdict(list)
     for mo in motions:
         if mo.kind != "dwell":
             by_line[mo.line].append(mo)
     diffs: list[str] = []
-    comp = "off"
+    comp, comp_d, comp_at = "off", 0, 0
+    block: list[Segment] = []
+    block_lines: list[int] = []
     pos = None
     for i, (m, line) in enumerate(zip(toolpath.moves, move_lines)):
         if m.kind == "comp":
-            comp = m.comp
+            if comp != "off" and radii is not None:
+                diffs += _block_diffs(block, block_lines, by_line, radii, comp, comp_d,
+                                      tol, comp_at)
+            comp, comp_d, comp_at = m.comp, m.comp_d, i
+            block, block_lines = [], []
             continue
         got = by_line.get(line, []) if line is not None else []
         if comp != "off":
+            if pos is not None and m.kind in ("line", "arc"):
+                block.append(_segment(m, pos, line))
+                if line is not None and line not in block_lines:
+                    block_lines.append(line)
             pos = m.end
             continue
         if m.kind in ("rapid", "line"):
@@ -69,8 +94,15 @@ def compare_toolpath(toolpath: Toolpath, move_lines: list[int | None],
         elif m.kind == "cubic":
             if len(got) != 1 or got[0].kind not in ("cubic", "nurbs"):
                 diffs.append(f"move {i} (cubic) line {line}: got {[g.kind for g in got]}")
-            elif got[0].kind == "cubic" and _dist(got[0].end, m.end) > tol:
-                diffs.append(f"move {i} (cubic) line {line}: end {got[0].end} vs {m.end}")
+            elif got[0].kind == "cubic":
+                g = got[0]
+                if _dist(g.end, m.end) > tol:
+                    diffs.append(f"move {i} (cubic) line {line}: end {g.end} vs {m.end}")
+                assert m.c1 is not None and m.c2 is not None
+                if g.controls is None or max(_dist(g.controls[0], m.c1),
+                                             _dist(g.controls[1], m.c2)) > tol:
+                    diffs.append(f"move {i} (cubic) line {line}: control points "
+                                 f"{g.controls} vs {(m.c1, m.c2)}")
         elif m.kind == "drill":
             if not got:
                 diffs.append(f"move {i} (drill) line {line}: no motion")
@@ -86,5 +118,18 @@ def compare_toolpath(toolpath: Toolpath, move_lines: list[int | None],
         if len(diffs) > 50:
             diffs.append("... (more differences not listed)")
             break
+    if comp != "off" and radii is not None and len(diffs) <= 50:
+        diffs += _block_diffs(block, block_lines, by_line, radii, comp, comp_d, tol, comp_at)
     return diffs
+
+
+def _block_diffs(block: list[Segment], lines: list[int], by_line: dict[int, list[Motion]],
+                 radii: dict[int, float], side: str, d: int, tol: float,
+                 at: int) -> list[str]:
+    """One compensated block's motion against the offset of its programmed contour."""
+    where = f"move {at} (G{41 if side == 'left' else 42} D{d})"
+    if d not in radii:
+        return [f"{where}: tool {d} is not in the tool table"]
+    got = [mo for ln in lines for mo in by_line.get(ln, [])]
+    return compensation_diffs(block, got, radii[d], side, tol, where)
 

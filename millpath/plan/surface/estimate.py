@@ -51,11 +51,11 @@ PYTHON_PER_POINT = 3e-5
 class Estimate:
     """What an operation will take (rough figures, see the module docstring)."""
 
-    pass_lines: int = 0
-    levels: int = 0
-    points: int = 0
-    drops: int = 0
-    seconds: float = 0.0
+    pass_lines: int = 0         # zigzag pass lines (surface-rough: rows per layer)
+    levels: int = 0             # waterline levels (surface-rough: layers)
+    points: int = 0             # CL points planned
+    drops: int = 0              # drop-cutter queries
+    seconds: float = 0.0        # CPU seconds
 
     def to_json(self) -> dict:
         return {"pass_lines": self.pass_lines, "levels": self.levels, "points": self.points,

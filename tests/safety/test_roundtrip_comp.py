@@ -1,0 +1,154 @@
+"""Round trip under cutter compensation and of G5 control points (issue 15, item 4).
+
+Truth: the programs are planned by millpath's profile and die-cavity planners (whose
+compensated motion LinuxCNC's rs274 reproduces: tests/interpret) and must come back
+clean; then the program text is changed by a known amount (a coordinate moved normal to
+the contour, the tool table's diameter, a G5 control point) and the round trip must
+see exactly those changes, and not changes below its tolerance."""
+
+from __future__ import annotations
+
+import math
+import re
+from pathlib import Path
+
+import pytest
+
+from millpath.interpret import interpret
+from millpath.io.schema import validate
+from millpath.model import Machine, Stock, Tool, Toolpath
+from millpath.model.toolpath import Operation
+from millpath.plan.base import PlanContext
+from millpath.plan.profile import operation as profile
+from millpath.post.linuxcnc import post_with_lines
+from millpath.verify.roundtrip import compare_toolpath
+
+TOL = 2e-4              # mm: the round trip's tolerance (post rounds to 0.0001)
+L_SHAPE = [[0, 0], [60, 0], [60, 40], [30, 40], [30, 25], [0, 25]]
+TOOLS = {3: Tool(3, "flat", 6.0)}
+STOCK = Stock(-20, -20, -12, 80, 60, 0)
+
+
+def _profile(side: str, **keys):
+    ctx = PlanContext("mm", STOCK, Machine(), TOOLS, Path("."))
+    base = {"tool": 3, "polygon": L_SHAPE, "depth": 10.0, "stepdown": 4.0, "feed": 800.0,
+            "side": side, "compensation": "control"}
+    tp = profile.plan(ctx, validate({**base, **keys}, profile.PARAMS, "op", None)).toolpath
+    prog, lines = post_with_lines(tp, TOOLS)
+    return tp, prog, lines
+
+
+def _check(tp, prog, lines, diameter=6.0, radius=3.0):
+    motions = interpret(prog, {3: Tool(3, "flat", diameter)}, machine_units="mm")
+    return compare_toolpath(tp, lines, motions, TOL, {3: radius})
+
+
+@pytest.mark.parametrize("side,keys", [("outside", {}), ("inside", {}),
+                                       ("outside", {"tabs": 3, "tab_height": 2.0})])
+def test_compensated_profiles_come_back_clean(side, keys):
+    tp, prog, lines = _profile(side, **keys)
+    assert re.search(r"G4[12] D3", prog)
+    assert _check(tp, prog, lines) == []
+
+
+def test_a_wrong_tool_diameter_is_seen():
+    tp, prog, lines = _profile("outside")
+    assert _check(tp, prog, lines, diameter=6.0 + 2 * 0.0003) != []     # 0.0003 off
+    assert _check(tp, prog, lines, diameter=6.0 + 2 * 0.0001) == []     # within 0.0002
+    diffs = _check(tp, prog, lines, diameter=6.2)
+    assert diffs and "G41 D3" in diffs[0] or "G42 D3" in diffs[0]
+
+
+def _move_line(prog: str, lineno: int, axis: str, by: float, modal: float = 0.0) -> str:
+    """``prog`` with the ``axis`` word of line ``lineno`` changed by ``by`` (``modal``:
+    the axis's value when the line does not write it)."""
+    rows = prog.splitlines()
+    m = re.search(axis + r"(-?[0-9.]+)", rows[lineno - 1])
+    if m:
+        rows[lineno - 1] = rows[lineno - 1].replace(m.group(0), f"{axis}{float(m.group(1)) + by:.4f}")
+    else:
+        rows[lineno - 1] += f" {axis}{modal + by:.4f}"
+    return "\n".join(rows) + "\n"
+
+
+def test_a_contour_point_moved_normal_to_the_contour_is_seen():
+    tp, prog, lines = _profile("outside")
+    # the L's bottom edge (0,0)-(60,0): the compensated move to (60, 0) at the first level
+    on = False
+    for m, ln in zip(tp.moves, lines):
+        if m.kind == "comp":
+            on = m.comp != "off"
+        elif on and m.kind == "line" and abs(m.end[0] - 60) < 1e-9 and abs(m.end[1]) < 1e-9:
+            target = ln
+            break
+    assert _check(tp, _move_line(prog, target, "Y", 0.0005), lines) != []
+    assert _check(tp, _move_line(prog, target, "Y", -0.0005), lines) != []
+    assert _check(tp, _move_line(prog, target, "Y", 0.0001), lines) == []
+    # along the edge (X): the offset path is the same line, only its end moves
+    assert _check(tp, _move_line(prog, target, "X", 0.1, 60.0), lines) != []
+
+
+def test_compensation_without_radii_is_not_compared():
+    tp, prog, lines = _profile("outside")
+    motions = interpret(prog, {3: Tool(3, "flat", 6.2)}, machine_units="mm")
+    assert compare_toolpath(tp, lines, motions, TOL) == []
+
+
+def _cubic_program():
+    tp = Toolpath("mm")
+    tp.begin(Operation("test", "cubic", 3, 1000.0, "off"))
+    tp.rapid(0, 0, 5)
+    tp.line(0, 0, -1, 300)
+    tp.cubic((10.0, 20.0), (30.0, -15.0), (40.0, 5.0, -1), 600)
+    tp.cubic((45.0, 10.0), (50.0, 20.0), (55.0, 30.0, -1), 600)
+    tp.rapid(55, 30, 5)
+    prog, lines = post_with_lines(tp, TOOLS)
+    return tp, prog, lines
+
+
+def test_g5_control_points_are_compared():
+    tp, prog, lines = _cubic_program()
+    assert _check(tp, prog, lines) == []
+    g5 = [i + 1 for i, r in enumerate(prog.splitlines()) if r.startswith("G5 ")]
+    assert len(g5) == 1 or len(g5) == 2
+    for word in "IJPQ":
+        for by, seen in ((0.001, True), (0.0001, False)):
+            diffs = _check(tp, _move_line(prog, g5[0], word, by), lines)
+            assert bool(diffs) == seen, (word, by, diffs)
+            if seen:
+                assert "control points" in diffs[0]
+
+
+def test_the_check_measures_distance_normal_to_arcs():
+    """A compensated contour with an arc: G41 round a 20 mm circle's quarter, the tool
+    6 mm: the tool centre runs on radius 23 (the left of a clockwise arc is outside);
+    with G42 on radius 17."""
+    tp = Toolpath("mm")
+    tp.begin(Operation("test", "arc", 3, 1000.0, "off"))
+    tp.rapid(-10, 30, 5)
+    tp.line(-10, 30, -1, 300)
+    for side, radius in (("left", 23.0), ("right", 17.0)):
+        tp = Toolpath("mm")
+        tp.begin(Operation("test", "arc", 3, 1000.0, "off"))
+        tp.rapid(-10, 30, 5)
+        tp.line(-10, 30, -1, 300)
+        tp.compensation(side, d=3)
+        tp.line(0, 20, -1, 600)                                 # entry, to the arc's start
+        tp.arc((20, 0, -1), (0, 0, -1), True, 600)              # clockwise quarter, r 20
+        tp.line(20, -10, -1, 600)
+        tp.compensation("off")
+        tp.line(30, -20, -1, 600)
+        prog, lines = post_with_lines(tp, TOOLS)
+        motions = interpret(prog, TOOLS, machine_units="mm")
+        arcs = [m for m in motions if m.kind == "arc" and m.center[:2] == (0.0, 0.0)]
+        assert len(arcs) == 1
+        assert math.isclose(math.hypot(*arcs[0].end[:2]), radius, abs_tol=1e-4)
+        assert compare_toolpath(tp, lines, motions, TOL, {3: 3.0}) == []
+        assert compare_toolpath(tp, lines, motions, TOL, {3: 3.001}) != []
+        # the same distance on the other side: the side is checked too
+        other = prog.replace("G41 D3" if side == "left" else "G42 D3",
+                             "G42 D3" if side == "left" else "G41 D3")
+        assert other != prog
+        diffs = compare_toolpath(tp, lines, interpret(other, TOOLS, machine_units="mm"),
+                                 TOL, {3: 3.0})
+        assert diffs and "of the contour" in diffs[0], diffs
