@@ -147,3 +147,19 @@ def test_a_job_operation_design_covers_all_its_tool_path_operations():
     assert r.max_gouge == pytest.approx(0.05, abs=TOL)
     assert r.gouge_at["operation"] == 1
     assert r.op_gouge[0] == 0.0 and r.op_gouge[2] == 0.0
+
+
+def test_a_drill_through_an_opening_of_a_height_field_cuts_nothing():
+    # a through opening (no part: -inf) in a 31 mm plate; the height-field reference
+    # closes the opening with a floor under the stock. A 10 mm drill goes through it,
+    # its point 3.5 mm below the stock (solid-hole-model's drills): no part there, so
+    # no gouge (the floor was 3.1 mm under the stock: a false 0.4 mm).
+    from millpath.simulate.design import BoxDesign
+    from millpath.simulate.exact import design_triangles
+    stock = Stock(-20, -20, 0, 20, 20, 31)
+    tri = design_triangles(BoxDesign(31.0, [(-6.0, -6.0, 6.0, 6.0, -np.inf)]), stock,
+                           0.001, 1.0)
+    drill = Tool(1, "drill", 10.0, flute_length=40, stickout=55)
+    moves = [Motion("feed", 1, (0.0, 0.0, 33.0), (0.0, 0.0, -3.5), feed=300, tool=1)]
+    r = verify_exact(moves, {1: drill}, stock, [Reference(tri, "plate")])
+    assert r.max_gouge == 0.0 and r.gouging_moves == 0
