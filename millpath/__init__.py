@@ -10,6 +10,10 @@ already set, it is a per-user folder ``$XDG_CACHE_HOME/millpath/numba/<digest>``
 ``~/.cache``; ``MILLPATH_CACHE_DIR`` overrides the ``.../millpath`` part), where the digest
 covers every source file of the package, so that a kernel is never reused after any of
 the code it calls has changed.
+
+numba's parallel kernels run on OpenMP threads, which by default keep spinning after
+each parallel loop, waiting for the next: CPU burnt on a busy machine for nothing.
+Unless ``OMP_WAIT_POLICY`` is already set, they sleep instead (``PASSIVE``).
 """
 
 import os as _os
@@ -42,3 +46,4 @@ def _numba_cache_dir() -> None:
 
 
 _numba_cache_dir()
+_os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")

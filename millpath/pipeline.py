@@ -291,7 +291,7 @@ def _run(job_path: str | Path, outdir: str | Path, prog: Progress, force: bool) 
                 render_deviation(sim.zmap, design, tmp / "deviation.png", units=job.units,
                                  gouge_at=sim.gouge_at, left_at=sim.left_at,
                                  gouge=ex.max_gouge if ex else None,
-                                 left=ex.max_left if ex else None)
+                                 left=ex.max_left if ex else None, grid=sim.design_grid)
         bar.advance(2)
         from millpath.report.viewer import write_view
         write_view(tmp / "view.html", program=posted, motions=motions, tools=job.tools,

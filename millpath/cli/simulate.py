@@ -43,7 +43,8 @@ def command(args: ProgramArgs, max_feed: float | None, as_json: bool,
             render_deviation(r.zmap, design, png.with_name(png.stem + "_deviation.png"),
                              units=units, gouge_at=r.gouge_at, left_at=r.left_at,
                              gouge=r.exact.max_gouge if r.exact else None,
-                             left=r.exact.max_left if r.exact else None)
+                             left=r.exact.max_left if r.exact else None,
+                             grid=r.design_grid)
     j = r.to_json()
     if as_json:
         click.echo(json.dumps(j, indent=2))

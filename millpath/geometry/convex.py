@@ -141,157 +141,197 @@ def _cross(a, b, out):
     out[2] = z
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def _closest_seg(W, i, j, v):
+    """Point of segment W[i] W[j] nearest the origin into ``v``; returns the kept
+    vertices as a bit mask (1 << index)."""
+    abx = W[j, 0] - W[i, 0]
+    aby = W[j, 1] - W[i, 1]
+    abz = W[j, 2] - W[i, 2]
+    ll = abx * abx + aby * aby + abz * abz
+    t = 0.0
+    if ll > 0.0:
+        t = -(W[i, 0] * abx + W[i, 1] * aby + W[i, 2] * abz) / ll
+    if t <= 0.0:
+        v[:] = W[i]
+        return 1 << i
+    if t >= 1.0:
+        v[:] = W[j]
+        return 1 << j
+    v[0] = W[i, 0] + t * abx
+    v[1] = W[i, 1] + t * aby
+    v[2] = W[i, 2] + t * abz
+    return (1 << i) | (1 << j)
+
+
+@njit(cache=True, error_model="numpy")
+def _closest_tri(W, i, j, k, v):
+    """Point of triangle W[i] W[j] W[k] nearest the origin into ``v`` (Voronoi
+    regions of its vertices, edges and face); returns the kept vertices' mask.
+    A degenerate (flat) triangle is taken as its three edges."""
+    a = W[i]
+    b = W[j]
+    c = W[k]
+    ab = b - a
+    ac = c - a
+    d1 = -_dot(ab, a)
+    d2 = -_dot(ac, a)
+    if d1 <= 0.0 and d2 <= 0.0:
+        v[:] = a
+        return 1 << i
+    d3 = -_dot(ab, b)
+    d4 = -_dot(ac, b)
+    if d3 >= 0.0 and d4 <= d3:
+        v[:] = b
+        return 1 << j
+    d5 = -_dot(ab, c)
+    d6 = -_dot(ac, c)
+    if d6 >= 0.0 and d5 <= d6:
+        v[:] = c
+        return 1 << k
+    vc = d1 * d4 - d3 * d2
+    vb = d5 * d2 - d1 * d6
+    va = d3 * d6 - d5 * d4
+    den = va + vb + vc
+    n = np.empty(3)
+    _cross(ab, ac, n)
+    if den <= 1e-14 * _dot(ab, ab) * _dot(ac, ac) or _dot(n, n) == 0.0:
+        best = np.inf
+        m = 0
+        t = np.empty(3)
+        for (p, q) in ((i, j), (j, k), (i, k)):
+            mm = _closest_seg(W, p, q, t)
+            if _dot(t, t) < best:
+                best = _dot(t, t)
+                m = mm
+                v[:] = t
+        return m
+    if vc <= 0.0 and d1 >= 0.0 and d3 <= 0.0:
+        t = d1 / (d1 - d3)
+        v[:] = a + t * ab
+        return (1 << i) | (1 << j)
+    if vb <= 0.0 and d2 >= 0.0 and d6 <= 0.0:
+        t = d2 / (d2 - d6)
+        v[:] = a + t * ac
+        return (1 << i) | (1 << k)
+    if va <= 0.0 and d4 - d3 >= 0.0 and d5 - d6 >= 0.0:
+        t = (d4 - d3) / ((d4 - d3) + (d5 - d6))
+        v[:] = b + t * (c - b)
+        return (1 << j) | (1 << k)
+    vb /= den
+    vc /= den
+    v[:] = a + ab * vb + ac * vc
+    return (1 << i) | (1 << j) | (1 << k)
+
+
+@njit(cache=True, error_model="numpy")
+def _closest_tet(W, v):
+    """Point of tetrahedron W[0..3] nearest the origin into ``v``; returns the kept
+    vertices' mask, 15 when the origin is inside (then ``v`` is 0)."""
+    best = np.inf
+    m = 0
+    t = np.empty(3)
+    e1 = W[1] - W[0]
+    e2 = W[2] - W[0]
+    e3 = W[3] - W[0]
+    n = np.empty(3)
+    _cross(e2, e3, n)
+    vol = _dot(e1, n)
+    scale = math.sqrt(_dot(e1, e1) * _dot(e2, e2) * _dot(e3, e3))
+    flat = abs(vol) <= 1e-12 * scale
+    inside = not flat
+    for f in range(4):                  # face f leaves out vertex f
+        i, j, k = (f + 1) % 4, (f + 2) % 4, (f + 3) % 4
+        a = W[i]
+        ab = W[j] - a
+        ac = W[k] - a
+        _cross(ab, ac, n)
+        so = -_dot(n, a)                 # side of the origin
+        sd = _dot(n, W[f] - a)           # side of the left-out vertex
+        if flat or so * sd < 0.0 or so == 0.0:
+            if not flat and so * sd < 0.0:
+                inside = False
+            mm = _closest_tri(W, i, j, k, t)
+            if _dot(t, t) < best:
+                best = _dot(t, t)
+                m = mm
+                v[:] = t
+    if inside:
+        v[:] = 0.0
+        return 15
+    return m
+
+
 @njit(cache=True, error_model="numpy")
 def meets(T, P0, P1, nr, rr, rh, rho, tol):
     """True when triangle ``T`` (3, 3) meets the swept solid (rings, rho along
-    P0 -> P1) or comes within ``tol`` of it (GJK on the Minkowski difference)."""
-    s = np.empty((4, 3))           # simplex, newest last
-    ns = 0
+    P0 -> P1) or comes within ``tol`` of it: GJK distance iteration (van den Bergen)
+    on the Minkowski difference ``T - solid``, which keeps the simplex's point ``v``
+    nearest the origin; ``|v|`` bounds the distance from above and ``v.w / |v|``
+    (``w`` the support point against ``v``) from below, so the answer is proven once
+    one bound passes ``tol``, or when the bounds meet (within ``1e-10`` of the
+    coordinates' size: both answers are then right to that)."""
+    W = np.empty((4, 3))
+    Wn = np.empty((4, 3))
+    nw = 0
     pa = np.empty(3)
     pb = np.empty(3)
     w = np.empty(3)
-    d = np.empty(3)
-    t1 = np.empty(3)
-    t2 = np.empty(3)
-    # initial direction: from the swept solid's rough centre to the triangle's centroid
+    v = np.empty(3)
+    nv = np.empty(3)
+    scale = 1.0
     for i in range(3):
-        d[i] = (T[0, i] + T[1, i] + T[2, i]) / 3.0 - 0.5 * (P0[i] + P1[i])
-    d[2] -= 0.5 * (rh[0] + rh[nr - 1])
-    if d[0] == 0.0 and d[1] == 0.0 and d[2] == 0.0:
-        d[0] = 1.0
-    for it in range(96):
-        _sup_tri(T, d[0], d[1], d[2], pa)
-        _sup_cut(P0, P1, nr, rr, rh, rho, -d[0], -d[1], -d[2], pb)
+        scale = max(scale, abs(P0[i]), abs(P1[i]), abs(T[0, i]), abs(T[1, i]), abs(T[2, i]))
+    gap = 1e-10 * scale
+    # a first point of the difference: the triangle's centroid less a point of the solid
+    for i in range(3):
+        v[i] = (T[0, i] + T[1, i] + T[2, i]) / 3.0 - P0[i]
+    v[0] -= rr[0]
+    v[2] -= rh[0]
+    lower = -np.inf
+    for it in range(256):
+        vv = _dot(v, v)
+        if vv <= gap * gap:
+            return True
+        vn = math.sqrt(vv)
+        if vn <= tol:
+            return True
+        _sup_tri(T, -v[0], -v[1], -v[2], pa)
+        _sup_cut(P0, P1, nr, rr, rh, rho, v[0], v[1], v[2], pb)
         for i in range(3):
             w[i] = pa[i] - pb[i]
-        dn = math.sqrt(_dot(d, d))
-        if ns > 0 and _dot(w, d) < tol * dn:
-            return False               # a separating plane: no point within tol
-        if ns == 0 and _dot(w, d) < tol * dn and it > 0:
+        lb = _dot(v, w) / vn               # the distance is at least this
+        if lb > lower:
+            lower = lb
+        if lower > tol:
             return False
-        s[ns, 0] = w[0]
-        s[ns, 1] = w[1]
-        s[ns, 2] = w[2]
-        ns += 1
-        # nearest feature of the simplex to the origin: new direction d
-        a = s[ns - 1]
-        if ns == 1:
-            d[0] = -a[0]
-            d[1] = -a[1]
-            d[2] = -a[2]
-        elif ns == 2:
-            b = s[0]
-            ab = b - a
-            ao = -a
-            if _dot(ab, ao) > 0.0:
-                _cross(ab, ao, t1)
-                _cross(t1, ab, d)
-            else:
-                s[0] = a
-                ns = 1
-                d[0] = ao[0]
-                d[1] = ao[1]
-                d[2] = ao[2]
-        elif ns == 3:
-            b = s[1].copy()
-            c = s[0].copy()
-            ab = b - a
-            ac = c - a
-            ao = -a
-            abc = np.empty(3)
-            _cross(ab, ac, abc)
-            _cross(abc, ac, t1)
-            if _dot(t1, ao) > 0.0:
-                if _dot(ac, ao) > 0.0:
-                    s[0] = c
-                    s[1] = a
-                    ns = 2
-                    _cross(ac, ao, t2)
-                    _cross(t2, ac, d)
-                else:
-                    if _dot(ab, ao) > 0.0:
-                        s[0] = b
-                        s[1] = a
-                        ns = 2
-                        _cross(ab, ao, t2)
-                        _cross(t2, ab, d)
-                    else:
-                        s[0] = a
-                        ns = 1
-                        d[:] = ao
-            else:
-                _cross(ab, abc, t1)
-                if _dot(t1, ao) > 0.0:
-                    if _dot(ab, ao) > 0.0:
-                        s[0] = b
-                        s[1] = a
-                        ns = 2
-                        _cross(ab, ao, t2)
-                        _cross(t2, ab, d)
-                    else:
-                        s[0] = a
-                        ns = 1
-                        d[:] = ao
-                else:
-                    v = _dot(abc, ao)
-                    if v > 0.0:
-                        s[0] = c
-                        s[1] = b
-                        s[2] = a
-                        d[:] = abc
-                    elif v < 0.0:
-                        s[0] = b
-                        s[1] = c
-                        s[2] = a
-                        d[0] = -abc[0]
-                        d[1] = -abc[1]
-                        d[2] = -abc[2]
-                    else:
-                        return True            # origin on the triangle
+        if vn - lower <= gap:
+            return True                    # bounds met: the distance is tol or less
+        W[nw] = w
+        nw += 1
+        if nw == 1:
+            m = 1
+            nv[:] = w
+        elif nw == 2:
+            m = _closest_seg(W, 0, 1, nv)
+        elif nw == 3:
+            m = _closest_tri(W, 0, 1, 2, nv)
         else:
-            b = s[2].copy()
-            c = s[1].copy()
-            dd = s[0].copy()
-            ab = b - a
-            ac = c - a
-            ad = dd - a
-            ao = -a
-            abc = np.empty(3)
-            acd = np.empty(3)
-            adb = np.empty(3)
-            _cross(ab, ac, abc)
-            _cross(ac, ad, acd)
-            _cross(ad, ab, adb)
-            # orient the face normals outward (away from the opposite vertex)
-            if _dot(abc, ad) > 0.0:
-                abc = -abc
-            if _dot(acd, ab) > 0.0:
-                acd = -acd
-            if _dot(adb, ac) > 0.0:
-                adb = -adb
-            if _dot(abc, ao) > 0.0:
-                s[0] = c
-                s[1] = b
-                s[2] = a
-                ns = 3
-                d[:] = abc
-            elif _dot(acd, ao) > 0.0:
-                s[0] = dd
-                s[1] = c
-                s[2] = a
-                ns = 3
-                d[:] = acd
-            elif _dot(adb, ao) > 0.0:
-                s[0] = b
-                s[1] = dd
-                s[2] = a
-                ns = 3
-                d[:] = adb
-            else:
-                return True                    # origin inside the tetrahedron
-        if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < 1e-30:
-            return True                        # origin on the simplex
-    return True
+            m = _closest_tet(W, nv)
+            if m == 15:
+                return True                # the origin is inside: they meet
+        if it > 0 and _dot(nv, nv) >= vv:      # (the first v is not the simplex's)
+            return True        # no progress (rounding): within reach of tol, say they meet
+        v[:] = nv
+        q = 0
+        for i in range(nw):
+            if m & (1 << i):
+                Wn[q] = W[i]
+                q += 1
+        for i in range(q):
+            W[i] = Wn[i]
+        nw = q
+    return lower <= tol
 
 
 @njit(cache=True, error_model="numpy")

@@ -4,12 +4,16 @@ A quadtree over the box: a cell is kept whole when its centre and edge midpoints
 within ``flat_tol`` of the plane through its corners and its corners do not jump by more
 than ``slope * size``; otherwise it is split, down to cells of ``min_size``. Each
 smooth leaf becomes two triangles through its corner heights. A smallest cell crossed
-by one wall (its corners fall into a high and a low group, each flat) is cut along the
-wall: the crossings on its edges are found by bisection of ``height`` to 1e-7 of the
-cell, the high and low parts become triangles at their own heights and the wall a
-vertical quad between the crossings (a chord of the true wall: off it by
-``min_size^2 / (4 radius)`` on a wall curved with ``radius``). Any other smallest cell
-becomes a ramp across the cell. Heights of ``-inf`` (no
+by one wall (its corners fall into a high and a low group, each smooth, flat or
+sloped, the jump between them larger than either group's spread) is cut along the
+wall: the crossings on its edges are found by bisection of ``height`` to 1e-12 of the
+edge (a real jump there, not a steep smooth slope), the high and low parts become
+triangles through the design's heights at their corners and just on their side of
+each crossing (checked within ``flat_tol`` at their centroids), and the wall a
+vertical quad between the crossings, from the low side's heights to the high side's (a
+chord of the true wall: off it by ``min_size^2 / (4 radius)`` on a wall curved with
+``radius``). Any other smallest cell (two walls, a wall's corner) becomes a ramp
+across the cell. Heights of ``-inf`` (no
 part) become ``floor``. Triangles wind counter-clockwise seen from above, so normals
 point out of the material (up, or away from the high side on a wall). Job units.
 """
@@ -61,7 +65,7 @@ def height_field_mesh(design, box: tuple[float, float, float, float], *, size: f
         walls = np.flatnonzero(rough & keep)
         if len(walls):
             wt, done = _wall_cells(design, X[walls], Y[walls], Z[walls], cw[walls],
-                                   ch[walls], floor, flat_tol)
+                                   ch[walls], floor, flat_tol, slope)
             out.append(wt)
             keep[walls[done]] = False
         if keep.any():
@@ -85,63 +89,101 @@ def height_field_mesh(design, box: tuple[float, float, float, float], *, size: f
     return np.ascontiguousarray(np.concatenate(out))
 
 
-def _wall_cells(design, X, Y, Z, cw, ch, floor, flat_tol):
+def _wall_cells(design, X, Y, Z, cw, ch, floor, flat_tol, slope):
     """Cut smallest cells crossed by a single wall along it (see the module doc).
     Returns (triangles, which cells were handled)."""
     zc = Z[:, :4]
     mid = (zc.max(axis=1) + zc.min(axis=1)) / 2
     high = zc > mid[:, None]
     nh = high.sum(axis=1)
-    # each group flat (within flat_tol), not a saddle (diagonal corners high)
-    hi_spread = np.where(high, zc, -np.inf).max(axis=1) - np.where(high, zc, np.inf).min(axis=1)
-    lo_spread = np.where(~high, zc, -np.inf).max(axis=1) - np.where(~high, zc, np.inf).min(axis=1)
+    size = np.maximum(cw, ch)
+    # each side smooth (no jump of its own), the jump between them larger than either
+    # side's spread, not a saddle (diagonal corners high)
+    hi_min = np.where(high, zc, np.inf).min(axis=1)
+    lo_max = np.where(~high, zc, -np.inf).max(axis=1)
+    hi_spread = np.where(high, zc, -np.inf).max(axis=1) - hi_min
+    lo_spread = lo_max - np.where(~high, zc, np.inf).min(axis=1)
     saddle = (nh == 2) & (high[:, 0] == high[:, 2])
-    ok = (hi_spread <= flat_tol) & (lo_spread <= flat_tol) & ~saddle & (nh > 0) & (nh < 4)
+    gap = hi_min - lo_max
+    ok = ((hi_spread <= slope * size) & (lo_spread <= slope * size)
+          & (gap > np.maximum(hi_spread, lo_spread)) & ~saddle & (nh > 0) & (nh < 4))
     idx = np.flatnonzero(ok)
-    tris = []
-    if len(idx):
-        Xc, Yc, H = X[idx, :4], Y[idx, :4], high[idx]
-        zhi = np.where(H, Z[idx, :4], -np.inf).max(axis=1)
-        zlo = np.where(~H, Z[idx, :4], np.inf).min(axis=1)
-        # crossings on the 4 edges (corner k -> k+1); only where the classes differ
-        cross = np.zeros((len(idx), 4, 2))
-        for e in range(4):
-            a, b = e, (e + 1) % 4
-            ax, ay, bx, by = Xc[:, a], Yc[:, a], Xc[:, b], Yc[:, b]
-            lo_t = np.zeros(len(idx))
-            hi_t = np.ones(len(idx))
-            ha = H[:, a]
-            for _ in range(40):
-                t = (lo_t + hi_t) / 2
-                z = _h(design, ax + (bx - ax) * t, ay + (by - ay) * t, floor)
-                same_a = (z > (zhi + zlo) / 2) == ha
-                lo_t = np.where(same_a, t, lo_t)
-                hi_t = np.where(same_a, hi_t, t)
+    tris: list = []
+    if not len(idx):
+        return np.zeros((0, 3, 3)), ok
+    Xc, Yc, Zc, H = X[idx, :4], Y[idx, :4], Z[idx, :4], high[idx]
+    level = (hi_min[idx] + lo_max[idx]) / 2
+    # crossings on the 4 edges (corner k -> k+1), with the height just on either side
+    # of the wall (the ends of the bisection's last bracket)
+    cross = np.zeros((len(idx), 4, 2))
+    zcross = np.zeros((len(idx), 4, 2))        # [.., 0]: high side, [.., 1]: low side
+    jump = np.ones((len(idx), 4), bool)
+    for e in range(4):
+        a, b = e, (e + 1) % 4
+        ax, ay, bx, by = Xc[:, a], Yc[:, a], Xc[:, b], Yc[:, b]
+        lo_t = np.zeros(len(idx))
+        hi_t = np.ones(len(idx))
+        ha = H[:, a]
+        za, zb = Zc[:, a].copy(), Zc[:, b].copy()
+        for _ in range(40):
             t = (lo_t + hi_t) / 2
-            cross[:, e, 0] = ax + (bx - ax) * t
-            cross[:, e, 1] = ay + (by - ay) * t
-        for c in range(len(idx)):
-            polys = {True: [], False: []}
-            ends = []
-            for k in range(4):
-                h = bool(H[c, k])
-                polys[h].append((Xc[c, k], Yc[c, k]))
-                if H[c, k] != H[c, (k + 1) % 4]:
-                    p = (cross[c, k, 0], cross[c, k, 1])
-                    polys[True].append(p)
-                    polys[False].append(p)
-                    ends.append((p, h))
-            for h, z in ((True, zhi[c]), (False, zlo[c])):
-                pts = polys[h]
-                for j in range(1, len(pts) - 1):
-                    tris.append([(*pts[0], z), (*pts[j], z), (*pts[j + 1], z)])
-            # wall: from crossing p (leaving the high side) to q; normal to the low side
-            (p, hp), (q, _) = ends
-            if not hp:      # p must be where the way round the cell leaves the high side
-                p, q = q, p
-            a, b = (p[0], p[1], zlo[c]), (q[0], q[1], zlo[c])
-            c2, d = (q[0], q[1], zhi[c]), (p[0], p[1], zhi[c])
-            tris.append([a, b, c2])
-            tris.append([a, c2, d])
+            z = _h(design, ax + (bx - ax) * t, ay + (by - ay) * t, floor)
+            same_a = (z > level) == ha
+            lo_t = np.where(same_a, t, lo_t)
+            hi_t = np.where(same_a, hi_t, t)
+            za = np.where(same_a, z, za)
+            zb = np.where(same_a, zb, z)
+        t = (lo_t + hi_t) / 2
+        cross[:, e, 0] = ax + (bx - ax) * t
+        cross[:, e, 1] = ay + (by - ay) * t
+        zcross[:, e, 0] = np.where(ha, za, zb)
+        zcross[:, e, 1] = np.where(ha, zb, za)
+        # a real wall: the height jumps across the bracket (not a steep smooth slope)
+        jump[:, e] = (H[:, a] == H[:, b]) | (np.abs(za - zb) > gap[idx] / 2)
+    good = jump.all(axis=1)
+    owner: list[int] = []
+    side: list[int] = []
+    for c in np.flatnonzero(good):
+        polys = {True: [], False: []}
+        ends = []
+        for k in range(4):
+            h = bool(H[c, k])
+            polys[h].append((Xc[c, k], Yc[c, k], Zc[c, k]))
+            if H[c, k] != H[c, (k + 1) % 4]:
+                px, py = cross[c, k]
+                polys[True].append((px, py, zcross[c, k, 0]))
+                polys[False].append((px, py, zcross[c, k, 1]))
+                ends.append((k, h))
+        for h in (True, False):
+            pts = polys[h]
+            for j in range(1, len(pts) - 1):
+                tris.append([pts[0], pts[j], pts[j + 1]])
+                owner.append(c)
+                side.append(1 if h else 0)
+        # wall: from crossing p (leaving the high side) to q; normal to the low side
+        (kp, hp), (kq, _) = ends
+        if not hp:      # p must be where the way round the cell leaves the high side
+            kp, kq = kq, kp
+        (px, py), (qx, qy) = cross[c, kp], cross[c, kq]
+        a, b = (px, py, zcross[c, kp, 1]), (qx, qy, zcross[c, kq, 1])
+        c2, d = (qx, qy, zcross[c, kq, 0]), (px, py, zcross[c, kp, 0])
+        tris.append([a, b, c2])
+        tris.append([a, c2, d])
+        owner += [c, c]
+        side += [-1, -1]
     t = np.asarray(tris, float).reshape(-1, 3, 3)
-    return t, ok
+    owner_a = np.asarray(owner, np.int64)
+    side_a = np.asarray(side)
+    # each side's triangles within flat_tol of the design at their centroids (where
+    # the centroid is on that side: a curved wall's chord is off by its sagitta)
+    s = np.flatnonzero(side_a >= 0)
+    if len(s):
+        cen = t[s].mean(axis=1)
+        zd = _h(design, cen[:, 0], cen[:, 1], floor)
+        same = (zd > level[owner_a[s]]) == (side_a[s] == 1)
+        bad = same & (np.abs(zd - cen[:, 2]) > flat_tol)
+        good[owner_a[s][bad]] = False
+    t = t[good[owner_a]] if len(t) else t
+    handled = np.zeros(len(ok), bool)
+    handled[idx[good]] = True
+    return t, handled

@@ -18,34 +18,40 @@ def path_runs(tp: Toolpath, step: float):
     moves (rapid, line) are given by their end points, as they are drawn (a straight
     segment stays straight in the picture's projection); arcs and cubics are sampled
     about ``step`` apart."""
-    pos = None
-    run: list = []
+    moves = [m for m in tp.moves if m.kind != "comp"]
+    if len(moves) < 2:
+        return
+    ends = np.array([m.end for m in moves], dtype=float)
+    pos = ends[0]
+    chunks: list[np.ndarray] = []
     key = None
-    for m in tp.moves:
-        if m.kind == "comp":
-            continue
-        if pos is None:
-            pos = m.end
-            continue
-        if m.kind == "drill":
-            top = (m.end[0], m.end[1], m.r_plane)
-            pts = [(m.end[0], m.end[1], pos[2]), top, m.end, top]
-            k = (m.op, False)
-        elif m.kind in ("rapid", "line"):
-            pts = [m.end]
+    i, n = 1, len(moves)
+    while i < n:
+        m = moves[i]
+        if m.kind in ("rapid", "line"):            # a stretch of them: their end points
+            j = i + 1
+            while j < n and moves[j].kind == m.kind and moves[j].op == m.op:
+                j += 1
+            pts = ends[i:j]
             k = (m.op, m.kind == "rapid")
+            i = j
         else:
-            pts = sample_move(pos, m, step)[1:].tolist()
+            if m.kind == "drill":
+                top = (m.end[0], m.end[1], m.r_plane)
+                pts = np.array([(m.end[0], m.end[1], pos[2]), top, m.end, top], dtype=float)
+            else:
+                pts = sample_move(pos, m, step)[1:]
             k = (m.op, False)
+            i += 1
         if k != key:
-            if run:
-                yield key[0], key[1], np.array(run, dtype=float)
-            run = [pos]
+            if chunks:
+                yield key[0], key[1], np.concatenate(chunks)
+            chunks = [pos[None, :]]
             key = k
-        run.extend(pts)
+        chunks.append(pts)
         pos = pts[-1]
-    if run and key is not None:
-        yield key[0], key[1], np.array(run, dtype=float)
+    if chunks and key is not None:
+        yield key[0], key[1], np.concatenate(chunks)
 
 
 def render_preview(tp: Toolpath, path: str | Path, title: str = "", stock=None) -> None:
@@ -66,6 +72,8 @@ def preview_figure(tp: Toolpath, title: str = "", stock=None):
     from matplotlib.lines import Line2D
     from matplotlib.ticker import MaxNLocator
     from mpl_toolkits.mplot3d.art3d import Line3DCollection
+
+    from millpath.fit.collinear import kept_points
     ends = tp.ends()
     extent = ends if len(ends) else np.zeros((1, 3))
     if stock is not None:
@@ -83,7 +91,12 @@ def preview_figure(tp: Toolpath, title: str = "", stock=None):
     ax.computed_zorder = False
     runs, colour, width, style = [], [], [], []
     seen_ops: set[int] = set()
+    # points within a fifth of a pixel of the line through their neighbours add
+    # nothing to the picture but drawing time (the figure is ~600 px across ``span``)
+    thin = span / 3000.0
     for op, rapid, pts in path_runs(tp, step):
+        if len(pts) > 2:
+            pts = pts[kept_points(pts, thin)]
         runs.append(pts)
         colour.append("0.6" if rapid else colours(op % 10))
         width.append(0.5 if rapid else 0.6)

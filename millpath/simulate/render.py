@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
+from millpath.simulate.designgrid import DesignGrid, grid_of
 from millpath.simulate.zmap import ZMap
 
 
@@ -30,6 +31,8 @@ def _figure(zmap: ZMap):
     dpi = 120
     fig = Figure(figsize=(fw, fh), dpi=dpi)
     FigureCanvasAgg(fig)
+    # margins about those tight_layout gave (the colorbar takes its room from the axes)
+    fig.subplots_adjust(left=0.08, right=0.97, bottom=0.1, top=0.93)
     ax = fig.add_subplot()
     return fig, ax, (int(fw * dpi), int(fh * dpi))
 
@@ -74,22 +77,23 @@ def _save_plan_view(fig, ax, path, title: str) -> Path:
     ax.set_ylabel("Y")
     ax.set_title(title)
     ax.set_aspect("equal")
-    fig.tight_layout()
     p = Path(path)
-    fig.savefig(p, bbox_inches="tight", pad_inches=0.15)   # labels never clipped
+    # cropped to what is drawn (labels never clipped), 0.15 in around it: the box is
+    # measured once without rasterising, so the figure is drawn once (savefig's
+    # bbox_inches="tight" would draw it twice, and tight_layout a third time)
+    box = fig.get_tightbbox(fig.canvas.get_renderer()).padded(0.15)
+    fig.savefig(p, bbox_inches=box)
     return p
 
 
-def _design_outline(ax, zmap: ZMap, design, max_px: int = 600) -> None:
-    """Thin grey contours of the design's height, so deviations can be placed."""
+def _design_outline(ax, zmap: ZMap, grid: DesignGrid, max_px: int = 600) -> None:
+    """Thin grey contours of the design's height (its values at the cell centres of
+    ``grid``, every ``step``-th), so deviations can be placed."""
     ny, nx = zmap.heights.shape
     step = max(1, int(np.ceil(max(nx, ny) / max_px)))
     xs, ys = zmap.xs()[::step], zmap.ys()[::step]
     X, Y = np.meshgrid(xs, ys)
-    try:
-        z = np.asarray(design.height(X, Y), float).reshape(X.shape)
-    except Exception:                       # a design that cannot be sampled: no outline
-        return
+    z = grid.centre[::step, ::step]
     z = np.where(np.isfinite(z), z, zmap.zmin)
     z = np.clip(z, zmap.zmin, zmap.ztop)
     lo, hi = float(z.min()), float(z.max())
@@ -103,19 +107,21 @@ def _design_outline(ax, zmap: ZMap, design, max_px: int = 600) -> None:
 def render_deviation(zmap: ZMap, design, path: str | Path, *, title: str = "",
                      units: str = "", tolerance: float = 0.0,
                      gouge_at=None, left_at=None, gouge: float | None = None,
-                     left: float | None = None) -> Path:
+                     left: float | None = None, grid: DesignGrid | None = None) -> Path:
     """Write the deviation of ``zmap`` from ``design`` to ``path`` (PNG).
 
     Red: the tool went below the design (gouge); blue: material left above it; white:
     within ``tolerance`` (job units). Grey lines: contours of the design's height;
     circles mark the largest gouge and the most material left: where the exact check
     found them when ``gouge_at`` / ``left_at`` ((x, y), with the figures ``gouge`` /
-    ``left``) are given (walls included), else the Z-map's extreme cells. Returns the
-    path."""
+    ``left``) are given (walls included), else the Z-map's extreme cells. ``grid``: the
+    design already sampled on ``zmap`` (``SimResult.design_grid``), used when it is that
+    of ``design``. Returns the path."""
     from matplotlib.colors import LinearSegmentedColormap, Normalize, TwoSlopeNorm
     from millpath.simulate.simulator import deviation
     fig, ax, shown = _figure(zmap)
-    dev = deviation(zmap, design)
+    grid = grid_of(zmap, design, grid)
+    dev = deviation(zmap, grid)
     if tolerance > 0:
         dev = np.where(np.abs(dev) <= tolerance, 0.0, dev)
     gmax = max(float(-dev.min()), 0.0) + 0.0        # + 0.0: no "-0" in titles
@@ -146,7 +152,7 @@ def render_deviation(zmap: ZMap, design, path: str | Path, *, title: str = "",
         d = np.where(-mn > mx, mn, mx)
     im = ax.imshow(d, origin="lower", extent=zmap.extent(), cmap=cmap, norm=norm,
                    interpolation="nearest")
-    _design_outline(ax, zmap, design)
+    _design_outline(ax, zmap, grid)
     ny, nx = dev.shape
     xs, ys = zmap.xs(), zmap.ys()
     marks = []

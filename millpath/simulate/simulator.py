@@ -29,6 +29,7 @@ from millpath.model.tool import Tool
 from millpath.model.toolpath import Toolpath
 from millpath.progress import QUIET, Progress
 from millpath.simulate.cycletime import motion_times, times_by_operation
+from millpath.simulate.designgrid import DesignGrid, design_grid, row_blocks
 from millpath.simulate.exact import ExactResult, Reference, design_triangles, verify_exact
 from millpath.simulate.kernel import BALL, BULL, DRILL, FLAT, sweep_chunk
 from millpath.simulate.path import Segments, motion_segments, toolpath_motions
@@ -63,6 +64,7 @@ class SimResult:
     motion_op: np.ndarray | None = None            # operation of each motion
     rapid_hit: np.ndarray | None = None            # per motion flags (Z-map)
     holder_hit: np.ndarray | None = None
+    design_grid: DesignGrid | None = None          # the design sampled on the Z-map
 
     def to_json(self) -> dict[str, Any]:
         """The verification keys of report.json / ``millpath simulate --json``.
@@ -180,37 +182,6 @@ def sweep(zmap: ZMap, segs: Segments, tools: dict[int, Tool], n_motions: int, *,
     return rapid_hit[:n_motions], holder_hit[:n_motions]
 
 
-def _design_rows(zmap: ZMap, design, j0: int, j1: int):
-    """Design heights for rows [j0, j1): (centre, lowest, highest over centre and the
-    four corners), each at least the stock bottom (NaN and -inf count as no part)."""
-    xs = zmap.xs()
-    ys = zmap.ys()[j0:j1]
-    X, Y = np.meshgrid(xs, ys)
-    dc = np.asarray(design.height(X, Y), float).reshape(X.shape)
-    xk = zmap.x0 + np.arange(len(xs) + 1) * zmap.dx
-    yk = zmap.y0 + np.arange(j0, j1 + 1) * zmap.dy
-    XK, YK = np.meshgrid(xk, yk)
-    dk = np.asarray(design.height(XK, YK), float).reshape(XK.shape)
-    corners = (dk[:-1, :-1], dk[1:, :-1], dk[:-1, 1:], dk[1:, 1:])
-    lo = dc.copy()
-    hi = dc.copy()
-    for c in corners:
-        np.fmin(lo, c, out=lo)
-        np.fmax(hi, c, out=hi)
-    zf = zmap.zmin
-    out = []
-    for a in (dc, lo, hi):
-        a = np.where(np.isnan(a), -np.inf, a)
-        out.append(np.maximum(a, zf))
-    return out
-
-
-def _row_blocks(zmap: ZMap, rows: int = 256):
-    ny = zmap.heights.shape[0]
-    for j0 in range(0, ny, rows):
-        yield j0, min(ny, j0 + rows)
-
-
 def _cut_mask(zmap: ZMap, h: np.ndarray, j0: int = 0) -> np.ndarray:
     """Cells of rows ``j0 ..`` (``h``) that a tool lowered (never the air around a bar)."""
     eps = 1e-9 * max(1.0, abs(zmap.ztop))
@@ -231,12 +202,14 @@ class Comparison:
 
 
 def compare_design(zmap: ZMap, design) -> Comparison:
-    """Gouge and material left of ``zmap`` against ``design``, with their places."""
+    """Gouge and material left of ``zmap`` against ``design`` (or its
+    :class:`DesignGrid` on ``zmap``), with their places."""
+    grid = design if isinstance(design, DesignGrid) else design_grid(zmap, design)
     gouge, left, vol = 0.0, 0.0, 0.0
     g_at = l_at = None
     xs, ys = zmap.xs(), zmap.ys()
-    for j0, j1 in _row_blocks(zmap):
-        dc, lo, hi = _design_rows(zmap, design, j0, j1)
+    for j0, j1 in row_blocks(zmap):
+        dc, lo, hi = grid.bottomed(j0, j1), grid.lo[j0:j1], grid.hi[j0:j1]
         h = zmap.heights[j0:j1]
         g = np.where(_cut_mask(zmap, h, j0), lo - h, 0.0)
         k = int(np.argmax(g))
@@ -265,10 +238,12 @@ def compare(zmap: ZMap, design) -> tuple[float, float, float]:
 def deviation(zmap: ZMap, design) -> np.ndarray:
     """Signed deviation per cell (ny, nx): positive = material left above the design
     (highest design value over the cell), negative = gouge (lowest value, cut cells),
-    0 within the cell's own design range."""
+    0 within the cell's own design range. ``design``: a design or its
+    :class:`DesignGrid` on ``zmap``."""
+    grid = design if isinstance(design, DesignGrid) else design_grid(zmap, design)
     out = np.zeros_like(zmap.heights)
-    for j0, j1 in _row_blocks(zmap):
-        _, lo, hi = _design_rows(zmap, design, j0, j1)
+    for j0, j1 in row_blocks(zmap):
+        lo, hi = grid.lo[j0:j1], grid.hi[j0:j1]
         h = zmap.heights[j0:j1]
         o = out[j0:j1]
         above = h > hi
@@ -280,7 +255,8 @@ def deviation(zmap: ZMap, design) -> np.ndarray:
 
 def _finish(zmap, design, motions, flags, times, resolution, lines, nseg) -> SimResult:
     rapid_hit, holder_hit = flags
-    c = compare_design(zmap, design) if design is not None else None
+    grid = design_grid(zmap, design) if design is not None else None
+    c = compare_design(zmap, grid) if grid is not None else None
     g = c.max_gouge if c else None
     l = c.max_left if c else None
     lv = c.left_volume if c else None
@@ -290,7 +266,8 @@ def _finish(zmap, design, motions, flags, times, resolution, lines, nseg) -> Sim
         cycle_time_s=float(times.sum()), resolution=float(resolution), zmap=zmap,
         rapid_lines=[lines[i] for i in np.flatnonzero(rapid_hit)],
         holder_lines=[lines[i] for i in np.flatnonzero(holder_hit)], chords=nseg,
-        gouge_at=c.gouge_at if c else None, left_at=c.left_at if c else None)
+        gouge_at=c.gouge_at if c else None, left_at=c.left_at if c else None,
+        design_grid=grid)
 
 
 def _lift_start(motions: list[Motion], stock: Stock) -> list[Motion]:

@@ -3,7 +3,7 @@ of millpath.geometry.convex and against dense point sampling (fixed seed)."""
 
 import numpy as np
 
-from millpath.geometry.convex import BALL, depth
+from millpath.geometry.convex import BALL, FLAT, depth, meets, shape_rings
 from millpath.geometry.distance import (ball_core, core_triangle_dist2,
                                         segment_triangle_dist2)
 
@@ -41,5 +41,40 @@ def test_ball_depth_matches_gjk():
             assert g < 0 or g < 0.0005 + 1e-6
         elif exact < R - 1e-6:
             n += 1
-            assert abs(g - exact) < 1e-4      # GJK meets() stops within ~5e-5; accuracy is 1e-3
+            assert abs(g - exact) < 1e-5      # bisection to 1e-7; accuracy is 1e-3
     assert n > 50
+
+
+def _flat_depth_by_sampling(T, P0, P1, R, L, n=201, m=501):
+    """Deepest point of triangle T inside a flat end mill (radius R, flutes L) swept
+    from tip P0 to P1: points of T and tool positions sampled densely."""
+    u, v = np.meshgrid(np.linspace(0, 1, n), np.linspace(0, 1, n))
+    keep = u + v <= 1
+    pts = T[0] + u[keep, None] * (T[1] - T[0]) + v[keep, None] * (T[2] - T[0])
+    best = -1.0
+    for t in np.linspace(0, 1, m):
+        C = P0 + (P1 - P0) * t
+        d = np.minimum(np.minimum(R - np.hypot(pts[:, 0] - C[0], pts[:, 1] - C[1]),
+                                  pts[:, 2] - C[2]), C[2] + L - pts[:, 2])
+        best = max(best, float(d.max()))
+    return best
+
+
+def test_flat_depth_of_a_sliver_near_the_rim():
+    # pocket-thesis-arc (inch): a 1/4 in flat end mill on a chord of a G18 arc over a
+    # gently sloped floor triangle that reaches 0.0029 in inside its rim. The old GJK
+    # cycled on this pair for some inner bodies and, out of iterations, said "meets":
+    # the bisection reported 0.000385 in for a depth of 0.000056
+    T = np.array([[0.798438, 1.26699, -0.280994], [0.809375, 1.277913, -0.281512],
+                  [0.798438, 1.277913, -0.281423]])
+    P0 = np.array([0.804425, 1.4, -0.281311])
+    P1 = np.array([0.833849, 1.4, -0.281551])
+    R, L = 0.125, 0.75
+    rr, rh = np.empty(3), np.empty(3)
+    truth = _flat_depth_by_sampling(T, P0, P1, R, L)
+    g = depth(T, P0, P1, FLAT, R, 0.0, 0.0, 0.0, L, 2e-5, 4e-9, rr, rh)
+    assert abs(g - truth) < 1e-6                # sampling is within ~3e-8 here
+    # and "meets" is monotonic in the depth e of the inner body
+    for e in np.linspace(2e-5, 0.002, 100):
+        nr, rho = shape_rings(FLAT, R, 0.0, 0.0, 0.0, L, e, rr, rh)
+        assert meets(T, P0, P1, nr, rr, rh, rho, 0.0) == (e <= g)

@@ -62,7 +62,8 @@ def scene_data(*, program: str, motions: list[Motion], tools: dict[int, Tool], s
     used = sorted({int(t) for t in np.unique(packed.tool)} & set(tools))
     surface = None
     if sim is not None:
-        ds = display_surface(sim.zmap, design, gouge_at=sim.gouge_at, left_at=sim.left_at)
+        ds = display_surface(sim.zmap, design, gouge_at=sim.gouge_at, left_at=sim.left_at,
+                             grid=sim.design_grid)
         surface = {
             "nx": len(ds.xs), "ny": len(ds.ys), "step": ds.step,
             "xs": _le(ds.xs, "f4"), "ys": _le(ds.ys, "f4"),

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from millpath.simulate import ZMap, deviation
+from millpath.simulate.designgrid import DesignGrid, grid_of
 
 MAX_CELLS = 300_000
 
@@ -53,12 +54,14 @@ def _block_extreme(a: np.ndarray, step: int) -> np.ndarray:
 
 
 def display_surface(zmap: ZMap, design=None, *, gouge_at=None, left_at=None,
-                    max_cells: int = MAX_CELLS) -> DisplaySurface:
+                    max_cells: int = MAX_CELLS, grid: DesignGrid | None = None
+                    ) -> DisplaySurface:
     """Decimate ``zmap`` (and its deviation from ``design``) for the page.
 
     ``gouge_at`` / ``left_at``: the ``(x, y)`` cell centres of the simulator's largest
     gouge and leftover (``SimResult.gouge_at`` / ``left_at``); their Z is the simulated
-    height there."""
+    height there. ``grid``: the design already sampled on ``zmap``
+    (``SimResult.design_grid``), used when it is that of ``design``."""
     H = zmap.heights
     ny, nx = H.shape
     step = max(1, int(math.ceil(math.sqrt(nx * ny / max_cells))))
@@ -74,12 +77,12 @@ def display_surface(zmap: ZMap, design=None, *, gouge_at=None, left_at=None,
     gmax = lmax = 0.0
     g_at = l_at = None
     if design is not None:
-        full = deviation(zmap, design)
+        grid = grid_of(zmap, design, grid)
+        full = deviation(zmap, grid)
         gmax = max(float(-full.min()), 0.0) + 0.0
         lmax = max(float(full.max()), 0.0) + 0.0
         dev = _block_extreme(full, step).astype(np.float32)
-        X, Y = np.meshgrid(xs, ys)
-        d = np.asarray(design.height(X, Y), float).reshape(X.shape)
+        d = grid.centre[np.ix_(jj, ii)]          # the design at the display vertices
         d = np.where(np.isfinite(d), d, zmap.zmin)
         des = np.maximum(d, zmap.zmin).astype(np.float32)
 
