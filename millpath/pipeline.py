@@ -329,8 +329,11 @@ def _references(job: Job, results: list[PlanResult], stock: Stock, tp: Toolpath)
         return [Reference(orient_outward(tri), str(spec), None)]
     used = [job.tools[o.tool].radius for o in tp.ops if o.tool in job.tools]
     size = min(used + [max(stock.size[:2]) / 64]) / 2
+    # a job operation's design applies to the tool path operations it planned (one per
+    # tool of a features operation, ...): those numbers, not the job's, mark the motion
+    first = np.cumsum([0] + [len(r.toolpath.ops) for r in results])
     return [Reference(design_triangles(r.design, stock, _accuracy(job.units), size),
-                      f"operations[{i}] design", [i])
+                      f"operations[{i}] design", list(range(first[i], first[i + 1])))
             for i, r in enumerate(results) if r.design is not None]
 
 

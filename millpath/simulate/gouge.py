@@ -26,6 +26,7 @@ from millpath.geometry.convex import (BALL, BULL, CYL, DRILL, FLAT, depth, meets
 from millpath.geometry.distance import (ball_core, core_point_dist2, core_triangle_dist2,
                                         point_triangle_dist2)
 from millpath.geometry.index import BoxIndex, box_candidates
+from millpath.geometry.inside import in_material
 from millpath.model.tool import Tool
 
 KIND = {"flat": FLAT, "ball": BALL, "bull": BULL, "drill": DRILL}
@@ -184,7 +185,10 @@ def _gouge_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, tc, tr, tx
                     if dp > lo and dp > best:
                         for a in range(3):
                             qp[a] = sp[a] + dp * tn[t, a]
-                        if in_triangle(tri[t], qp):
+                        # and that point in the material (not outside,
+                        # behind another face or beyond the design's edge)
+                        if in_triangle(tri[t], qp) and in_material(
+                                sp, tri, ix[2], ix[3], ix[8], ix[9], ix[10], ix[11], ix[12]):
                             ds = math.sqrt(surface_dist2(sp, dp, tri, ix, sbuf))
                             if ds >= lo and ds > best:
                                 best = ds

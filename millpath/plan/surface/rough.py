@@ -38,7 +38,7 @@ from millpath.plan.surface.dropcutter import MeshHeight
 from millpath.plan.surface.estimate import (ROUGH_MAX_RASTER, CoarseRaster,
                                             RoughEstimate, estimate_rough)
 from millpath.plan.surface.linking import add_passes
-from millpath.plan.surface.refine import refine_worst
+from millpath.plan.surface.refine import refine_steps, refine_worst
 from millpath.plan.surface.sampler import Sampler
 from millpath.plan.surface.source import (PLUNGE_FEED, SURFACE_PARAMS, load_op_surface,
                                           op_surface_index, plunge_feed)
@@ -186,7 +186,8 @@ def _refine_floor(sampler: Sampler, P: np.ndarray, level: float, allowance: floa
         want = np.maximum(zt + allowance, level)
         return want - Q[..., 2], want
 
-    return refine_worst(sampler, P, judge, tolerance, 1e-3, checks)
+    P = refine_worst(sampler, P, judge, tolerance, 1e-3, checks)
+    return refine_steps(sampler, P, judge, tolerance, 1e-3)
 
 
 def _stock_top_near(remaining, tool, tol: float):
