@@ -11,8 +11,6 @@ allowance less the operation's tolerance (a quarter of the allowance) above it.
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 import shapely
