@@ -204,6 +204,43 @@ def test_ktoolcav_turned_up_reduced(tmp_path, shared_dir):
         assert 0.5 * guessed <= planned <= 2.0 * guessed, (planned, guessed)
 
 
+def _proven_exact(tmp_path, text: str, tolerances: list[float]) -> dict:
+    """The whole run with the exact verification: each operation's gouge normal to the
+    mesh within its tolerance, no holder contact, no rapid through material, the program
+    written (the safety gate passed)."""
+    import json
+
+    from millpath.pipeline import run_job
+    (tmp_path / "job.toml").write_text(text + "[simulation]\nexact = true\n")
+    run_job(tmp_path / "job.toml", tmp_path / "out")       # refused: UnsafeProgramError
+    assert (tmp_path / "out" / "program.ngc").is_file()
+    rep = json.loads((tmp_path / "out" / "report.json").read_text())
+    v = rep["verification"]
+    assert "operations[0] design" in v["reference"] and v["accuracy"] <= 0.001
+    assert v["holder_contacts"] == 0 and v["rapids_through_material"] == 0
+    rows = v["by_operation"]
+    assert len(rows) == len(tolerances)
+    for row, tol in zip(rows, tolerances):
+        assert row["max_gouge"] <= tol + v["accuracy"], row
+    assert rep["safety"]["status"] == "ok"
+    return v
+
+
+@pytest.mark.slow
+def test_textbox_reduced_exact(tmp_path, shared_dir):
+    """pycam-textbox.stl with the exact verification (issue 15): rough 6 mm flat
+    (stepdown 2, allowance 0.2), waterline 2 mm ball at scallop 0.1 (the issue: 0.02),
+    tolerance 0.01. Its letters are where the exact check once took a cutter outside a
+    letter, behind the plane of its end wall, for a 2 mm gouge."""
+    stl = shared_dir / "meshes" / "pycam-textbox.stl"
+    text = JOB.format(units="mm", stock="[0.0, 0.0, -10.0, 130.0, 50.0, 3.5]",
+                      tools=TOOLS.format(d1=6.0, d2=2.0, fl=60.0, so=70.0, h1=30.0, h2=40.0),
+                      surface=f'"{stl}"', stepdown=2.0, allowance=0.2,
+                      strategy="waterline", scallop=0.1, tol=0.01)
+    # surface-rough promises a quarter of its allowance (0.05 mm); the finish 0.01
+    _proven_exact(tmp_path, text, [0.05, 0.01])
+
+
 def test_an_impossible_scallop_is_refused_before_planning_with_numbers(tmp_path):
     write_stl(box_and_wheel(size=60.0, height=20.0, segments=64), tmp_path / "w.stl")
     text = JOB.format(units="mm", stock="[-30.0, -30.0, -20.0, 30.0, 30.0, 0.5]",
