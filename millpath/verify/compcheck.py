@@ -38,6 +38,14 @@ STRAIGHT_JOIN = 0.05
 TWO_PI = 2 * math.pi
 
 
+def sweep(a0, a1, clockwise):
+    """Signed angle (radians, + counter-clockwise) an arc turns from angle ``a0`` to
+    ``a1``: a full turn when they are equal. Works on numpy arrays."""
+    ccw = (a1 - a0) % TWO_PI
+    cw = (a0 - a1) % TWO_PI
+    return np.where(clockwise, -np.where(cw > 0, cw, TWO_PI), np.where(ccw > 0, ccw, TWO_PI))
+
+
 @dataclass(frozen=True)
 class Segment:
     """A programmed XY segment of a compensated block, on program line ``line``: a line
@@ -74,11 +82,7 @@ class _Segments:
         a0 = np.arctan2(a[:, 1] - c[:, 1], a[:, 0] - c[:, 0])
         a1 = np.arctan2(b[:, 1] - c[:, 1], b[:, 0] - c[:, 0])
         cw = np.array([s.clockwise for s in segments], bool)
-        ccw_sweep = (a1 - a0) % TWO_PI
-        cw_sweep = (a0 - a1) % TWO_PI
-        sweep = np.where(cw, -np.where(cw_sweep > 0, cw_sweep, TWO_PI),
-                         np.where(ccw_sweep > 0, ccw_sweep, TWO_PI))
-        return cls(a, b, is_arc, c, r, a0, sweep)
+        return cls(a, b, is_arc, c, r, a0, sweep(a0, a1, cw))
 
     def tangents(self) -> tuple[np.ndarray, np.ndarray]:
         """Directions of travel (radians) at each segment's start and end."""
@@ -141,10 +145,7 @@ def _points(motions: list[Motion]) -> tuple[np.ndarray, list[int]]:
             cx, cy = mo.center[0], mo.center[1]
             a0 = math.atan2(mo.start[1] - cy, mo.start[0] - cx)
             a1 = math.atan2(mo.end[1] - cy, mo.end[0] - cx)
-            if mo.rotation >= 0:
-                sw = (a1 - a0) % TWO_PI or TWO_PI
-            else:
-                sw = -((a0 - a1) % TWO_PI or TWO_PI)
+            sw = float(sweep(np.float64(a0), np.float64(a1), mo.rotation < 0))
             rr = math.hypot(mo.start[0] - cx, mo.start[1] - cy)
             am = a0 + sw / 2
             pts.append((cx + rr * math.cos(am), cy + rr * math.sin(am)))

@@ -40,8 +40,6 @@ class _Lines:
         return [self.motions[int(k)] for k in self.index[a:b]] if b > a else default
 
 
-
-
 def _dist(a, b) -> float:
     return max(abs(p - q) for p, q in zip(a, b))
 
@@ -109,21 +107,17 @@ def compare_toolpath(toolpath: Toolpath, move_lines: list[int | None],
     diffs: list[str] = []
     comp, comp_d, comp_at = "off", 0, 0
     block: list[Segment] = []
-    block_lines: list[int] = []
     pos = None
     for i, (m, line) in enumerate(zip(toolpath.moves, move_lines)):
         if m.kind == "comp":
             if comp != "off" and radii is not None:
-                diffs += _block_diffs(block, block_lines, by_line, radii, comp, comp_d,
-                                      tol, comp_at)
+                diffs += _block_diffs(block, by_line, radii, comp, comp_d, tol, comp_at)
             comp, comp_d, comp_at = m.comp, m.comp_d, i
-            block, block_lines = [], []
+            block = []
             continue
         if comp != "off":
             if pos is not None and m.kind in ("line", "arc"):
                 block.append(_segment(m, pos, line))
-                if line is not None and line not in block_lines:
-                    block_lines.append(line)
             pos = m.end
             continue
         if agree is not None and agree[i]:
@@ -184,17 +178,18 @@ def compare_toolpath(toolpath: Toolpath, move_lines: list[int | None],
             diffs.append("... (more differences not listed)")
             break
     if comp != "off" and radii is not None and len(diffs) <= 50:
-        diffs += _block_diffs(block, block_lines, by_line, radii, comp, comp_d, tol, comp_at)
+        diffs += _block_diffs(block, by_line, radii, comp, comp_d, tol, comp_at)
     return diffs
 
 
-def _block_diffs(block: list[Segment], lines: list[int], by_line: dict[int, list[Motion]],
-                 radii: dict[int, float], side: str, d: int, tol: float,
-                 at: int) -> list[str]:
-    """One compensated block's motion against the offset of its programmed contour."""
+def _block_diffs(block: list[Segment], by_line, radii: dict[int, float], side: str,
+                 d: int, tol: float, at: int) -> list[str]:
+    """One compensated block's motion (``by_line``: line -> motions) against the offset
+    of its programmed contour."""
     where = f"move {at} (G{41 if side == 'left' else 42} D{d})"
     if d not in radii:
         return [f"{where}: tool {d} is not in the tool table"]
+    lines = dict.fromkeys(s.line for s in block if s.line is not None)
     got = [mo for ln in lines for mo in by_line.get(ln, [])]
     return compensation_diffs(block, got, radii[d], side, tol, where)
 
