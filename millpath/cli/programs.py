@@ -19,6 +19,7 @@ from pathlib import Path
 import click
 
 from millpath.errors import MillpathError
+from millpath.model.units import length_scale
 
 
 @dataclass
@@ -252,8 +253,7 @@ def simulate_program(program: Path, tools_path: Path | None, stock_text: str,
         mu = file_table_units(tools_path) or machine_units or "inch"
         res = interpret_program(program, tools_path, mu, spindle_tool)
         units = res.units
-        k = 1.0 if mu == units else (25.4 if mu == "inch" else 1.0 / 25.4)
-        tools, tool_arg = read_tools(tools_path, units, k)
+        tools, tool_arg = read_tools(tools_path, units, length_scale(mu, units))
     else:
         tools, tool_arg = read_tools(tools_path, "mm")
         res = interpret_program(program, tool_arg, "mm", spindle_tool)
