@@ -21,7 +21,7 @@ _BARY = np.array([[.5, .5, 0], [0, .5, .5], [.5, 0, .5], [1 / 3, 1 / 3, 1 / 3],
                   [2 / 3, 1 / 6, 1 / 6], [1 / 6, 2 / 3, 1 / 6], [1 / 6, 1 / 6, 2 / 3]])
 
 
-def _meshed_faces(shape, chord_tolerance: float, angular_deflection: float, file, entity):
+def meshed_faces(shape, chord_tolerance: float, angular_deflection: float, file, entity):
     """(face, nodes (n, 3), triangles (m, 3) int) of each face of ``shape`` meshed
     within ``chord_tolerance`` (outward winding)."""
     from OCP.BRep import BRep_Tool
@@ -59,7 +59,7 @@ def face_triangles(shape, chord_tolerance: float, angular_deflection: float,
     ``angular_deflection`` (radians) and yield each face's ``(nodes (n, 3), triangles
     (m, 3) int)``, triangles wound so their normals point out of the material. A face
     OpenCASCADE cannot mesh raises :class:`GeometryError` naming ``file``/``entity``."""
-    for _, nodes, idx in _meshed_faces(shape, chord_tolerance, angular_deflection, file,
+    for _, nodes, idx in meshed_faces(shape, chord_tolerance, angular_deflection, file,
                                        entity):
         yield nodes, idx
 
@@ -159,7 +159,7 @@ def reference_mesh(solid, bound: float, name: str = "solid",
     for _ in range(attempts):
         shape = BRepBuilderAPI_Copy(solid, True, False).Shape()   # the caller's mesh kept
         verts, tris, err, base = [], [], 0.0, 0
-        for face, nodes, idx in _meshed_faces(shape, defl, 0.2, None, name):
+        for face, nodes, idx in meshed_faces(shape, defl, 0.2, None, name):
             err = max(err, chord_error(face, nodes, idx))
             verts.append(nodes)
             tris.append(idx + base)
