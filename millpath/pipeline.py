@@ -318,7 +318,9 @@ def _references(job: Job, results: list[PlanResult], stock: Stock, tp: Toolpath)
     spec = job.simulation.get("design")
     if spec:
         from millpath.part.surface.load import load_surface
-        mesh = load_surface(str(spec), 64, job.base_dir, job.path, units=job.units)
+        # a STEP design meshed within a quarter of the accuracy (its facets are the proof's)
+        mesh = load_surface(str(spec), 64, job.base_dir, job.path, units=job.units,
+                            chord_tolerance=_accuracy(job.units) / 4)
         tri = mesh.triangles
         lo, hi = tri.reshape(-1, 3).min(axis=0), tri.reshape(-1, 3).max(axis=0)
         b = stock.box
