@@ -233,7 +233,7 @@ def _run(job_path: str | Path, outdir: str | Path, prog: Progress, force: bool) 
     if job.simulation.get("enabled", True):
         from millpath.simulate import simulate_motions
         res = default_resolution(job, stock, tp)
-        exact = bool(job.simulation.get("exact", False))
+        exact = bool(job.simulation.get("exact", True))
         user = job.simulation.get("design")
         refs = _references(job, results, stock, tp) if (exact or user) else None
         if user:

@@ -102,9 +102,9 @@ SIMULATION = {
     "enabled": Param("bool", True, doc="simulate and verify the program"),
     "design": Param("path", None, doc="the designed part (STL) the program is verified "
                                       "against (default: the operations' own designs)"),
-    "exact": Param("bool", False, doc="measure gouge and material left grid-free, normal to "
-                                      "the design, and prove the program with those figures "
-                                      "(default: the Z-map's, bounded by its cell size)"),
+    "exact": Param("bool", True, doc="measure gouge and material left grid-free, normal to "
+                                     "the design, and prove the program with those figures "
+                                     "(false: the Z-map's, bounded by its cell size)"),
 }
 
 
