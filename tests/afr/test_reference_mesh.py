@@ -147,3 +147,17 @@ def test_exact_gouge_of_a_drill_against_the_solid_is_the_analytic_one(
     assert abs(res.max_gouge - truth) <= ACC + 1e-3
     if truth == 0.0:
         assert res.max_gouge <= ACC
+
+
+def test_a_step_file_given_as_the_design_is_meshed_within_the_accuracy(solid, tmp_path):
+    """``millpath simulate --design part.stp`` (and ``[simulation] design``): the
+    triangles stand within a quarter of the accuracy of the analytic faces."""
+    from millpath.cli.programs import read_design
+    path = builder.write_step(solid, tmp_path / "part.stp")
+    _, (ref,) = read_design(path, "mm", Stock.from_box(BOX))
+    tri = ref.triangles
+    d = analytic_distance(tri, np.einsum("kj,mjc->mkc", np.array(
+        [[.5, .5, 0], [0, .5, .5], [.5, 0, .5], [1 / 3, 1 / 3, 1 / 3]]), tri))
+    curved = ~np.isnan(d)
+    assert curved.sum() > 1000
+    assert np.max(d[curved]) <= ACC / 4 + 1e-9

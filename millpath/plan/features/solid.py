@@ -90,8 +90,8 @@ class SolidDesign:
     the triangles the exact verification measures against, meshed anew within its
     accuracy."""
 
-    #: the reference mesh's facets stand at most this fraction of the verification's
-    #: accuracy from the true faces (measured: ``chord_error``)
+    #: the reference mesh's deflection, a fraction of the verification's accuracy (how
+    #: far its facets really stand from the faces is measured: ``chord_error``)
     REFERENCE_FRACTION = 0.25
 
     def __init__(self, solid, chord_tolerance: float, units: str = "mm"):
@@ -112,9 +112,9 @@ class SolidDesign:
         return self._height.height(x, y)
 
     def mesh(self, accuracy: float | None = None) -> np.ndarray:
-        """Triangles (n, 3, 3) of the solid (job units, outward winding) within
-        ``REFERENCE_FRACTION * accuracy`` (job units) of its true faces, as measured;
-        without ``accuracy`` the design's own triangles. Sets ``chord_error``."""
+        """Triangles (n, 3, 3) of the solid (job units, outward winding) meshed with a
+        deflection of ``REFERENCE_FRACTION * accuracy`` (job units); without
+        ``accuracy`` the design's own triangles. Sets ``chord_error`` (measured)."""
         if accuracy is None:
             return self.vertices[self.triangles]
         if accuracy not in self._reference:
