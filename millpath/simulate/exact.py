@@ -292,7 +292,9 @@ def _last_first(ch: _Chords, grp: ChordGroups, shapes: ToolShapes) -> SweptChord
 def _shorten(st: _LeftState, rows: np.ndarray, ch: _Chords, sw: SweptChords,
              shapes: ToolShapes, accuracy: float) -> None:
     """Shorten the material-left rays ``rows`` of ``st`` by the chords ``ch``."""
-    out, who = shorten_rays(st.pts[rows], st.nrm[rows], st.out[rows], sw, shapes, accuracy)
+    # (a ray under accuracy / 2 is reported as none: not traced further)
+    out, who = shorten_rays(st.pts[rows], st.nrm[rows], st.out[rows], sw, shapes, accuracy,
+                            accuracy / 2)
     # (the chords were given last first, see ``_last_first``)
     who = np.where(who >= 0, len(ch.S) - 1 - who, -1)
     hit = who >= 0
