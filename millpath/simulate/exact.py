@@ -61,12 +61,15 @@ def orient_outward(tri: np.ndarray) -> np.ndarray:
     return out
 
 
-def design_triangles(design, stock: Stock, accuracy: float, size: float) -> np.ndarray:
+def design_triangles(design, stock: Stock, accuracy: float, size: float,
+                     merge: bool = False) -> np.ndarray:
     """Triangles of a design: its ``mesh()`` when it has one, else a height-field mesh
     over the stock box with cells of ``size`` refined to ``50 accuracy`` where walls
     or curvature need it (walls cut exactly at the cell edges, flat to ``accuracy / 2``).
     Where the design has no part (through openings) the mesh closes a stock height
-    under the stock's bottom, below anything a drill reaching through the part cuts."""
+    under the stock's bottom, below anything a drill reaching through the part cuts.
+    ``merge``: flat regions as few large triangles (see
+    :func:`millpath.geometry.flatmerge.merge_horizontal`; the same surface)."""
     m = getattr(design, "mesh", None)
     if callable(m):         # (a ``mesh`` attribute that is data may be in another frame)
         import inspect
@@ -75,7 +78,7 @@ def design_triangles(design, stock: Stock, accuracy: float, size: float) -> np.n
         return orient_outward(getattr(m, "triangles", m))      # a Mesh, or (n, 3, 3)
     x0, y0, z0, x1, y1, z1 = stock.box
     tri = height_field_mesh(design, (x0, y0, x1, y1), size=size, min_size=accuracy * 50,
-                            flat_tol=accuracy / 2, floor=z0 - max(1.0, z1 - z0))
+                            flat_tol=accuracy / 2, floor=z0 - max(1.0, z1 - z0), merge=merge)
     return orient_outward(tri)
 
 

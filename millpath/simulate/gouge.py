@@ -24,7 +24,7 @@ from numba import njit, prange
 from millpath.geometry.convex import (BALL, BULL, CYL, DRILL, FLAT, depth, meets, shape_rings,
                                       support_swept, underside)
 from millpath.geometry.distance import (ball_core, core_point_dist2, core_triangle_dist2,
-                                        point_triangle_dist2)
+                                        point_triangle_dist2, segment_segment_dist2)
 from millpath.geometry.index import BoxIndex, box_candidates
 from millpath.geometry.inside import in_material
 from millpath.model.tool import Tool
@@ -93,6 +93,32 @@ def in_triangle(T, q):
     v = (d11 * w2 - d12 * w1) / den
     eps = 1e-9
     return u >= -eps and v >= -eps and u + v <= 1.0 + eps
+
+
+@njit(cache=True, error_model="numpy")
+def xy_dist2(T, P0, P1):
+    """Squared distance, seen from above, between triangle ``T`` and segment P0 -> P1
+    (0 when they overlap). Every point of a tool of radius R swept along P0 -> P1 is
+    within R of the segment seen from above, so a triangle that far or farther has no
+    point inside it."""
+    ax, ay = T[0, 0], T[0, 1]
+    bx, by = T[1, 0] - ax, T[1, 1] - ay
+    cx, cy = T[2, 0] - ax, T[2, 1] - ay
+    det = bx * cy - by * cx
+    if det != 0.0:
+        rx, ry = P0[0] - ax, P0[1] - ay
+        u = (rx * cy - ry * cx) / det
+        v = (bx * ry - by * rx) / det
+        if u >= 0.0 and v >= 0.0 and u + v <= 1.0:
+            return 0.0
+    best = np.inf
+    for e in range(3):
+        f = (e + 1) % 3
+        d = segment_segment_dist2(T[e, 0], T[e, 1], 0.0, T[f, 0], T[f, 1], 0.0,
+                                  P0[0], P0[1], 0.0, P1[0], P1[1], 0.0)
+        if d < best:
+            best = d
+    return best
 
 
 @njit(cache=True, error_model="numpy")
@@ -203,6 +229,10 @@ def _gouge_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, tc, tr, tx
                     if d < lo:
                         continue
                 else:
+                    # no point of t within lo of the tool's side, seen from above, is
+                    # lo deep in it
+                    if Rj - lo < 0.0 or xy_dist2(tri[t], P0, P1) > (Rj - lo) ** 2:
+                        continue
                     d = depth(tri[t], P0, P1, kind[s, j], Rj, rc[s, j], k[s, j],
                               zb[s, j], L[s, j], lo, tol, rr, rh)
                 if d > best:
@@ -262,6 +292,9 @@ def _near_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, txy, ix, e0
                     continue
                 support_swept(P0, P1, nr, rr, rh, rho + g, -nx, -ny, -nz, sp)
                 if sp[0] * nx + sp[1] * ny + sp[2] * nz > pd:
+                    continue
+                # (C_e0 lies within Rj - e0 of the chord seen from above)
+                if xy_dist2(tri[t], P0, P1) > (Rj - e0 + g) ** 2:
                     continue
                 if meets(tri[t], P0, P1, nr, rr, rh, rho, g):
                     hit = 1
