@@ -290,7 +290,17 @@ def _left(P, N, U0, S, E, slot, clo, chi, gstart, gS, gE, gdev, kind, R, rc, k, 
             nc, buf = box_candidates(gix, qx0, qy0, qz0, qx1, qy1, qz1, buf)
             # the groups in their order (the last chords first, see ``swept_chords``):
             # the finishing passes shorten the ray before the roughing ones are looked at
+            # the groups passing nearest the ray's start first (seen from above; ties:
+            # the last chords first, see ``swept_chords``): they shorten the ray most,
+            # and the short ray's box passes most others over at once
             buf[:nc].sort()
+            if nc > 1:
+                key = np.empty(nc)
+                for it in range(nc):
+                    gi = buf[it]
+                    key[it] = _xy_seg_dist2(p[0], p[1], p[0], p[1], gS[gi, 0], gS[gi, 1],
+                                            gE[gi, 0], gE[gi, 1])
+                buf[:nc] = buf[:nc][np.argsort(key, kind="mergesort")]
             if stop > 2.0 * tol:
                 # a surface cut to within ``stop``: one test a chord at the point
                 # ``stop - 2 tol`` along the ray settles it (the bisection below would
@@ -331,7 +341,22 @@ def _left(P, N, U0, S, E, slot, clo, chi, gstart, gS, gE, gdev, kind, R, rc, k, 
                             continue
                         if not meets(T, gS[gi], gE[gi], nr, rr, rh, rho, dv):
                             continue
-                for c in range(gstart[gi], gstart[gi + 1]):
+                # the group's chord passing nearest the ray's start first (seen from
+                # above): the others then mostly miss the ray it has shortened
+                a0 = gstart[gi]
+                c0 = -1
+                if gstart[gi + 1] - a0 > 2:
+                    dbest = np.inf
+                    for c in range(a0, gstart[gi + 1]):
+                        dd = _xy_seg_dist2(p[0], p[1], p[0], p[1], S[c, 0], S[c, 1],
+                                           E[c, 0], E[c, 1])
+                        if dd < dbest:
+                            dbest = dd
+                            c0 = c
+                for kk in range(a0 - 1 if c0 >= 0 else a0, gstart[gi + 1]):
+                    if kk == c0:
+                        continue
+                    c = c0 if kk < a0 else kk
                     if U <= 0.0 or U < stop:
                         break
                     if (chi[c, 0] < qx0 or clo[c, 0] > qx1 or chi[c, 1] < qy0
