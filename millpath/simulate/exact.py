@@ -23,8 +23,9 @@ from millpath.model.stock import Stock
 from millpath.model.tool import Tool
 from millpath.simulate.gouge import (GougeResult, ToolShapes, gouge_chords, locate,
                                      near_chords)
-from millpath.simulate.leftover import (SweptChords, medial_cap, ray_caps, sample_triangles,
-                                        shorten_rays, swept_chords)
+from millpath.simulate.leftover import (SweptChords, first_keys, key_set, medial_cap, ray_caps,
+                                        sample_keys, sample_triangles, shorten_rays,
+                                        swept_chords)
 from millpath.simulate.groups import ChordGroups, chord_groups
 from millpath.simulate.path import motion_segments
 
@@ -306,34 +307,19 @@ def _shorten(st: _LeftState, rows: np.ndarray, ch: _Chords, sw: SweptChords,
 
 
 def _samples(tri: np.ndarray, spacing: float, chunk: int = 10_000):
-    """Material-left sample points of ``tri`` (see :func:`_thin`), made ``chunk``
-    triangles at a time so memory stays bounded on large meshes."""
+    """Material-left sample points of ``tri``: one per (``spacing``-sized voxel, normal
+    direction), the first made (tiny triangles, walls of a height-field mesh, would
+    otherwise give far more points than ``spacing`` asks); made ``chunk`` triangles at
+    a time so memory stays bounded on large meshes."""
+    seen = key_set()
     parts = []
     for a in range(0, len(tri), chunk):
         p, n, o = sample_triangles(tri[a:a + chunk], spacing)
-        p, n, o = _thin(p, n, o, spacing)
+        if spacing > 0 and len(p):
+            first = first_keys(sample_keys(p, n, spacing), seen)
+            p, n, o = p[first], n[first], o[first]
         parts.append((p, n, o + a))
     if len(parts) == 1:
         return parts[0]
-    return _thin(np.vstack([p for p, _, _ in parts]), np.vstack([n for _, n, _ in parts]),
-                 np.concatenate([o for _, _, o in parts]), spacing)
-
-
-def _thin(pts, nrm, own, cell: float):
-    """One sample per (cell-sized voxel, normal direction): tiny triangles (walls of a
-    height-field mesh) would otherwise give far more points than ``spacing`` asks."""
-    if not len(pts) or cell <= 0:
-        return pts, nrm, own
-    key = np.concatenate([np.floor(pts / cell).astype(np.int64),
-                          np.round(nrm * 4).astype(np.int64)], axis=1)
-    key -= key.min(axis=0)
-    span = key.max(axis=0) + 1
-    if float(np.prod(span.astype(float))) < 2.0 ** 62:      # one integer per key row
-        flat = np.zeros(len(key), np.int64)
-        for a in range(key.shape[1]):
-            flat = flat * span[a] + key[:, a]
-        _, first = np.unique(flat, return_index=True)
-    else:
-        _, first = np.unique(key, axis=0, return_index=True)
-    first.sort()
-    return pts[first], nrm[first], own[first]
+    return (np.vstack([p for p, _, _ in parts]), np.vstack([n for _, n, _ in parts]),
+            np.concatenate([o for _, _, o in parts]))

@@ -15,7 +15,8 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit, prange
+from numba import njit, prange, types
+from numba.typed import Dict
 
 from millpath.geometry.convex import BALL, meets, shape_rings, underside
 from millpath.geometry.distance import (ball_core, core_point_dist2, core_segment_dist2,
@@ -71,6 +72,31 @@ def sample_triangles(tri: np.ndarray, spacing: float) -> tuple[np.ndarray, np.nd
         z = np.zeros((0, 3))
         return z, z.copy(), np.zeros(0, np.int64)
     return np.vstack(pts), np.vstack(nor), np.concatenate(own)
+
+
+def sample_keys(points: np.ndarray, normals: np.ndarray, cell: float) -> np.ndarray:
+    """(n, 6) int64: each sample's ``cell``-sized voxel and its normal's direction
+    (rounded to quarters), for :func:`first_keys`."""
+    return np.concatenate([np.floor(points / cell).astype(np.int64),
+                           np.round(normals * 4).astype(np.int64)], axis=1)
+
+
+def key_set():
+    """An empty set of sample keys for :func:`first_keys`."""
+    return Dict.empty(key_type=types.UniTuple(types.int64, 6), value_type=types.boolean)
+
+
+@njit(cache=True)
+def first_keys(key, seen):
+    """True for each row of ``key`` not in ``seen`` nor earlier in ``key`` (then added
+    to ``seen``): the first sample of each (voxel, direction), chunk after chunk."""
+    out = np.zeros(key.shape[0], np.bool_)
+    for i in range(key.shape[0]):
+        k = (key[i, 0], key[i, 1], key[i, 2], key[i, 3], key[i, 4], key[i, 5])
+        if k not in seen:
+            seen[k] = True
+            out[i] = True
+    return out
 
 
 SLACK = 1.0 - 1e-9          # "nearer" in _medial: by more than rounding (relative, squared)
