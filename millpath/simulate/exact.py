@@ -21,7 +21,7 @@ from millpath.geometry.index import BoxIndex
 from millpath.model.motion import Motion
 from millpath.model.stock import Stock
 from millpath.model.tool import Tool
-from millpath.simulate.gouge import (GougeResult, ToolShapes, gouge_chords, locate,
+from millpath.simulate.gouge import (GougeResult, ToolShapes, faces_of, gouge_chords, locate,
                                      near_chords)
 from millpath.simulate.leftover import (SweptChords, first_keys, key_set, medial_cap, ray_caps,
                                         sample_keys, sample_triangles, shorten_rays,
@@ -185,14 +185,15 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
     for ref in references:
         tri = np.ascontiguousarray(ref.triangles, float)
         if len(tri):
-            refs.append((ref, tri, BoxIndex.build(tri.min(axis=1), tri.max(axis=1))))
+            idx = BoxIndex.build(tri.min(axis=1), tri.max(axis=1))
+            refs.append((ref, tri, idx, faces_of(tri, idx)))
     # material left is measured up to twice the largest tool diameter: beyond that it
     # is uncut stock, reported as that much
     reach = float(min(max(stock.size), 2.0 * max([tools[t].diameter for t in numbers]
                                                  + [0.0])))
     margin = float(spacing) * 4.0
     states = []
-    for ref, tri, idx in refs:
+    for ref, tri, idx, _ in refs:
         pts, nrm, own = _samples(tri, spacing)
         cap = ray_caps(pts, nrm, own, stock.box, tri, idx, reach)
         near = np.minimum(cap, margin / 4.0)
@@ -212,17 +213,17 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
         gslot = ch.slot[grp.start[:-1]]
         gop = ch.op[grp.start[:-1]]
         single = grp.count == 1
-        for (ref, tri, idx), st in zip(refs, states):
+        for (ref, tri, idx, fc), st in zip(refs, states):
             gsel = np.ones(len(gop), bool) if ref.ops is None else np.isin(gop, ref.ops)
             flag = gsel & single
             test = np.flatnonzero(gsel & ~single)
             if len(test):
                 flag[test] = near_chords(grp.S[test], grp.E[test], gslot[test], shapes, tri,
-                                         idx, accuracy, grp.dev[test] + 1e-9)
+                                         idx, accuracy, grp.dev[test] + 1e-9, fc)
             cs = grp.chords(flag)
             if len(cs):
                 res = gouge_chords(ch.S[cs], ch.E[cs], ch.slot[cs], shapes, tri, idx,
-                                   accuracy)
+                                   accuracy, fc)
                 g = np.maximum(res.gouge, 0.0)
                 np.maximum.at(motion_g, ch.motion[cs], g)
                 c = int(np.argmax(g))
@@ -258,7 +259,7 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
                     _shorten(st, f, ch, cidx, shapes, accuracy)
     best_l, l_at = 0.0, None
     op_left: dict[int, float] = {}
-    for (ref, tri, idx), st in zip(refs, states):
+    for (ref, tri, idx, _), st in zip(refs, states):
         left = medial_cap(st.pts, st.nrm, st.own, tri, idx, margin, st.out)
         if not len(left):
             continue

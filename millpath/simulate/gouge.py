@@ -373,9 +373,28 @@ def _spheres(tri: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return c, np.ascontiguousarray(r)
 
 
+@dataclass
+class Faces:
+    """What the checks need of each design triangle besides its corners: unit normal,
+    centre and radius of a sphere holding it, XY box (see :func:`faces_of`)."""
+
+    normals: np.ndarray
+    centres: np.ndarray
+    radii: np.ndarray
+    xy: np.ndarray
+
+
+def faces_of(triangles: np.ndarray, index: BoxIndex) -> Faces:
+    """:class:`Faces` of ``triangles`` (``index``: their :class:`BoxIndex`), made once
+    for all the chords checked against them."""
+    return Faces(_normals(triangles), *_spheres(triangles), _xy_boxes(index))
+
+
 def gouge_chords(S: np.ndarray, E: np.ndarray, slot: np.ndarray, shapes: ToolShapes,
-                 triangles: np.ndarray, index: BoxIndex, accuracy: float) -> GougeResult:
-    """Penetration of the design into each chord's swept tool (see the module doc)."""
+                 triangles: np.ndarray, index: BoxIndex, accuracy: float,
+                 faces: Faces | None = None) -> GougeResult:
+    """Penetration of the design into each chord's swept tool (see the module doc);
+    ``faces``: :func:`faces_of` the triangles, when already made."""
     n = len(S)
     g = np.full(n, -1.0)
     t = np.full(n, -1, np.int64)
@@ -383,10 +402,11 @@ def gouge_chords(S: np.ndarray, E: np.ndarray, slot: np.ndarray, shapes: ToolSha
     rim = np.zeros(n, np.int8)
     pt = np.zeros((n, 3))
     if n and len(triangles):
+        f = faces if faces is not None else faces_of(triangles, index)
         _gouge_chords(np.ascontiguousarray(S, float), np.ascontiguousarray(E, float),
                       np.ascontiguousarray(slot, np.int64), *shapes.arrays(),
-                      triangles, _normals(triangles), *_spheres(triangles),
-                      _xy_boxes(index), index.arrays(), accuracy / 2.0,
+                      triangles, f.normals, f.centres, f.radii, f.xy, index.arrays(),
+                      accuracy / 2.0,
                       accuracy * 1e-4, g, t, s, rim, pt)
     return GougeResult(g, t, s, rim, pt)
 
@@ -406,7 +426,7 @@ def locate(S, E, slot, shapes: ToolShapes, triangles, res: GougeResult, c: int,
 
 def near_chords(S: np.ndarray, E: np.ndarray, slot: np.ndarray, shapes: ToolShapes,
                 triangles: np.ndarray, index: BoxIndex, accuracy: float,
-                grow) -> np.ndarray:
+                grow, faces: Faces | None = None) -> np.ndarray:
     """Chords that may gouge by ``accuracy / 2`` or more with the tool anywhere within
     ``grow`` (a number, or one per chord) of them (a conservative test: a chord not
     flagged cannot; chords within ``grow`` of a flagged one need checking, see
@@ -414,8 +434,9 @@ def near_chords(S: np.ndarray, E: np.ndarray, slot: np.ndarray, shapes: ToolShap
     out = np.zeros(len(S), np.int8)
     grow = np.ascontiguousarray(np.broadcast_to(np.asarray(grow, float), (len(S),)))
     if len(S) and len(triangles):
+        f = faces if faces is not None else faces_of(triangles, index)
         _near_chords(np.ascontiguousarray(S, float), np.ascontiguousarray(E, float),
                      np.ascontiguousarray(slot, np.int64), *shapes.arrays(), triangles,
-                     _normals(triangles), _xy_boxes(index), index.arrays(), accuracy / 2.0,
+                     f.normals, f.xy, index.arrays(), accuracy / 2.0,
                      grow, out)
     return out.astype(bool)
