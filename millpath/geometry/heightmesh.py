@@ -94,6 +94,8 @@ def height_field_mesh(design, box: tuple[float, float, float, float], *, size: f
     if not out:
         return np.zeros((0, 3, 3))
     tri = np.concatenate(out)
+    if not merge:
+        return np.ascontiguousarray(tri)
     # cell corners made by different sums (a parent's corner plus half its width...)
     # differ in the last bits: put every coordinate on a cell line exactly on it, so
     # neighbours share their corners and edges
@@ -103,7 +105,7 @@ def height_field_mesh(design, box: tuple[float, float, float, float], *, size: f
         g = o + k * u
         on = np.abs(tri[:, :, a] - g) <= 1e-9 * u
         tri[:, :, a] = np.where(on, g, tri[:, :, a])
-    return merge_horizontal(tri, 4.0 * max(w, hgt)) if merge else np.ascontiguousarray(tri)
+    return merge_horizontal(tri, 4.0 * max(w, hgt))
 
 
 def _wall_cells(design, X, Y, Z, cw, ch, floor, flat_tol, slope):
