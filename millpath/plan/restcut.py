@@ -30,19 +30,9 @@ import math
 import numpy as np
 from numba import njit
 
-from millpath.io.schema import Param
 from millpath.model.toolpath import Move, Toolpath, sample_move
 
 FLAT, BALL, BULL = 0, 1, 2
-
-#: the keys of an operation that can cut only what earlier operations left
-REST_PARAMS = {
-    "rest": Param("bool", False, doc="cut only where earlier operations left material"),
-    "rest_allowance": Param("float", None, nonneg=True, unit="length",
-                            doc="rest: stock thinner than this is left (default: the "
-                                "in-process stock's cell)"),
-}
-
 
 @njit(cache=True)
 def meets_stock(P, H, gx, gy, h, R, kind, rc, thr, rin):

@@ -27,7 +27,7 @@ from millpath.simulate.leftover import (SweptChords, first_keys, key_set, medial
                                         sample_keys, sample_triangles, shorten_rays,
                                         swept_chords)
 from millpath.simulate.groups import ChordGroups, chord_groups
-from millpath.simulate.path import motion_segments
+from millpath.simulate.path import motion_blocks, motion_segments
 
 
 @dataclass
@@ -104,6 +104,7 @@ class ExactResult:
 
 
 MOTION_BLOCK = 100_000      # motions turned into chords at a time (bounds memory)
+CHORD_BLOCK = 1_000_000     # and about this many chords at most (fine arcs)
 GROUP_DEV = 10.0            # runs of chords checked first as one within GROUP_DEV * accuracy
 
 
@@ -134,11 +135,12 @@ def _chords(motions: list[Motion], first: int, mop: np.ndarray, lut: np.ndarray,
 
 def _blocks(motions: list[Motion], mop: np.ndarray, lut: np.ndarray, chord: float,
             block: int):
-    """(first motion, chords) of ``motions``, ``block`` motions at a time, the last
+    """(first motion, chords) of ``motions``, ``block`` motions (and about
+    ``CHORD_BLOCK`` chords) at a time, the last
     block first (later operations, usually finishing, leave the least material: rays
     they shorten first are cheaper for all the others)."""
-    for a in reversed(range(0, len(motions), block)):
-        yield a, _chords(motions[a:a + block], a, mop, lut, chord)
+    for a, b in reversed(motion_blocks(motions, chord, block, CHORD_BLOCK)):
+        yield a, _chords(motions[a:b], a, mop, lut, chord)
 
 
 @dataclass

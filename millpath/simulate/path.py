@@ -210,6 +210,39 @@ def motion_points(mo: Motion, chord_tol: float) -> np.ndarray:
     return np.vstack([s, e])
 
 
+def chord_count(mo: Motion, chord_tol: float) -> int:
+    """How many chords :func:`motion_points` makes of ``mo`` (1 for a straight motion);
+    cubics and NURBS: at most that many, from their control points' spread."""
+    if mo.kind == "arc":
+        r, _, sweep, _ = arc_params(mo)
+        step = math.pi / 2 if r <= chord_tol else 2.0 * math.acos(max(-1.0, 1.0 - chord_tol / r))
+        return max(2, int(math.ceil(abs(sweep) / max(step, 1e-9))))
+    if is_curve(mo):
+        c = np.asarray(mo.controls if mo.kind == "cubic" else mo.controls.points, float)
+        span = float(np.ptp(np.vstack([np.asarray(mo.start, float)[:2], c[:, :2]]), axis=0).max())
+        return max(1, int(math.ceil(math.sqrt(3.0 * span / max(chord_tol, 1e-12)))))
+    return 1
+
+
+def motion_blocks(motions: list[Motion], chord_tol: float, max_motions: int,
+                  max_chords: int) -> list[tuple[int, int]]:
+    """Ranges [a, b) of ``motions`` holding at most ``max_motions`` motions and, unless a
+    single motion has more, about ``max_chords`` chords at ``chord_tol``: the blocks a
+    long program is cut into (and checked) one after another, so that memory stays
+    bounded however finely its arcs are chorded."""
+    out: list[tuple[int, int]] = []
+    a, n_ch = 0, 0
+    for k, mo in enumerate(motions):
+        c = chord_count(mo, chord_tol) if is_curve(mo) else 1
+        if k > a and (k - a >= max_motions or n_ch + c > max_chords):
+            out.append((a, k))
+            a, n_ch = k, 0
+        n_ch += c
+    if a < len(motions):
+        out.append((a, len(motions)))
+    return out
+
+
 def is_curve(mo: Motion) -> bool:
     """Whether ``mo`` is cut into chords (arcs; cubics and NURBS with their control
     points; rs274's NURBS output without them is known only by its end points)."""

@@ -177,5 +177,9 @@ def render_deviation(zmap: ZMap, design, path: str | Path, *, title: str = "",
     cb.set_label(f"deviation{u}\nred: gouge (below design), blue: material left")
     cb.set_ticks(ticks)
     cb.set_ticklabels([f"{t:.3g}" for t in ticks])
+    if not title and (gouge is not None or left is not None):
+        # the figures of the exact check; the colours stay the Z-map cells' deviation
+        title = (f"deviation from design: max gouge {gouge or 0.0:.4g}, max left "
+                 f"{left or 0.0:.4g}{u} (exact; colours: Z-map cells)")
     return _save_plan_view(fig, ax, path, title or f"deviation from design: max gouge "
                                               f"{gmax:.4g}, max left {lmax:.4g}{u}")

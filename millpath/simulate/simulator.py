@@ -32,13 +32,14 @@ from millpath.simulate.cycletime import motion_times, times_by_operation
 from millpath.simulate.designgrid import DesignGrid, design_grid, row_blocks
 from millpath.simulate.exact import ExactResult, Reference, design_triangles, verify_exact
 from millpath.simulate.kernel import BALL, BULL, DRILL, FLAT, sweep_chunk
-from millpath.simulate.path import Segments, motion_segments, toolpath_motions
+from millpath.simulate.path import Segments, motion_blocks, motion_segments, toolpath_motions
 from millpath.simulate.zmap import ZMap
 
 _TYPE = {"flat": FLAT, "ball": BALL, "bull": BULL, "drill": DRILL}
 BAND = 32                     # rows per band (and block width of the skip test)
 CHUNK = 20_000                # chords per kernel call (progress granularity)
 MOTION_BLOCK = 100_000        # motions turned into chords at a time (bounds memory)
+CHORD_BLOCK = 2_000_000       # and about this many chords at most (fine arcs)
 
 
 @dataclass
@@ -338,7 +339,8 @@ def sweep_motions(zmap: ZMap, motions: list[Motion], tools: dict[int, Tool],
                   chord_tol: float, *, progress: "bool | Progress" = False,
                   lines: list[int] | None = None, block: int = MOTION_BLOCK
                   ) -> tuple[tuple[np.ndarray, np.ndarray], int]:
-    """Cut ``motions`` into ``zmap`` in order, ``block`` motions at a time (their chords
+    """Cut ``motions`` into ``zmap`` in order, ``block`` motions (and about ``CHORD_BLOCK``
+    chords) at a time (their chords
     are made and swept one block after another, so memory does not grow with the
     program's length). Returns the per-motion flags of :func:`sweep` and the number of
     chords swept."""
@@ -348,8 +350,7 @@ def sweep_motions(zmap: ZMap, motions: list[Motion], tools: dict[int, Tool],
     nseg = 0
     bars = progress if isinstance(progress, Progress) else Progress(bool(progress))
     with bars.task("simulating: motions swept", total=n) as bar:
-        for a in range(0, n, block):
-            b = min(n, a + block)
+        for a, b in motion_blocks(motions, chord_tol, block, CHORD_BLOCK):
             segs = motion_segments(motions[a:b], chord_tol)
             segs.motion += a                      # indices into the whole program
             r, h = sweep(zmap, segs, tools, b, lines=lines)

@@ -25,6 +25,7 @@ import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from millpath.model.units import length_scale
 from millpath.model.motion import Motion
 from millpath.io.tooltable import ToolEntry, entries_from_tools, format_tool_table
 
@@ -100,7 +101,7 @@ def _table_text(tools, table_units: str) -> str:
     else:
         entries = list(tools)
     if table_units == "mm":
-        k = 1.0 / 25.4
+        k = length_scale("mm", "inch")
         entries = [ToolEntry(e.number, e.pocket, e.diameter * k,
                              {a: v * k for a, v in e.offsets.items()}, e.front_angle,
                              e.back_angle, e.orientation, e.comment) for e in entries]
@@ -166,7 +167,7 @@ def parse_canon(text: str) -> tuple[list[Motion], str]:
         if name == "USE_LENGTH_UNITS":
             new = "inch" if "INCHES" in args else "mm"
             if new != units:
-                f = 25.4 if new == "mm" else 1 / 25.4
+                f = length_scale(units, new)
                 pos = [v * f for v in pos]
                 tlo = tuple(v * f for v in tlo)
                 units = new

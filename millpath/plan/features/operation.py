@@ -64,7 +64,7 @@ from millpath.plan.features.region import (clear_general, general_regions, inner
 from millpath.plan.features.select import (face_tool, hole_tool, matching_drill, pocket_tool,
                                            slot_tool)
 from millpath.model.units import default
-from millpath.plan.restcut import REST_PARAMS
+from millpath.plan.restparams import REST_PARAMS
 
 
 def _tools_check(v: Any) -> str | None:

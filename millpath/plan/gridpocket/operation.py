@@ -48,7 +48,7 @@ from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.gridpocket.cells import pocket_polygon, polygon_problem
 from millpath.plan.gridpocket.planner import PocketSpec, plan_pocket
 from millpath.model.units import default
-from millpath.plan.restcut import REST_PARAMS
+from millpath.plan.restparams import REST_PARAMS
 
 BOTTOM_KEYS = ("bezier", "box", "points", "interpolation")
 

@@ -27,7 +27,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.ndimage import distance_transform_edt
 
 from millpath.plan.surface.sampler import Sampler
 from millpath.plan.surface.waterline import (Raster, WaterlineResult, WaterlineSettings,
@@ -52,6 +51,8 @@ class SteepShallowResult(PassStats):
 
 def masks(R: Raster, steep_angle: float, overlap: float) -> tuple[np.ndarray, np.ndarray]:
     """(waterline mask, zigzag mask) on the raster nodes (see the module docstring)."""
+    from scipy.ndimage import distance_transform_edt     # (loaded only when planning)
+
     steep = R.valid & (R.slope >= steep_angle)
     h = R.spacing
     far = np.full(steep.shape, np.inf)

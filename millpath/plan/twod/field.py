@@ -14,7 +14,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import ndimage
 
 
 @dataclass
@@ -81,6 +80,8 @@ class MaterialField:
         elif not self.material.any():
             self.dist = np.full(self.material.shape, np.inf)
         else:
+            from scipy import ndimage      # (loaded only when a field is made)
+
             self.dist = ndimage.distance_transform_edt(~self.material) * raster.h
         self.touch = self.dist <= radius + raster.h
 
