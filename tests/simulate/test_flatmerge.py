@@ -59,12 +59,14 @@ def test_same_surface_far_fewer_triangles():
         e = np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])
         assert np.all(e[:, 2] > 0)                 # counter-clockwise from above
         assert abs(e[:, 2].sum() / 2 - b.area) < 1e-9 * b.area
-    # every other triangle (the walls) kept as it was
+    # every other triangle (the walls) kept as it was (its corners put exactly on the
+    # cell lines: moved by rounding only)
     def others(t):
         zz = t[:, :, 2]
         k = ~((zz[:, 0] == zz[:, 1]) & (zz[:, 1] == zz[:, 2]))
         return np.sort(t[k].reshape(-1, 9), axis=0)
-    assert np.array_equal(others(raw), others(merged))
+    o1, o2 = others(raw), others(merged)
+    assert o1.shape == o2.shape and np.allclose(o1, o2, rtol=0.0, atol=1e-9)
 
 
 def test_areas_match_the_plate():
