@@ -150,8 +150,8 @@ class _LeftState:
     pts: np.ndarray
     nrm: np.ndarray
     own: np.ndarray
-    cap: np.ndarray          # ray length before the stock box / the design
-    near: np.ndarray         # ray length of the first pass (at most ``cap``)
+    near: np.ndarray         # ray length of the first pass: before the stock box / the
+                             # design, at most a quarter of the sample margin
     out: np.ndarray          # material left so far
     who: np.ndarray          # motion that bounds it (-1: the box or the design)
 
@@ -195,11 +195,12 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
                                                  + [0.0])))
     margin = float(spacing) * 4.0
     states = []
+    near_len = margin / 4.0
     for ref, tri, idx, _ in refs:
         pts, nrm, own = _samples(tri, spacing)
-        cap = ray_caps(pts, nrm, own, stock.box, tri, idx, reach)
-        near = np.minimum(cap, margin / 4.0)
-        states.append(_LeftState(pts, nrm, own, cap, near, near.copy(),
+        # the first pass's rays (their whole length only where needed, below)
+        near = ray_caps(pts, nrm, own, stock.box, tri, idx, min(reach, near_len))
+        states.append(_LeftState(pts, nrm, own, near, near.copy(),
                                  np.full(len(pts), -1, np.int64)))
     nchords = 0
     dmax = GROUP_DEV * accuracy
@@ -247,9 +248,14 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
         g_at = {"x": float(X[0]), "y": float(X[1]), "z": float(X[2]),
                 "line": int(motions[w].line), "operation": o}
     # the full ray only where nothing cut within ``near``: a second pass over the chords
-    far = [np.flatnonzero((st.out >= st.near) & (st.cap > st.near)) for st in states]
-    for st, f in zip(states, far):
-        st.out[f] = st.cap[f]
+    far = []
+    for (ref, tri, idx, _), st in zip(refs, states):
+        c = np.flatnonzero((st.out >= st.near) & (st.near >= near_len))
+        cap = (ray_caps(st.pts[c], st.nrm[c], st.own[c], stock.box, tri, idx, reach)
+               if len(c) else np.zeros(0))
+        f = c[cap > st.near[c]]
+        st.out[f] = cap[cap > st.near[c]]
+        far.append(f)
     if any(len(f) for f in far):
         for _, ch in _blocks(motions, mop, lut, chord, block):
             if not len(ch.S):
