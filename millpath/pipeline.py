@@ -318,7 +318,9 @@ def _references(job: Job, results: list[PlanResult], stock: Stock, tp: Toolpath)
     spec = job.simulation.get("design")
     if spec:
         from millpath.part.surface.load import load_surface
-        mesh = load_surface(str(spec), 64, job.base_dir, job.path, units=job.units)
+        # a STEP design meshed within a quarter of the accuracy (its facets are the proof's)
+        mesh = load_surface(str(spec), 64, job.base_dir, job.path, units=job.units,
+                            chord_tolerance=_accuracy(job.units) / 4)
         tri = mesh.triangles
         lo, hi = tri.reshape(-1, 3).min(axis=0), tri.reshape(-1, 3).max(axis=0)
         b = stock.box
@@ -332,9 +334,17 @@ def _references(job: Job, results: list[PlanResult], stock: Stock, tp: Toolpath)
     # a job operation's design applies to the tool path operations it planned (one per
     # tool of a features operation, ...): those numbers, not the job's, mark the motion
     first = np.cumsum([0] + [len(r.toolpath.ops) for r in results])
-    return [Reference(design_triangles(r.design, stock, _accuracy(job.units), size),
-                      f"operations[{i}] design", list(range(first[i], first[i + 1])))
-            for i, r in enumerate(results) if r.design is not None]
+    refs = []
+    for i, r in enumerate(results):
+        if r.design is None:
+            continue
+        tri = design_triangles(r.design, stock, _accuracy(job.units), size)
+        name = f"operations[{i}] design"
+        err = getattr(r.design, "chord_error", None)        # a B-rep meshed for the check
+        if err is not None:
+            name += f" (STEP solid, facets within {err:.2g} {job.units} of its faces)"
+        refs.append(Reference(tri, name, list(range(first[i], first[i + 1]))))
+    return refs
 
 
 def _accuracy(units: str) -> float:

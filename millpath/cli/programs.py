@@ -152,7 +152,10 @@ def read_design(path: Path, units: str, stock=None):
     if not path.is_file():
         raise MillpathError("design file not found", path)
     try:
-        mesh = load_surface(str(path.resolve()), 200, path.parent, path, units=units)
+        # a STEP design meshed within a quarter of the check's accuracy
+        acc = 0.001 if units == "mm" else 0.00004
+        mesh = load_surface(str(path.resolve()), 200, path.parent, path, units=units,
+                            chord_tolerance=acc / 4)
     except MillpathError as e:
         if e.file is None:
             e.file = str(path)

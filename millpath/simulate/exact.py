@@ -64,7 +64,8 @@ def orient_outward(tri: np.ndarray) -> np.ndarray:
 
 def design_triangles(design, stock: Stock, accuracy: float, size: float,
                      merge: bool = False) -> np.ndarray:
-    """Triangles of a design: its ``mesh()`` when it has one, else a height-field mesh
+    """Triangles of a design: its ``mesh()`` when it has one (given ``accuracy`` when it
+    takes it: meshed within a part of it), else a height-field mesh
     over the stock box with cells of ``size`` refined to ``50 accuracy`` where walls
     or curvature need it (walls cut exactly at the cell edges, flat to ``accuracy / 2``).
     Where the design has no part (through openings) the mesh closes a stock height
@@ -74,8 +75,9 @@ def design_triangles(design, stock: Stock, accuracy: float, size: float,
     m = getattr(design, "mesh", None)
     if callable(m):         # (a ``mesh`` attribute that is data may be in another frame)
         import inspect
-        takes_box = "box" in inspect.signature(m).parameters
-        m = m(stock.box) if takes_box else m()
+        takes = inspect.signature(m).parameters
+        kw = {"accuracy": accuracy} if "accuracy" in takes else {}   # a B-rep's own mesh
+        m = m(stock.box, **kw) if "box" in takes else m(**kw)
         return orient_outward(getattr(m, "triangles", m))      # a Mesh, or (n, 3, 3)
     x0, y0, z0, x1, y1, z1 = stock.box
     tri = height_field_mesh(design, (x0, y0, x1, y1), size=size, min_size=accuracy * 50,

@@ -3,6 +3,9 @@
 :func:`solid_mesh` returns ``(vertices (n, 3), triangles (m, 3) int)``, triangles
 wound so their normals point out of the material; every face is meshed, so the mesh
 is the closed surface of the solid within ``chord_tolerance`` of it.
+:func:`reference_mesh` meshes a copy of the solid for verification and measures how far
+its facets stand from the true faces (:func:`chord_error`), refining until that is
+within the bound asked for.
 """
 
 from __future__ import annotations
@@ -11,13 +14,16 @@ import numpy as np
 
 from millpath.errors import GeometryError
 
+#: barycentric points where a triangle's distance from its face is measured: the
+#: vertices' edge midpoints, the centroid and the points halfway to it (where a facet
+#: spanning a curved face stands farthest from it)
+_BARY = np.array([[.5, .5, 0], [0, .5, .5], [.5, 0, .5], [1 / 3, 1 / 3, 1 / 3],
+                  [2 / 3, 1 / 6, 1 / 6], [1 / 6, 2 / 3, 1 / 6], [1 / 6, 1 / 6, 2 / 3]])
 
-def face_triangles(shape, chord_tolerance: float, angular_deflection: float,
-                   file=None, entity: str | None = None):
-    """Mesh ``shape`` (OpenCASCADE lengths) within ``chord_tolerance`` and
-    ``angular_deflection`` (radians) and yield each face's ``(nodes (n, 3), triangles
-    (m, 3) int)``, triangles wound so their normals point out of the material. A face
-    OpenCASCADE cannot mesh raises :class:`GeometryError` naming ``file``/``entity``."""
+
+def meshed_faces(shape, chord_tolerance: float, angular_deflection: float, file, entity):
+    """(face, nodes (n, 3), triangles (m, 3) int) of each face of ``shape`` meshed
+    within ``chord_tolerance`` (outward winding)."""
     from OCP.BRep import BRep_Tool
     from OCP.BRepMesh import BRepMesh_IncrementalMesh
     from OCP.TopAbs import TopAbs_FACE, TopAbs_REVERSED
@@ -44,6 +50,17 @@ def face_triangles(shape, chord_tolerance: float, angular_deflection: float,
         idx = np.array([tri.Triangle(i + 1).Get() for i in range(tri.NbTriangles())]) - 1
         if face.Orientation() == TopAbs_REVERSED:
             idx = idx[:, ::-1]
+        yield face, nodes, idx
+
+
+def face_triangles(shape, chord_tolerance: float, angular_deflection: float,
+                   file=None, entity: str | None = None):
+    """Mesh ``shape`` (OpenCASCADE lengths) within ``chord_tolerance`` and
+    ``angular_deflection`` (radians) and yield each face's ``(nodes (n, 3), triangles
+    (m, 3) int)``, triangles wound so their normals point out of the material. A face
+    OpenCASCADE cannot mesh raises :class:`GeometryError` naming ``file``/``entity``."""
+    for _, nodes, idx in meshed_faces(shape, chord_tolerance, angular_deflection, file,
+                                       entity):
         yield nodes, idx
 
 
@@ -61,3 +78,95 @@ def solid_mesh(solid, chord_tolerance: float, name: str = "solid") -> tuple[np.n
     if not verts:
         raise GeometryError("the solid has no faces", entity=name)
     return np.concatenate(verts), np.concatenate(tris)
+
+
+def surface_distance(face, pts: np.ndarray) -> np.ndarray:
+    """Distance (mm) from each point ``pts`` (n, 3) to the surface that carries ``face``:
+    exact for planes, cylinders, cones, spheres and tori, by projection
+    (``GeomAPI_ProjectPointOnSurf``) for free-form faces."""
+    from OCP.BRepAdaptor import BRepAdaptor_Surface
+    from OCP.GeomAbs import (GeomAbs_Cone, GeomAbs_Cylinder, GeomAbs_Plane, GeomAbs_Sphere,
+                             GeomAbs_Torus)
+    a = BRepAdaptor_Surface(face, True)
+    t = a.GetType()
+
+    def v(p):
+        return np.array([p.X(), p.Y(), p.Z()])
+
+    def frame(g):
+        c = v(g.Location())
+        ax = v(g.Position().Direction())
+        w = pts - c
+        h = w @ ax
+        rho = np.linalg.norm(w - h[:, None] * ax, axis=1)
+        return w, h, rho
+
+    if t == GeomAbs_Plane:
+        g = a.Plane()
+        return np.abs((pts - v(g.Location())) @ v(g.Position().Direction()))
+    if t == GeomAbs_Cylinder:
+        g = a.Cylinder()
+        return np.abs(frame(g)[2] - g.Radius())
+    if t == GeomAbs_Cone:
+        # (rho, h) half-plane: the generator rho = R0 + h tan(a), from the apex up
+        g = a.Cone()
+        _, h, rho = frame(g)
+        ang = g.SemiAngle()
+        d = np.array([np.sin(ang), np.cos(ang)])          # generator direction (rho, h)
+        apex = np.array([0.0, -g.RefRadius() / np.tan(ang)])
+        q = np.stack([rho, h], axis=1) - apex
+        s = np.maximum(q @ d, 0.0)
+        return np.linalg.norm(q - s[:, None] * d, axis=1)
+    if t == GeomAbs_Sphere:
+        g = a.Sphere()
+        return np.abs(np.linalg.norm(pts - v(g.Location()), axis=1) - g.Radius())
+    if t == GeomAbs_Torus:
+        g = a.Torus()
+        _, h, rho = frame(g)
+        return np.abs(np.hypot(rho - g.MajorRadius(), h) - g.MinorRadius())
+    from OCP.BRep import BRep_Tool
+    from OCP.GeomAPI import GeomAPI_ProjectPointOnSurf
+    from OCP.gp import gp_Pnt
+    surf = BRep_Tool.Surface_s(face)
+    out = np.empty(len(pts))
+    for i, p in enumerate(pts):
+        pr = GeomAPI_ProjectPointOnSurf(gp_Pnt(*map(float, p)), surf)
+        out[i] = pr.LowerDistance() if pr.NbPoints() else np.inf
+    return out
+
+
+def chord_error(face, nodes: np.ndarray, idx: np.ndarray) -> float:
+    """Largest distance (mm) between the triangles ``nodes[idx]`` of ``face`` and the
+    face's surface, measured at seven points of each triangle (edge midpoints,
+    centroid, halfway between centroid and vertices)."""
+    if not len(idx):
+        return 0.0
+    pts = np.einsum("kj,mjc->mkc", _BARY, nodes[idx]).reshape(-1, 3)
+    return float(surface_distance(face, pts).max())
+
+
+def reference_mesh(solid, bound: float, name: str = "solid",
+                   attempts: int = 4) -> tuple[np.ndarray, np.ndarray, float]:
+    """``(vertices, triangles, error)``: a copy of ``solid`` meshed so that no facet
+    stands farther than ``bound`` (mm) from its face, measured by :func:`chord_error`
+    (``error``, mm). The deflection asked of OpenCASCADE starts at ``bound`` and is
+    halved while the measured error exceeds ``bound`` (at most ``attempts`` times; the
+    last measured error is returned either way)."""
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_Copy
+    if not bound > 0:
+        raise GeometryError("chord tolerance must be positive", entity=name)
+    defl = bound
+    for _ in range(attempts):
+        shape = BRepBuilderAPI_Copy(solid, True, False).Shape()   # the caller's mesh kept
+        verts, tris, err, base = [], [], 0.0, 0
+        for face, nodes, idx in meshed_faces(shape, defl, 0.2, None, name):
+            err = max(err, chord_error(face, nodes, idx))
+            verts.append(nodes)
+            tris.append(idx + base)
+            base += len(nodes)
+        if not verts:
+            raise GeometryError("the solid has no faces", entity=name)
+        if err <= bound:
+            break
+        defl /= 2.0
+    return np.concatenate(verts), np.concatenate(tris), err

@@ -85,19 +85,42 @@ def load_solid(path: Path, *, body=None, setup: str = "+Z", stock_step: Path | N
 
 class SolidDesign:
     """The solid, tessellated within a chord tolerance, as the design: ``vertices``
-    (n, 3) and ``triangles`` (m, 3) (job units, outward winding) for exact checks, and
-    ``height(x, y)``: the highest point of the solid above (x, y), ``-inf`` off it."""
+    (n, 3) and ``triangles`` (m, 3) (job units, outward winding), and ``height(x, y)``:
+    the highest point of the solid above (x, y), ``-inf`` off it. :meth:`mesh` gives
+    the triangles the exact verification measures against, meshed anew within its
+    accuracy."""
+
+    #: the reference mesh's facets stand at most this fraction of the verification's
+    #: accuracy from the true faces (measured: ``chord_error``)
+    REFERENCE_FRACTION = 0.25
 
     def __init__(self, solid, chord_tolerance: float, units: str = "mm"):
         from millpath.part.brep.mesh import solid_mesh
         from millpath.part.surface.mesh import Mesh
         from millpath.plan.surface.dropcutter import MeshHeight, build_index
         f = _mm(units)
+        self.solid = solid
+        self.units = units
         v, t = solid_mesh(solid, chord_tolerance * f)
         self.vertices = v / f
         self.triangles = t
-        self.mesh = Mesh(self.vertices[self.triangles], "solid")
-        self._height = MeshHeight(build_index(self.mesh))
+        self.chord_error: float | None = None      # of the last :meth:`mesh`, job units
+        self._height = MeshHeight(build_index(Mesh(self.vertices[self.triangles], "solid")))
+        self._reference: dict[float, tuple[np.ndarray, float]] = {}
 
     def height(self, x, y) -> np.ndarray:
         return self._height.height(x, y)
+
+    def mesh(self, accuracy: float | None = None) -> np.ndarray:
+        """Triangles (n, 3, 3) of the solid (job units, outward winding) within
+        ``REFERENCE_FRACTION * accuracy`` (job units) of its true faces, as measured;
+        without ``accuracy`` the design's own triangles. Sets ``chord_error``."""
+        if accuracy is None:
+            return self.vertices[self.triangles]
+        if accuracy not in self._reference:
+            from millpath.part.brep.mesh import reference_mesh
+            f = _mm(self.units)
+            v, t, err = reference_mesh(self.solid, self.REFERENCE_FRACTION * accuracy * f)
+            self._reference[accuracy] = (v[t] / f, err / f)
+        tri, self.chord_error = self._reference[accuracy]
+        return tri
