@@ -24,6 +24,8 @@ import math
 
 import numpy as np
 
+from millpath.geometry.flatmerge import merge_horizontal
+
 
 def _h(design, x, y, floor):
     z = np.asarray(design.height(x, y), float).reshape(np.shape(x))
@@ -32,8 +34,11 @@ def _h(design, x, y, floor):
 
 def height_field_mesh(design, box: tuple[float, float, float, float], *, size: float,
                       min_size: float, flat_tol: float, floor: float,
-                      slope: float = 4.0, max_cells: int = 4_000_000) -> np.ndarray:
-    """Triangles (n, 3, 3) of ``design`` over ``box`` = (xmin, ymin, xmax, ymax)."""
+                      slope: float = 4.0, max_cells: int = 4_000_000,
+                      merge: bool = False) -> np.ndarray:
+    """Triangles (n, 3, 3) of ``design`` over ``box`` = (xmin, ymin, xmax, ymax);
+    ``merge``: each height's horizontal triangles merged into few (see
+    :func:`millpath.geometry.flatmerge.merge_horizontal`)."""
     x0, y0, x1, y1 = map(float, box)
     nx = max(1, int(math.ceil((x1 - x0) / size)))
     ny = max(1, int(math.ceil((y1 - y0) / size)))
@@ -46,7 +51,9 @@ def height_field_mesh(design, box: tuple[float, float, float, float], *, size: f
     ch = np.full(cx.shape, hgt)
     out = []
     total = 0
+    depth = 0
     while len(cx):
+        depth += 1
         X = np.stack([cx, cx + cw, cx + cw, cx, cx + cw / 2, cx + cw / 2, cx + cw, cx + cw / 2,
                       cx], axis=1)
         Y = np.stack([cy, cy, cy + ch, cy + ch, cy + ch / 2, cy, cy + ch / 2, cy + ch,
@@ -86,7 +93,19 @@ def height_field_mesh(design, box: tuple[float, float, float, float], *, size: f
         ch = np.tile(hh, 4)
     if not out:
         return np.zeros((0, 3, 3))
-    return np.ascontiguousarray(np.concatenate(out))
+    tri = np.concatenate(out)
+    if not merge:
+        return np.ascontiguousarray(tri)
+    # cell corners made by different sums (a parent's corner plus half its width...)
+    # differ in the last bits: put every coordinate on a cell line exactly on it, so
+    # neighbours share their corners and edges
+    for a, o, d in ((0, x0, w), (1, y0, hgt)):
+        u = d / 2.0 ** depth
+        k = np.round((tri[:, :, a] - o) / u)
+        g = o + k * u
+        on = np.abs(tri[:, :, a] - g) <= 1e-9 * u
+        tri[:, :, a] = np.where(on, g, tri[:, :, a])
+    return merge_horizontal(tri, 4.0 * max(w, hgt))
 
 
 def _wall_cells(design, X, Y, Z, cw, ch, floor, flat_tol, slope):

@@ -21,10 +21,11 @@ from millpath.geometry.index import BoxIndex
 from millpath.model.motion import Motion
 from millpath.model.stock import Stock
 from millpath.model.tool import Tool
-from millpath.simulate.gouge import (GougeResult, ToolShapes, gouge_chords, locate,
+from millpath.simulate.gouge import (GougeResult, ToolShapes, faces_of, gouge_chords, locate,
                                      near_chords)
-from millpath.simulate.leftover import (SweptChords, medial_cap, ray_caps, sample_triangles,
-                                        shorten_rays, swept_chords)
+from millpath.simulate.leftover import (SweptChords, first_keys, key_set, medial_cap, ray_caps,
+                                        sample_keys, sample_triangles, shorten_rays,
+                                        swept_chords)
 from millpath.simulate.groups import ChordGroups, chord_groups
 from millpath.simulate.path import motion_blocks, motion_segments
 
@@ -61,13 +62,16 @@ def orient_outward(tri: np.ndarray) -> np.ndarray:
     return out
 
 
-def design_triangles(design, stock: Stock, accuracy: float, size: float) -> np.ndarray:
+def design_triangles(design, stock: Stock, accuracy: float, size: float,
+                     merge: bool = False) -> np.ndarray:
     """Triangles of a design: its ``mesh()`` when it has one (given ``accuracy`` when it
     takes it: meshed within a part of it), else a height-field mesh
     over the stock box with cells of ``size`` refined to ``50 accuracy`` where walls
     or curvature need it (walls cut exactly at the cell edges, flat to ``accuracy / 2``).
     Where the design has no part (through openings) the mesh closes a stock height
-    under the stock's bottom, below anything a drill reaching through the part cuts."""
+    under the stock's bottom, below anything a drill reaching through the part cuts.
+    ``merge``: flat regions as few large triangles (see
+    :func:`millpath.geometry.flatmerge.merge_horizontal`; the same surface)."""
     m = getattr(design, "mesh", None)
     if callable(m):         # (a ``mesh`` attribute that is data may be in another frame)
         import inspect
@@ -77,7 +81,7 @@ def design_triangles(design, stock: Stock, accuracy: float, size: float) -> np.n
         return orient_outward(getattr(m, "triangles", m))      # a Mesh, or (n, 3, 3)
     x0, y0, z0, x1, y1, z1 = stock.box
     tri = height_field_mesh(design, (x0, y0, x1, y1), size=size, min_size=accuracy * 50,
-                            flat_tol=accuracy / 2, floor=z0 - max(1.0, z1 - z0))
+                            flat_tol=accuracy / 2, floor=z0 - max(1.0, z1 - z0), merge=merge)
     return orient_outward(tri)
 
 
@@ -148,8 +152,8 @@ class _LeftState:
     pts: np.ndarray
     nrm: np.ndarray
     own: np.ndarray
-    cap: np.ndarray          # ray length before the stock box / the design
-    near: np.ndarray         # ray length of the first pass (at most ``cap``)
+    near: np.ndarray         # ray length of the first pass: before the stock box / the
+                             # design, at most a quarter of the sample margin
     out: np.ndarray          # material left so far
     who: np.ndarray          # motion that bounds it (-1: the box or the design)
 
@@ -185,18 +189,20 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
     for ref in references:
         tri = np.ascontiguousarray(ref.triangles, float)
         if len(tri):
-            refs.append((ref, tri, BoxIndex.build(tri.min(axis=1), tri.max(axis=1))))
+            idx = BoxIndex.build(tri.min(axis=1), tri.max(axis=1))
+            refs.append((ref, tri, idx, faces_of(tri, idx)))
     # material left is measured up to twice the largest tool diameter: beyond that it
     # is uncut stock, reported as that much
     reach = float(min(max(stock.size), 2.0 * max([tools[t].diameter for t in numbers]
                                                  + [0.0])))
     margin = float(spacing) * 4.0
     states = []
-    for ref, tri, idx in refs:
+    near_len = margin / 4.0
+    for ref, tri, idx, _ in refs:
         pts, nrm, own = _samples(tri, spacing)
-        cap = ray_caps(pts, nrm, own, stock.box, tri, idx, reach)
-        near = np.minimum(cap, margin / 4.0)
-        states.append(_LeftState(pts, nrm, own, cap, near, near.copy(),
+        # the first pass's rays (their whole length only where needed, below)
+        near = ray_caps(pts, nrm, own, stock.box, tri, idx, min(reach, near_len))
+        states.append(_LeftState(pts, nrm, own, near, near.copy(),
                                  np.full(len(pts), -1, np.int64)))
     nchords = 0
     dmax = GROUP_DEV * accuracy
@@ -212,17 +218,17 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
         gslot = ch.slot[grp.start[:-1]]
         gop = ch.op[grp.start[:-1]]
         single = grp.count == 1
-        for (ref, tri, idx), st in zip(refs, states):
+        for (ref, tri, idx, fc), st in zip(refs, states):
             gsel = np.ones(len(gop), bool) if ref.ops is None else np.isin(gop, ref.ops)
             flag = gsel & single
             test = np.flatnonzero(gsel & ~single)
             if len(test):
                 flag[test] = near_chords(grp.S[test], grp.E[test], gslot[test], shapes, tri,
-                                         idx, accuracy, grp.dev[test] + 1e-9)
+                                         idx, accuracy, grp.dev[test] + 1e-9, fc)
             cs = grp.chords(flag)
             if len(cs):
                 res = gouge_chords(ch.S[cs], ch.E[cs], ch.slot[cs], shapes, tri, idx,
-                                   accuracy)
+                                   accuracy, fc)
                 g = np.maximum(res.gouge, 0.0)
                 np.maximum.at(motion_g, ch.motion[cs], g)
                 c = int(np.argmax(g))
@@ -244,9 +250,14 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
         g_at = {"x": float(X[0]), "y": float(X[1]), "z": float(X[2]),
                 "line": int(motions[w].line), "operation": o}
     # the full ray only where nothing cut within ``near``: a second pass over the chords
-    far = [np.flatnonzero((st.out >= st.near) & (st.cap > st.near)) for st in states]
-    for st, f in zip(states, far):
-        st.out[f] = st.cap[f]
+    far = []
+    for (ref, tri, idx, _), st in zip(refs, states):
+        c = np.flatnonzero((st.out >= st.near) & (st.near >= near_len))
+        cap = (ray_caps(st.pts[c], st.nrm[c], st.own[c], stock.box, tri, idx, reach)
+               if len(c) else np.zeros(0))
+        f = c[cap > st.near[c]]
+        st.out[f] = cap[cap > st.near[c]]
+        far.append(f)
     if any(len(f) for f in far):
         for _, ch in _blocks(motions, mop, lut, chord, block):
             if not len(ch.S):
@@ -258,7 +269,7 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
                     _shorten(st, f, ch, cidx, shapes, accuracy)
     best_l, l_at = 0.0, None
     op_left: dict[int, float] = {}
-    for (ref, tri, idx), st in zip(refs, states):
+    for (ref, tri, idx, _), st in zip(refs, states):
         left = medial_cap(st.pts, st.nrm, st.own, tri, idx, margin, st.out)
         if not len(left):
             continue
@@ -296,7 +307,9 @@ def _last_first(ch: _Chords, grp: ChordGroups, shapes: ToolShapes) -> SweptChord
 def _shorten(st: _LeftState, rows: np.ndarray, ch: _Chords, sw: SweptChords,
              shapes: ToolShapes, accuracy: float) -> None:
     """Shorten the material-left rays ``rows`` of ``st`` by the chords ``ch``."""
-    out, who = shorten_rays(st.pts[rows], st.nrm[rows], st.out[rows], sw, shapes, accuracy)
+    # (a ray under accuracy / 2 is reported as none: not traced further)
+    out, who = shorten_rays(st.pts[rows], st.nrm[rows], st.out[rows], sw, shapes, accuracy,
+                            accuracy / 2)
     # (the chords were given last first, see ``_last_first``)
     who = np.where(who >= 0, len(ch.S) - 1 - who, -1)
     hit = who >= 0
@@ -305,34 +318,19 @@ def _shorten(st: _LeftState, rows: np.ndarray, ch: _Chords, sw: SweptChords,
 
 
 def _samples(tri: np.ndarray, spacing: float, chunk: int = 10_000):
-    """Material-left sample points of ``tri`` (see :func:`_thin`), made ``chunk``
-    triangles at a time so memory stays bounded on large meshes."""
+    """Material-left sample points of ``tri``: one per (``spacing``-sized voxel, normal
+    direction), the first made (tiny triangles, walls of a height-field mesh, would
+    otherwise give far more points than ``spacing`` asks); made ``chunk`` triangles at
+    a time so memory stays bounded on large meshes."""
+    seen = key_set()
     parts = []
     for a in range(0, len(tri), chunk):
         p, n, o = sample_triangles(tri[a:a + chunk], spacing)
-        p, n, o = _thin(p, n, o, spacing)
+        if spacing > 0 and len(p):
+            first = first_keys(sample_keys(p, n, spacing), seen)
+            p, n, o = p[first], n[first], o[first]
         parts.append((p, n, o + a))
     if len(parts) == 1:
         return parts[0]
-    return _thin(np.vstack([p for p, _, _ in parts]), np.vstack([n for _, n, _ in parts]),
-                 np.concatenate([o for _, _, o in parts]), spacing)
-
-
-def _thin(pts, nrm, own, cell: float):
-    """One sample per (cell-sized voxel, normal direction): tiny triangles (walls of a
-    height-field mesh) would otherwise give far more points than ``spacing`` asks."""
-    if not len(pts) or cell <= 0:
-        return pts, nrm, own
-    key = np.concatenate([np.floor(pts / cell).astype(np.int64),
-                          np.round(nrm * 4).astype(np.int64)], axis=1)
-    key -= key.min(axis=0)
-    span = key.max(axis=0) + 1
-    if float(np.prod(span.astype(float))) < 2.0 ** 62:      # one integer per key row
-        flat = np.zeros(len(key), np.int64)
-        for a in range(key.shape[1]):
-            flat = flat * span[a] + key[:, a]
-        _, first = np.unique(flat, return_index=True)
-    else:
-        _, first = np.unique(key, axis=0, return_index=True)
-    first.sort()
-    return pts[first], nrm[first], own[first]
+    return (np.vstack([p for p, _, _ in parts]), np.vstack([n for _, n, _ in parts]),
+            np.concatenate([o for _, _, o in parts]))

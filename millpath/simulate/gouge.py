@@ -24,7 +24,7 @@ from numba import njit, prange
 from millpath.geometry.convex import (BALL, BULL, CYL, DRILL, FLAT, depth, meets, shape_rings,
                                       support_swept, underside)
 from millpath.geometry.distance import (ball_core, core_point_dist2, core_triangle_dist2,
-                                        point_triangle_dist2)
+                                        point_triangle_dist2, segment_segment_dist2)
 from millpath.geometry.index import BoxIndex, box_candidates
 from millpath.geometry.inside import in_material
 from millpath.model.tool import Tool
@@ -93,6 +93,32 @@ def in_triangle(T, q):
     v = (d11 * w2 - d12 * w1) / den
     eps = 1e-9
     return u >= -eps and v >= -eps and u + v <= 1.0 + eps
+
+
+@njit(cache=True, error_model="numpy")
+def xy_dist2(T, P0, P1):
+    """Squared distance, seen from above, between triangle ``T`` and segment P0 -> P1
+    (0 when they overlap). Every point of a tool of radius R swept along P0 -> P1 is
+    within R of the segment seen from above, so a triangle that far or farther has no
+    point inside it."""
+    ax, ay = T[0, 0], T[0, 1]
+    bx, by = T[1, 0] - ax, T[1, 1] - ay
+    cx, cy = T[2, 0] - ax, T[2, 1] - ay
+    det = bx * cy - by * cx
+    if det != 0.0:
+        rx, ry = P0[0] - ax, P0[1] - ay
+        u = (rx * cy - ry * cx) / det
+        v = (bx * ry - by * rx) / det
+        if u >= 0.0 and v >= 0.0 and u + v <= 1.0:
+            return 0.0
+    best = np.inf
+    for e in range(3):
+        f = (e + 1) % 3
+        d = segment_segment_dist2(T[e, 0], T[e, 1], 0.0, T[f, 0], T[f, 1], 0.0,
+                                  P0[0], P0[1], 0.0, P1[0], P1[1], 0.0)
+        if d < best:
+            best = d
+    return best
 
 
 @njit(cache=True, error_model="numpy")
@@ -203,6 +229,10 @@ def _gouge_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, tc, tr, tx
                     if d < lo:
                         continue
                 else:
+                    # no point of t within lo of the tool's side, seen from above, is
+                    # lo deep in it
+                    if Rj - lo < 0.0 or xy_dist2(tri[t], P0, P1) > (Rj - lo) ** 2:
+                        continue
                     d = depth(tri[t], P0, P1, kind[s, j], Rj, rc[s, j], k[s, j],
                               zb[s, j], L[s, j], lo, tol, rr, rh)
                 if d > best:
@@ -262,6 +292,9 @@ def _near_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, txy, ix, e0
                     continue
                 support_swept(P0, P1, nr, rr, rh, rho + g, -nx, -ny, -nz, sp)
                 if sp[0] * nx + sp[1] * ny + sp[2] * nz > pd:
+                    continue
+                # (C_e0 lies within Rj - e0 of the chord seen from above)
+                if xy_dist2(tri[t], P0, P1) > (Rj - e0 + g) ** 2:
                     continue
                 if meets(tri[t], P0, P1, nr, rr, rh, rho, g):
                     hit = 1
@@ -340,9 +373,28 @@ def _spheres(tri: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return c, np.ascontiguousarray(r)
 
 
+@dataclass
+class Faces:
+    """What the checks need of each design triangle besides its corners: unit normal,
+    centre and radius of a sphere holding it, XY box (see :func:`faces_of`)."""
+
+    normals: np.ndarray
+    centres: np.ndarray
+    radii: np.ndarray
+    xy: np.ndarray
+
+
+def faces_of(triangles: np.ndarray, index: BoxIndex) -> Faces:
+    """:class:`Faces` of ``triangles`` (``index``: their :class:`BoxIndex`), made once
+    for all the chords checked against them."""
+    return Faces(_normals(triangles), *_spheres(triangles), _xy_boxes(index))
+
+
 def gouge_chords(S: np.ndarray, E: np.ndarray, slot: np.ndarray, shapes: ToolShapes,
-                 triangles: np.ndarray, index: BoxIndex, accuracy: float) -> GougeResult:
-    """Penetration of the design into each chord's swept tool (see the module doc)."""
+                 triangles: np.ndarray, index: BoxIndex, accuracy: float,
+                 faces: Faces | None = None) -> GougeResult:
+    """Penetration of the design into each chord's swept tool (see the module doc);
+    ``faces``: :func:`faces_of` the triangles, when already made."""
     n = len(S)
     g = np.full(n, -1.0)
     t = np.full(n, -1, np.int64)
@@ -350,10 +402,11 @@ def gouge_chords(S: np.ndarray, E: np.ndarray, slot: np.ndarray, shapes: ToolSha
     rim = np.zeros(n, np.int8)
     pt = np.zeros((n, 3))
     if n and len(triangles):
+        f = faces if faces is not None else faces_of(triangles, index)
         _gouge_chords(np.ascontiguousarray(S, float), np.ascontiguousarray(E, float),
                       np.ascontiguousarray(slot, np.int64), *shapes.arrays(),
-                      triangles, _normals(triangles), *_spheres(triangles),
-                      _xy_boxes(index), index.arrays(), accuracy / 2.0,
+                      triangles, f.normals, f.centres, f.radii, f.xy, index.arrays(),
+                      accuracy / 2.0,
                       accuracy * 1e-4, g, t, s, rim, pt)
     return GougeResult(g, t, s, rim, pt)
 
@@ -373,7 +426,7 @@ def locate(S, E, slot, shapes: ToolShapes, triangles, res: GougeResult, c: int,
 
 def near_chords(S: np.ndarray, E: np.ndarray, slot: np.ndarray, shapes: ToolShapes,
                 triangles: np.ndarray, index: BoxIndex, accuracy: float,
-                grow) -> np.ndarray:
+                grow, faces: Faces | None = None) -> np.ndarray:
     """Chords that may gouge by ``accuracy / 2`` or more with the tool anywhere within
     ``grow`` (a number, or one per chord) of them (a conservative test: a chord not
     flagged cannot; chords within ``grow`` of a flagged one need checking, see
@@ -381,8 +434,9 @@ def near_chords(S: np.ndarray, E: np.ndarray, slot: np.ndarray, shapes: ToolShap
     out = np.zeros(len(S), np.int8)
     grow = np.ascontiguousarray(np.broadcast_to(np.asarray(grow, float), (len(S),)))
     if len(S) and len(triangles):
+        f = faces if faces is not None else faces_of(triangles, index)
         _near_chords(np.ascontiguousarray(S, float), np.ascontiguousarray(E, float),
                      np.ascontiguousarray(slot, np.int64), *shapes.arrays(), triangles,
-                     _normals(triangles), _xy_boxes(index), index.arrays(), accuracy / 2.0,
+                     f.normals, f.xy, index.arrays(), accuracy / 2.0,
                      grow, out)
     return out.astype(bool)

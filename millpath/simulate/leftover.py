@@ -15,7 +15,8 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit, prange
+from numba import njit, prange, types
+from numba.typed import Dict
 
 from millpath.geometry.convex import BALL, meets, shape_rings, underside
 from millpath.geometry.distance import (ball_core, core_point_dist2, core_segment_dist2,
@@ -73,6 +74,31 @@ def sample_triangles(tri: np.ndarray, spacing: float) -> tuple[np.ndarray, np.nd
     return np.vstack(pts), np.vstack(nor), np.concatenate(own)
 
 
+def sample_keys(points: np.ndarray, normals: np.ndarray, cell: float) -> np.ndarray:
+    """(n, 6) int64: each sample's ``cell``-sized voxel and its normal's direction
+    (rounded to quarters), for :func:`first_keys`."""
+    return np.concatenate([np.floor(points / cell).astype(np.int64),
+                           np.round(normals * 4).astype(np.int64)], axis=1)
+
+
+def key_set():
+    """An empty set of sample keys for :func:`first_keys`."""
+    return Dict.empty(key_type=types.UniTuple(types.int64, 6), value_type=types.boolean)
+
+
+@njit(cache=True)
+def first_keys(key, seen):
+    """True for each row of ``key`` not in ``seen`` nor earlier in ``key`` (then added
+    to ``seen``): the first sample of each (voxel, direction), chunk after chunk."""
+    out = np.zeros(key.shape[0], np.bool_)
+    for i in range(key.shape[0]):
+        k = (key[i, 0], key[i, 1], key[i, 2], key[i, 3], key[i, 4], key[i, 5])
+        if k not in seen:
+            seen[k] = True
+            out[i] = True
+    return out
+
+
 SLACK = 1.0 - 1e-9          # "nearer" in _medial: by more than rounding (relative, squared)
 
 
@@ -117,8 +143,11 @@ def _caps(P, N, own, blo, bhi, tri, ix, reach, out):
         if U > 0.0:
             buf = np.empty(64, np.int64)
             ex = np.empty(3)
-            qx0, qy0, _, qx1, qy1, _ = _ray_box(p, n, U, ex)
-            nc, buf = box_candidates(ix, qx0, qy0, -np.inf, qx1, qy1, np.inf, buf)
+            qx0, qy0, qz0, qx1, qy1, qz1 = _ray_box(p, n, U, ex)
+            # (a triangle the segment crosses overlaps its box: floors and tops
+            # under or over a level ray are passed over whole)
+            nc, buf = box_candidates(ix, qx0 - 1e-9, qy0 - 1e-9, qz0 - 1e-9, qx1 + 1e-9,
+                                     qy1 + 1e-9, qz1 + 1e-9, buf)
             for k in range(nc):
                 t = buf[k]
                 if t == own[q]:
@@ -203,11 +232,69 @@ def _xy_seg_dist2(ax, ay, bx, by, cx, cy, dx, dy):
     return segment_segment_dist2(ax, ay, 0.0, bx, by, 0.0, cx, cy, 0.0, dx, dy, 0.0)
 
 
+@njit(cache=True, inline="always")
+def _point_cut(X, cand, nc, S, E, slot, clo, chi, gstart, gS, gE, gdev, glo, ghi, kind, R,
+               rc, k, L, rr, rh, T, Q1, Q2, box):
+    """A chord of the candidate groups ``cand[:nc]`` whose swept cutter holds the
+    point ``X`` (-1: none); one containment test a chord, no bisection."""
+    for a in range(3):
+        T[0, a] = X[a]
+        T[1, a] = X[a]
+        T[2, a] = X[a]
+    box[0] = X[0]
+    box[1] = X[1]
+    box[2] = X[0]
+    box[3] = X[1]
+    for it in range(nc):
+        gi = cand[it]
+        if (ghi[gi, 0] < X[0] or glo[gi, 0] > X[0] or ghi[gi, 1] < X[1]
+                or glo[gi, 1] > X[1] or ghi[gi, 2] < X[2] or glo[gi, 2] > X[2]):
+            continue
+        s = slot[gstart[gi]]
+        if gstart[gi + 1] - gstart[gi] > 1:
+            dv = gdev[gi]
+            Rg = R[s, 0] + dv
+            if _xy_seg_dist2(X[0], X[1], X[0], X[1], gS[gi, 0], gS[gi, 1], gE[gi, 0],
+                             gE[gi, 1]) > Rg * Rg:
+                continue
+            if kind[s, 0] == BALL:
+                fc = ball_core(gS[gi], gE[gi], R[s, 0], L[s, 0], Q1, Q2)
+                if core_point_dist2(X[0], X[1], X[2], fc, Q1, Q2) > Rg * Rg:
+                    continue
+            else:
+                nr, rho = shape_rings(kind[s, 0], R[s, 0], rc[s, 0], k[s, 0], 0.0, L[s, 0],
+                                      0.0, rr, rh)
+                if nr == 0 or not meets(T, gS[gi], gE[gi], nr, rr, rh, rho, dv):
+                    continue
+        for c in range(gstart[gi], gstart[gi + 1]):
+            if (chi[c, 0] < X[0] or clo[c, 0] > X[0] or chi[c, 1] < X[1]
+                    or clo[c, 1] > X[1] or chi[c, 2] < X[2] or clo[c, 2] > X[2]):
+                continue
+            s = slot[c]
+            if X[2] < underside(S[c], E[c], kind[s, 0], R[s, 0], rc[s, 0], k[s, 0], 0.0,
+                                box, 0.0):
+                continue
+            if _xy_seg_dist2(X[0], X[1], X[0], X[1], S[c, 0], S[c, 1], E[c, 0],
+                             E[c, 1]) > R[s, 0] * R[s, 0]:
+                continue
+            if kind[s, 0] == BALL:
+                fc = ball_core(S[c], E[c], R[s, 0], L[s, 0], Q1, Q2)
+                if core_point_dist2(X[0], X[1], X[2], fc, Q1, Q2) <= R[s, 0] * R[s, 0]:
+                    return c
+                continue
+            nr, rho = shape_rings(kind[s, 0], R[s, 0], rc[s, 0], k[s, 0], 0.0, L[s, 0], 0.0,
+                                  rr, rh)
+            if nr > 0 and meets(T, S[c], E[c], nr, rr, rh, rho, 0.0):
+                return c
+    return -1
+
+
 @njit(cache=True, parallel=True)
 def _left(P, N, U0, S, E, slot, clo, chi, gstart, gS, gE, gdev, kind, R, rc, k, zb, L, gix,
-          tol, out, out_c):
+          tol, stop, out, out_c):
     """See :func:`shorten_rays`: the chords in groups (``gstart``), each group looked
-    at whole first (its coarse chord ``gS -> gE`` grown by ``gdev``)."""
+    at whole first (its coarse chord ``gS -> gE`` grown by ``gdev``); a ray shorter
+    than ``stop`` is not traced further."""
     m = P.shape[0]
     glo = gix[0]
     ghi = gix[1]
@@ -224,12 +311,38 @@ def _left(P, N, U0, S, E, slot, clo, chi, gstart, gS, gE, gdev, kind, R, rc, k, 
         n = N[q]
         U = U0[q]
         who = -1
-        if U > 0.0:
+        if U > 0.0 and U >= stop:
             qx0, qy0, qz0, qx1, qy1, qz1 = _ray_box(p, n, U, ex)
             nc, buf = box_candidates(gix, qx0, qy0, qz0, qx1, qy1, qz1, buf)
+            # the groups in their order (the last chords first, see ``swept_chords``):
+            # the finishing passes shorten the ray before the roughing ones are looked at
+            # the groups passing nearest the ray's start first (seen from above; ties:
+            # the last chords first, see ``swept_chords``): they shorten the ray most,
+            # and the short ray's box passes most others over at once
+            buf[:nc].sort()
+            if nc > 1:
+                key = np.empty(nc)
+                for it in range(nc):
+                    gi = buf[it]
+                    key[it] = _xy_seg_dist2(p[0], p[1], p[0], p[1], gS[gi, 0], gS[gi, 1],
+                                            gE[gi, 0], gE[gi, 1])
+                buf[:nc] = buf[:nc][np.argsort(key, kind="mergesort")]
+            if stop > 2.0 * tol:
+                # a surface cut to within ``stop``: one test a chord at the point
+                # ``stop - 2 tol`` along the ray settles it (the bisection below would
+                # end under ``stop`` too)
+                t1 = stop - 2.0 * tol
+                for a in range(3):
+                    ex[a] = p[a] + n[a] * t1
+                c1 = _point_cut(ex, buf, nc, S, E, slot, clo, chi, gstart, gS, gE, gdev,
+                                glo, ghi, kind, R, rc, k, L, rr, rh, T, Q1, Q2, box)
+                if c1 >= 0:
+                    U = t1
+                    who = c1
+                qx0, qy0, qz0, qx1, qy1, qz1 = _ray_box(p, n, U, ex)
             for it in range(nc):
                 gi = buf[it]
-                if U <= 0.0:
+                if U <= 0.0 or U < stop:
                     break
                 if (ghi[gi, 0] < qx0 or glo[gi, 0] > qx1 or ghi[gi, 1] < qy0
                         or glo[gi, 1] > qy1 or ghi[gi, 2] < qz0 or glo[gi, 2] > qz1):
@@ -254,8 +367,23 @@ def _left(P, N, U0, S, E, slot, clo, chi, gstart, gS, gE, gdev, kind, R, rc, k, 
                             continue
                         if not meets(T, gS[gi], gE[gi], nr, rr, rh, rho, dv):
                             continue
-                for c in range(gstart[gi], gstart[gi + 1]):
-                    if U <= 0.0:
+                # the group's chord passing nearest the ray's start first (seen from
+                # above): the others then mostly miss the ray it has shortened
+                a0 = gstart[gi]
+                c0 = -1
+                if gstart[gi + 1] - a0 > 2:
+                    dbest = np.inf
+                    for c in range(a0, gstart[gi + 1]):
+                        dd = _xy_seg_dist2(p[0], p[1], p[0], p[1], S[c, 0], S[c, 1],
+                                           E[c, 0], E[c, 1])
+                        if dd < dbest:
+                            dbest = dd
+                            c0 = c
+                for kk in range(a0 - 1 if c0 >= 0 else a0, gstart[gi + 1]):
+                    if kk == c0:
+                        continue
+                    c = c0 if kk < a0 else kk
+                    if U <= 0.0 or U < stop:
                         break
                     if (chi[c, 0] < qx0 or clo[c, 0] > qx1 or chi[c, 1] < qy0
                             or clo[c, 1] > qy1 or chi[c, 2] < qz0 or clo[c, 2] > qz1):
@@ -409,10 +537,12 @@ def swept_chords(S, E, slot, shapes, start=None, gS=None, gE=None, dev=None) -> 
 
 
 def shorten_rays(points, normals, lengths, sw: SweptChords, shapes,
-                 accuracy: float) -> tuple[np.ndarray, np.ndarray]:
+                 accuracy: float, stop: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
     """Each ray ``points + t normals`` (``0 <= t <= lengths``) cut back to where it first
     enters a cutter swept along a chord of ``sw`` (to ``accuracy / 20``), and that
-    chord (-1: none)."""
+    chord (-1: none). A ray once shorter than ``stop`` is left as it is (shorter than
+    ``stop``, not necessarily as short as the chords make it: for figures below what
+    is reported)."""
     m = len(points)
     out = np.zeros(m)
     who = np.full(m, -1, np.int64)
@@ -421,7 +551,7 @@ def shorten_rays(points, normals, lengths, sw: SweptChords, shapes,
     _left(np.ascontiguousarray(points, float), np.ascontiguousarray(normals, float),
           np.ascontiguousarray(lengths, float), sw.S, sw.E, sw.slot, sw.clo, sw.chi,
           sw.start, sw.gS, sw.gE, sw.dev, *shapes.arrays()[:6], sw.index.arrays(),
-          accuracy / 20.0, out, who)
+          accuracy / 20.0, float(stop), out, who)
     return out, who
 
 
