@@ -11,7 +11,6 @@ import math
 import numpy as np
 import shapely
 
-from millpath.geometry.flatmerge import merge_horizontal
 from millpath.geometry.heightmesh import height_field_mesh
 
 HOLES = [(20.0, 30.0, 8.0), (50.0, 15.0, 5.0), (50.0, 45.0, 3.5)]     # x, y, radius
