@@ -145,6 +145,15 @@ def _blocks(motions: list[Motion], mop: np.ndarray, lut: np.ndarray, chord: floa
         yield a, _chords(motions[a:b], a, mop, lut, chord)
 
 
+def _chord_blocks(motions: list[Motion], mop: np.ndarray, lut: np.ndarray, chord: float,
+                  block: int, dmax: float, group_len: float, shapes: ToolShapes):
+    """(chords, swept chords last first) of each block of :func:`_blocks` with chords."""
+    for _, ch in _blocks(motions, mop, lut, chord, block):
+        if len(ch.S):
+            yield ch, _last_first(ch, chord_groups(ch.S, ch.E, ch.slot, ch.op, dmax,
+                                                   group_len), shapes)
+
+
 @dataclass
 class _LeftState:
     """Material-left rays of one reference, carried from block to block."""
@@ -206,6 +215,7 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
                                  np.full(len(pts), -1, np.int64)))
     nchords = 0
     dmax = GROUP_DEV * accuracy
+    kept = []           # a program of one block keeps its chords for the second pass
     for _, ch in _blocks(motions, mop, lut, chord, block):
         nchords += len(ch.S)
         if not len(ch.S):
@@ -215,6 +225,7 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
         # grown by the run's deviation, may gouge or cut a ray (millpath.simulate.groups)
         grp = chord_groups(ch.S, ch.E, ch.slot, ch.op, dmax, group_len)
         cidx = _last_first(ch, grp, shapes)
+        kept = [(ch, cidx)] if not kept else [None, None]    # (more: made again, below)
         gslot = ch.slot[grp.start[:-1]]
         gop = ch.op[grp.start[:-1]]
         single = grp.count == 1
@@ -259,11 +270,9 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
         st.out[f] = cap[cap > st.near[c]]
         far.append(f)
     if any(len(f) for f in far):
-        for _, ch in _blocks(motions, mop, lut, chord, block):
-            if not len(ch.S):
-                continue
-            cidx = _last_first(ch, chord_groups(ch.S, ch.E, ch.slot, ch.op, dmax, group_len),
-                               shapes)
+        for ch, cidx in (kept if len(kept) == 1 else _chord_blocks(motions, mop, lut, chord,
+                                                                    block, dmax, group_len,
+                                                                    shapes)):
             for st, f in zip(states, far):
                 if len(f):
                     _shorten(st, f, ch, cidx, shapes, accuracy)
