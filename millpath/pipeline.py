@@ -349,7 +349,7 @@ def _references(job: Job, results: list[PlanResult], stock: Stock, tp: Toolpath)
 
 def _accuracy(units: str) -> float:
     """Bound on the verification's gouge / material-left figures (job units)."""
-    return 0.001 if units == "mm" else 0.00004
+    return default("verify_accuracy", units)
 
 
 def _motion_ops(tp: Toolpath, move_lines: list[int | None], motions) -> np.ndarray:

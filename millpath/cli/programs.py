@@ -19,7 +19,7 @@ from pathlib import Path
 import click
 
 from millpath.errors import MillpathError
-from millpath.model.units import length_scale
+from millpath.model.units import default, length_scale
 
 
 @dataclass
@@ -153,9 +153,8 @@ def read_design(path: Path, units: str, stock=None):
         raise MillpathError("design file not found", path)
     try:
         # a STEP design meshed within a quarter of the check's accuracy
-        acc = 0.001 if units == "mm" else 0.00004
         mesh = load_surface(str(path.resolve()), 200, path.parent, path, units=units,
-                            chord_tolerance=acc / 4)
+                            chord_tolerance=default("verify_accuracy", units) / 4)
     except MillpathError as e:
         if e.file is None:
             e.file = str(path)
@@ -293,7 +292,7 @@ def simulate_program(program: Path, tools_path: Path | None, stock_text: str,
     try:
         r = simulate_motions(motions, tools, stock, resolution=resolution, design=design,
                              machine=machine, progress=progress,
-                             references=refs, accuracy=0.001 if units == "mm" else 0.00004)
+                             references=refs, accuracy=default("verify_accuracy", units))
     except ValueError as e:                    # --resolution too fine, a tool's shape
         raise MillpathError(str(e), program) from None
     return SimulatedProgram(units, motions, tools, stock, design, resolution, r)

@@ -39,6 +39,7 @@ DEFAULTS: dict[str, PerUnits] = {
     "scallop": PerUnits(0.01, 0.0004),           # surface-finish cusp height
     "taper_cusp": PerUnits(0.02, 0.0008),        # features: cusp on a hole's cone bottom
     "roundtrip": PerUnits(2e-4, 2e-5),           # program vs plan after the post's rounding
+    "verify_accuracy": PerUnits(0.001, 0.00004),  # bound on the exact gouge / left figures
     # stock left, steps (job units)
     "features_allowance": PerUnits(0.2, 0.008),  # wall stock left for the finish pass
     "rough_allowance": PerUnits(0.3, 0.012),     # surface-rough: stock left on the surface
