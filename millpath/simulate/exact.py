@@ -147,11 +147,15 @@ def _blocks(motions: list[Motion], mop: np.ndarray, lut: np.ndarray, chord: floa
 
 def _chord_blocks(motions: list[Motion], mop: np.ndarray, lut: np.ndarray, chord: float,
                   block: int, dmax: float, group_len: float, shapes: ToolShapes):
-    """(chords, swept chords last first) of each block of :func:`_blocks` with chords."""
+    """(chords, their groups, swept chords last first) of each block of :func:`_blocks`
+    that has chords. Groups: runs of connected chords (the fine chords of a curve, a
+    raster's short lines) whose chords are checked only where the coarse chord of the
+    run, grown by the run's deviation (at most ``dmax``), may gouge or cut a ray
+    (:mod:`millpath.simulate.groups`)."""
     for _, ch in _blocks(motions, mop, lut, chord, block):
         if len(ch.S):
-            yield ch, _last_first(ch, chord_groups(ch.S, ch.E, ch.slot, ch.op, dmax,
-                                                   group_len), shapes)
+            grp = chord_groups(ch.S, ch.E, ch.slot, ch.op, dmax, group_len)
+            yield ch, grp, _last_first(ch, grp, shapes)
 
 
 @dataclass
@@ -215,17 +219,12 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
                                  np.full(len(pts), -1, np.int64)))
     nchords = 0
     dmax = GROUP_DEV * accuracy
-    kept = []           # a program of one block keeps its chords for the second pass
-    for _, ch in _blocks(motions, mop, lut, chord, block):
+    nblocks, only = 0, None     # a program of one block keeps it for the second pass
+    for ch, grp, cidx in _chord_blocks(motions, mop, lut, chord, block, dmax, group_len,
+                                       shapes):
         nchords += len(ch.S)
-        if not len(ch.S):
-            continue
-        # runs of connected chords (the fine chords of a curve, a raster's short
-        # lines): their chords are checked only where the coarse chord of the run,
-        # grown by the run's deviation, may gouge or cut a ray (millpath.simulate.groups)
-        grp = chord_groups(ch.S, ch.E, ch.slot, ch.op, dmax, group_len)
-        cidx = _last_first(ch, grp, shapes)
-        kept = [(ch, cidx)] if not kept else [None, None]    # (more: made again, below)
+        nblocks += 1
+        only = (ch, grp, cidx) if nblocks == 1 else None
         gslot = ch.slot[grp.start[:-1]]
         gop = ch.op[grp.start[:-1]]
         single = grp.count == 1
@@ -270,9 +269,9 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
         st.out[f] = cap[cap > st.near[c]]
         far.append(f)
     if any(len(f) for f in far):
-        for ch, cidx in (kept if len(kept) == 1 else _chord_blocks(motions, mop, lut, chord,
-                                                                    block, dmax, group_len,
-                                                                    shapes)):
+        again = [only] if only is not None else _chord_blocks(motions, mop, lut, chord, block,
+                                                               dmax, group_len, shapes)
+        for ch, _, cidx in again:
             for st, f in zip(states, far):
                 if len(f):
                     _shorten(st, f, ch, cidx, shapes, accuracy)

@@ -161,6 +161,13 @@ def arc_params(mo: Motion) -> tuple[float, float, float, float]:
     return r, t0, d, mo.end[an] - mo.start[an]
 
 
+def _arc_chords(r: float, sweep: float, chord_tol: float) -> int:
+    """Chords (at least 2) of an arc of radius ``r`` turning ``sweep`` rad, each within
+    ``chord_tol`` of it."""
+    step = math.pi / 2 if r <= chord_tol else 2.0 * math.acos(max(-1.0, 1.0 - chord_tol / r))
+    return max(2, int(math.ceil(abs(sweep) / max(step, 1e-9))))
+
+
 def motion_points(mo: Motion, chord_tol: float) -> np.ndarray:
     """Points (n, 3) from start to end whose chords stay within ``chord_tol`` of the
     motion (lines: the two end points)."""
@@ -169,11 +176,7 @@ def motion_points(mo: Motion, chord_tol: float) -> np.ndarray:
     if mo.kind == "arc":
         r, t0, sweep, dn = arc_params(mo)
         a1, a2, an = PLANE_AXES[mo.plane]
-        if r <= chord_tol:
-            step = math.pi / 2
-        else:
-            step = 2.0 * math.acos(max(-1.0, 1.0 - chord_tol / r))
-        n = max(2, int(math.ceil(abs(sweep) / max(step, 1e-9))))
+        n = _arc_chords(r, sweep, chord_tol)
         t = np.linspace(0.0, 1.0, n + 1)
         c = mo.center
         assert c is not None
@@ -215,8 +218,7 @@ def chord_count(mo: Motion, chord_tol: float) -> int:
     cubics and NURBS: at most that many, from their control points' spread."""
     if mo.kind == "arc":
         r, _, sweep, _ = arc_params(mo)
-        step = math.pi / 2 if r <= chord_tol else 2.0 * math.acos(max(-1.0, 1.0 - chord_tol / r))
-        return max(2, int(math.ceil(abs(sweep) / max(step, 1e-9))))
+        return _arc_chords(r, sweep, chord_tol)
     if is_curve(mo):
         c = np.asarray(mo.controls if mo.kind == "cubic" else mo.controls.points, float)
         span = float(np.ptp(np.vstack([np.asarray(mo.start, float)[:2], c[:, :2]]), axis=0).max())
