@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-pytest.importorskip("OCP")
+pytest.importorskip("OCP", reason="the B-rep reference needs OpenCASCADE: pip install 'millpath[step-brep]'")
 sys.path.insert(0, str(Path(__file__).parent))
 import builder  # noqa: E402
 
