@@ -68,9 +68,14 @@ def solid_mesh(solid, chord_tolerance: float, name: str = "solid") -> tuple[np.n
     ``chord_tolerance`` (mm)."""
     if not chord_tolerance > 0:
         raise GeometryError("chord tolerance must be positive", entity=name)
+    return _joined(face_triangles(solid, chord_tolerance, 0.2, entity=name), name)
+
+
+def _joined(faces, name: str) -> tuple[np.ndarray, np.ndarray]:
+    """One ``(vertices, triangles)`` mesh of the faces' ``(nodes, triangles)``."""
     verts, tris = [], []
     base = 0
-    for nodes, idx in face_triangles(solid, chord_tolerance, 0.2, entity=name):
+    for nodes, idx in faces:
         verts.append(nodes)
         tris.append(idx + base)
         base += len(nodes)
@@ -174,12 +179,12 @@ def reference_mesh(solid, bound: float, name: str = "solid") -> tuple[np.ndarray
     if not bound > 0:
         raise GeometryError("chord tolerance must be positive", entity=name)
     shape = BRepBuilderAPI_Copy(solid, True, False).Shape()     # the caller's mesh kept
-    verts, tris, err, base = [], [], 0.0, 0
-    for face, nodes, idx in meshed_faces(shape, bound, 0.2, None, name):
-        err = max(err, chord_error(face, nodes, idx))
-        verts.append(nodes)
-        tris.append(idx + base)
-        base += len(nodes)
-    if not verts:
-        raise GeometryError("the solid has no faces", entity=name)
-    return np.concatenate(verts), np.concatenate(tris), err
+    errors = [0.0]
+
+    def measured():
+        for face, nodes, idx in meshed_faces(shape, bound, 0.2, None, name):
+            errors.append(chord_error(face, nodes, idx))
+            yield nodes, idx
+
+    verts, tris = _joined(measured(), name)
+    return verts, tris, max(errors)
