@@ -334,16 +334,28 @@ def _references(job: Job, results: list[PlanResult], stock: Stock, tp: Toolpath)
     # a job operation's design applies to the tool path operations it planned (one per
     # tool of a features operation, ...): those numbers, not the job's, mark the motion
     first = np.cumsum([0] + [len(r.toolpath.ops) for r in results])
-    refs = []
+    # operations sharing one design (the same triangles) share one reference: the
+    # material left on it is measured once
+    found: list[tuple[np.ndarray, list[int], list[int], float | None]] = []
     for i, r in enumerate(results):
         if r.design is None:
             continue
         tri = design_triangles(r.design, stock, _accuracy(job.units), size)
-        name = f"operations[{i}] design"
         err = getattr(r.design, "chord_error", None)        # a B-rep meshed for the check
+        ops = list(range(first[i], first[i + 1]))
+        same = next((f for f in found if f[0].shape == tri.shape and f[3] == err
+                     and np.array_equal(f[0], tri)), None)
+        if same is None:
+            found.append((tri, [i], ops, err))
+        else:
+            same[1].append(i)
+            same[2].extend(ops)
+    refs = []
+    for tri, jobs_ops, ops, err in found:
+        name = f"operations[{', '.join(str(i) for i in jobs_ops)}] design"
         if err is not None:
             name += f" (STEP solid, facets within {err:.2g} {job.units} of its faces)"
-        refs.append(Reference(tri, name, list(range(first[i], first[i + 1]))))
+        refs.append(Reference(tri, name, ops))
     return refs
 
 

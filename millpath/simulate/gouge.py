@@ -23,9 +23,9 @@ from numba import njit, prange
 
 from millpath.geometry.convex import (BALL, BULL, CYL, DRILL, FLAT, depth, meets, shape_rings,
                                       support_swept, underside)
-from millpath.geometry.distance import (ball_core, core_point_dist2, core_triangle_dist2,
+from millpath.geometry.distance import (ball_core, core_dist2_below, core_point_dist2_below,
                                         point_triangle_dist2, segment_segment_dist2)
-from millpath.geometry.index import BoxIndex, box_candidates
+from millpath.geometry.index import BoxIndex, box_candidates, bucket_range, first_bucket
 from millpath.geometry.inside import in_material
 from millpath.model.tool import Tool
 
@@ -135,12 +135,59 @@ def surface_dist2(X, r, tri, ix, buf):
     return best
 
 
+@njit(cache=True, error_model="numpy")
+def under_candidates(ix, txy, P0, P1, kind, R, rc, k, zb, L, grow, buf, bb):
+    """Items of ``ix`` (triangles; ``txy`` their XY boxes) in the box of the tool shape
+    swept along P0 -> P1 and grown by ``grow``, less those wholly below its
+    :func:`underside`, tested for whole buckets first (a bucket whose highest item is
+    below the tool over the bucket's XY box is passed over). ``bb``: scratch (4,).
+    Returns (count, buffer) as :func:`box_candidates`."""
+    lo, hi, start, items, bi0, bj0, blo, bhi, x0, y0, bs, nbx, nby = ix
+    qx0 = min(P0[0], P1[0]) - R - grow
+    qx1 = max(P0[0], P1[0]) + R + grow
+    qy0 = min(P0[1], P1[1]) - R - grow
+    qy1 = max(P0[1], P1[1]) + R + grow
+    qz0 = min(P0[2], P1[2]) + zb - grow - 1e-9
+    qz1 = max(P0[2], P1[2]) + L + grow + 1e-9
+    ia, ib, ja, jb = bucket_range(x0, y0, bs, nbx, nby, qx0, qy0, qx1, qy1)
+    n = 0
+    for bj in range(ja, jb + 1):
+        for bi in range(ia, ib + 1):
+            b = bj * nbx + bi
+            if (bhi[b, 0] < qx0 or blo[b, 0] > qx1 or bhi[b, 1] < qy0 or blo[b, 1] > qy1
+                    or bhi[b, 2] < qz0 or blo[b, 2] > qz1):
+                continue
+            bb[0] = blo[b, 0]
+            bb[1] = blo[b, 1]
+            bb[2] = bhi[b, 0]
+            bb[3] = bhi[b, 1]
+            if bhi[b, 2] < underside(P0, P1, kind, R, rc, k, zb, bb, grow):
+                continue
+            for p in range(start[b], start[b + 1]):
+                t = items[p]
+                if not first_bucket(bi, bj, bi0[t], bj0[t], ia, ja):
+                    continue
+                if (hi[t, 0] < qx0 or lo[t, 0] > qx1 or hi[t, 1] < qy0 or lo[t, 1] > qy1
+                        or hi[t, 2] < qz0 or lo[t, 2] > qz1):
+                    continue
+                if hi[t, 2] < underside(P0, P1, kind, R, rc, k, zb, txy[t], grow):
+                    continue
+                if n == buf.shape[0]:
+                    grown = np.empty(2 * n + 16, np.int64)
+                    grown[:n] = buf[:n]
+                    buf = grown
+                buf[n] = t
+                n += 1
+    return n, buf
+
+
 @njit(cache=True, error_model="numpy", parallel=True)
 def _gouge_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, tc, tr, txy, ix,
                   e0, tol, out_g, out_t, out_s, out_r, out_x):
     n = S.shape[0]
     for c in prange(n):
         buf = np.empty(256, np.int64)
+        bb = np.empty(4)
         sbuf = np.empty(64, np.int64)
         rr = np.empty(3)
         rh = np.empty(3)
@@ -170,27 +217,18 @@ def _gouge_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, tc, tr, tx
                                     rr, rh)
             if nr0 == 0:
                 continue
-            qx0 = min(P0[0], P1[0]) - Rj
-            qx1 = max(P0[0], P1[0]) + Rj
-            qy0 = min(P0[1], P1[1]) - Rj
-            qy1 = max(P0[1], P1[1]) + Rj
-            qz0 = min(P0[2], P1[2]) + zb[s, j] - 1e-9
-            qz1 = max(P0[2], P1[2]) + L[s, j] + 1e-9
-            nc, buf = box_candidates(ix,
-                                     qx0, qy0, qz0, qx1, qy1, qz1, buf)
+            # not wholly below the tool over their own XY box
+            nc, buf = under_candidates(ix, txy, P0, P1, kind[s, j], Rj, rc[s, j], k[s, j],
+                                       zb[s, j], L[s, j], 0.0, buf, bb)
             for p in range(nc):
                 t = buf[p]
-                # wholly below the tool over its own XY box
-                if ix[1][t, 2] < underside(P0, P1, kind[s, j], Rj, rc[s, j], k[s, j], zb[s, j],
-                                         txy[t], 0.0):
-                    continue
                 lo = e0 if e0 > best else best
                 if is_ball:
                     # a bound first: the core is at least (distance from the
                     # triangle's centre) - (its radius) from the triangle
                     far = Rj - lo + tr[t]
-                    if core_point_dist2(tc[t, 0], tc[t, 1], tc[t, 2], flat_core,
-                                        Q1, Q2) > far * far:
+                    if core_point_dist2_below(tc[t, 0], tc[t, 1], tc[t, 2], flat_core,
+                                              Q1, Q2) > far * far:
                         continue
                 # the plane of t must cut the solid's C_e0, else no point of t
                 # can be e0 deep in it (one support point each way)
@@ -224,7 +262,7 @@ def _gouge_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, tc, tr, tx
                                 for a in range(3):
                                     xs[a] = qp[a]
                 if is_ball:     # exact: R - distance to the swept core
-                    d2 = core_triangle_dist2(tri[t], flat_core, Q1, Q2)
+                    d2 = core_dist2_below(tri[t], ix[1][t, 2], flat_core, Q1, Q2)
                     d = Rj - math.sqrt(d2)
                     if d < lo:
                         continue
@@ -256,9 +294,12 @@ def _near_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, txy, ix, e0
     n = S.shape[0]
     for c in prange(n):
         buf = np.empty(256, np.int64)
+        bb = np.empty(4)
         rr = np.empty(3)
         rh = np.empty(3)
         sp = np.empty(3)
+        Q1 = np.empty((3, 3))
+        Q2 = np.empty((3, 3))
         s = slot[c]
         P0 = S[c]
         P1 = E[c]
@@ -267,24 +308,19 @@ def _near_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, txy, ix, e0
             if hit:
                 break
             Rj = R[s, j]
+            is_ball = kind[s, j] == BALL
+            flat_core = False
+            if is_ball:
+                flat_core = ball_core(P0, P1, Rj, L[s, j], Q1, Q2)
             nr, rho = shape_rings(kind[s, j], Rj, rc[s, j], k[s, j], zb[s, j], L[s, j], e0,
                                   rr, rh)
             if nr == 0:
                 continue
             g = grow[c]
-            qx0 = min(P0[0], P1[0]) - Rj - g
-            qx1 = max(P0[0], P1[0]) + Rj + g
-            qy0 = min(P0[1], P1[1]) - Rj - g
-            qy1 = max(P0[1], P1[1]) + Rj + g
-            qz0 = min(P0[2], P1[2]) + zb[s, j] - g - 1e-9
-            qz1 = max(P0[2], P1[2]) + L[s, j] + g + 1e-9
-            nc, buf = box_candidates(ix,
-                                     qx0, qy0, qz0, qx1, qy1, qz1, buf)
+            nc, buf = under_candidates(ix, txy, P0, P1, kind[s, j], Rj, rc[s, j], k[s, j],
+                                       zb[s, j], L[s, j], g, buf, bb)
             for p in range(nc):
                 t = buf[p]
-                if ix[1][t, 2] < underside(P0, P1, kind[s, j], Rj, rc[s, j], k[s, j], zb[s, j],
-                                         txy[t], g):
-                    continue
                 nx, ny, nz = tn[t, 0], tn[t, 1], tn[t, 2]
                 pd = nx * tri[t, 0, 0] + ny * tri[t, 0, 1] + nz * tri[t, 0, 2]
                 support_swept(P0, P1, nr, rr, rh, rho + g, nx, ny, nz, sp)
@@ -296,7 +332,14 @@ def _near_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, txy, ix, e0
                 # (C_e0 lies within Rj - e0 of the chord seen from above)
                 if xy_dist2(tri[t], P0, P1) > (Rj - e0 + g) ** 2:
                     continue
-                if meets(tri[t], P0, P1, nr, rr, rh, rho, g):
+                if is_ball:
+                    # C_e0 lies within Rj - e0 of the core (the full core: its top
+                    # is not lowered by e0, which only adds to the hits)
+                    if core_dist2_below(tri[t], ix[1][t, 2], flat_core, Q1,
+                                        Q2) <= (Rj - e0 + g) ** 2:
+                        hit = 1
+                        break
+                elif meets(tri[t], P0, P1, nr, rr, rh, rho, g):
                     hit = 1
                     break
         out[c] = hit

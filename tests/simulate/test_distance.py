@@ -2,9 +2,11 @@
 of millpath.geometry.convex and against dense point sampling (fixed seed)."""
 
 import numpy as np
+import pytest
 
 from millpath.geometry.convex import BALL, FLAT, depth, meets, shape_rings
-from millpath.geometry.distance import (ball_core, core_triangle_dist2,
+from millpath.geometry.distance import (ball_core, core_dist2_below, core_point_dist2,
+                                        core_point_dist2_below, core_triangle_dist2,
                                         segment_triangle_dist2)
 
 
@@ -22,6 +24,29 @@ def test_segment_triangle_distance_matches_sampling():
         brute = np.sqrt(((pts[:, None, :] - seg[None]) ** 2).sum(-1).min())
         assert d <= brute + 1e-12          # exact is never above a sampled distance
         assert brute - d < 0.03            # and the sampling comes close to it
+
+
+def test_core_distance_below_the_ball_centres_matches_the_whole_core():
+    """A triangle at or below the ball centres' edge of the core (ball swept along a
+    sloped chord, the core the vertical quad above it): the bottom edge alone gives
+    the distance to the whole core; above it the full test is used."""
+    rng = np.random.default_rng(1519)
+    R, L = 3.0, 20.0
+    Q1, Q2 = np.empty((3, 3)), np.empty((3, 3))
+    below = 0
+    for _ in range(500):
+        P0 = rng.uniform(-2, 2, 3)
+        P1 = P0 + rng.uniform(-3, 3, 3)
+        T = rng.uniform(-4, 4, (3, 3)) + np.array([0, 0, 1.0])
+        fc = ball_core(P0, P1, R, L, Q1, Q2)
+        ztop = T[:, 2].max()
+        below += ztop <= min(P0[2], P1[2]) + R
+        assert core_dist2_below(T, ztop, fc, Q1, Q2) == \
+            pytest.approx(core_triangle_dist2(T, fc, Q1, Q2), rel=1e-12, abs=1e-12)
+        c = T.mean(axis=0)
+        assert core_point_dist2_below(*c, fc, Q1, Q2) == \
+            pytest.approx(core_point_dist2(*c, fc, Q1, Q2), rel=1e-12, abs=1e-12)
+    assert below > 100
 
 
 def test_ball_depth_matches_gjk():
