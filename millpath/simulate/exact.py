@@ -237,8 +237,11 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
                                          idx, accuracy, grp.dev[test] + 1e-9, fc)
             cs = grp.chords(flag)
             if len(cs):
+                # the flagged groups, renumbered over the chords cs
+                runs = (np.concatenate([[0], np.cumsum(grp.count[flag])]), grp.S[flag],
+                        grp.E[flag], grp.dev[flag] + 1e-9)
                 res = gouge_chords(ch.S[cs], ch.E[cs], ch.slot[cs], shapes, tri, idx,
-                                   accuracy, fc)
+                                   accuracy, fc, runs)
                 g = np.maximum(res.gouge, 0.0)
                 np.maximum.at(motion_g, ch.motion[cs], g)
                 c = int(np.argmax(g))

@@ -182,108 +182,154 @@ def under_candidates(ix, txy, P0, P1, kind, R, rc, k, zb, L, grow, buf, bb):
 
 
 @njit(cache=True, error_model="numpy", parallel=True)
-def _gouge_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, tc, tr, txy, ix,
-                  e0, tol, out_g, out_t, out_s, out_r, out_x):
-    n = S.shape[0]
-    for c in prange(n):
+def _gouge_groups(S, E, slot, gs, gS, gE, gdev, kind, R, rc, k, zb, L, nshape, tri, tn, tc,
+                  tr, txy, ix, e0, tol, out_g, out_t, out_s, out_r, out_x):
+    """Chords ``gs[g]:gs[g+1]`` form group g (coarse chord gS -> gE within ``gdev`` of
+    each of them, see :mod:`millpath.simulate.groups`): its triangles are gathered once
+    for the coarse sweep grown by the deviation, and, for a ball, those farther from
+    the coarse core than R - e0 + deviation dropped (no chord of the group comes e0 deep
+    into them); then each chord is checked against what is left."""
+    ng = gs.shape[0] - 1
+    for g in prange(ng):
         buf = np.empty(256, np.int64)
+        gd = np.empty(256)
         bb = np.empty(4)
         sbuf = np.empty(64, np.int64)
         rr = np.empty(3)
         rh = np.empty(3)
-        s = slot[c]
-        best = -1.0
-        bt = -1
-        bsh = -1
-        P0 = S[c]
-        P1 = E[c]
         sp = np.empty(3)
         Q1 = np.empty((3, 3))
         Q2 = np.empty((3, 3))
         rrf = np.empty(3)
         rhf = np.empty(3)
         qp = np.empty(3)
-        xs = np.zeros(3)
-        on_rim = 0
+        a0 = gs[g]
+        a1 = gs[g + 1]
+        s = slot[a0]
+        dv = gdev[g]
+        for c in range(a0, a1):
+            out_g[c] = -1.0
+            out_t[c] = -1
+            out_s[c] = -1
+            out_r[c] = 0
+            for a in range(3):
+                out_x[c, a] = 0.0
         for j in range(nshape[s]):
             Rj = R[s, j]
             is_ball = kind[s, j] == BALL
-            nrf, rhof = shape_rings(kind[s, j], Rj, rc[s, j], k[s, j], zb[s, j], L[s, j], 0.0,
-                                    rrf, rhf)
-            flat_core = False
-            if is_ball:
-                flat_core = ball_core(P0, P1, Rj, L[s, j], Q1, Q2)
             nr0, rho0 = shape_rings(kind[s, j], Rj, rc[s, j], k[s, j], zb[s, j], L[s, j], e0,
                                     rr, rh)
             if nr0 == 0:
                 continue
-            # not wholly below the tool over their own XY box
-            nc, buf = under_candidates(ix, txy, P0, P1, kind[s, j], Rj, rc[s, j], k[s, j],
-                                       zb[s, j], L[s, j], 0.0, buf, bb)
-            for p in range(nc):
-                t = buf[p]
-                lo = e0 if e0 > best else best
-                if is_ball:
-                    # a bound first: the core is at least (distance from the
-                    # triangle's centre) - (its radius) from the triangle
-                    far = Rj - lo + tr[t]
-                    if core_point_dist2_below(tc[t, 0], tc[t, 1], tc[t, 2], flat_core,
-                                              Q1, Q2) > far * far:
+            nrf, rhof = shape_rings(kind[s, j], Rj, rc[s, j], k[s, j], zb[s, j], L[s, j], 0.0,
+                                    rrf, rhf)
+            # not wholly below the (grown) tool over their own XY box
+            nc, buf = under_candidates(ix, txy, gS[g], gE[g], kind[s, j], Rj, rc[s, j],
+                                       k[s, j], zb[s, j], L[s, j], dv, buf, bb)
+            if gd.shape[0] < nc:
+                gd = np.empty(nc)
+            if is_ball and a1 - a0 > 1:
+                fc = ball_core(gS[g], gE[g], Rj, L[s, j], Q1, Q2)
+                m = 0
+                for p in range(nc):
+                    t = buf[p]
+                    far = Rj - e0 + tr[t] + dv
+                    if core_point_dist2_below(tc[t, 0], tc[t, 1], tc[t, 2], fc, Q1,
+                                              Q2) > far * far:
                         continue
-                # the plane of t must cut the solid's C_e0, else no point of t
-                # can be e0 deep in it (one support point each way)
-                nx, ny, nz = tn[t, 0], tn[t, 1], tn[t, 2]
-                pd = nx * tri[t, 0, 0] + ny * tri[t, 0, 1] + nz * tri[t, 0, 2]
-                support_swept(P0, P1, nr0, rr, rh, rho0, nx, ny, nz, sp)
-                if sp[0] * nx + sp[1] * ny + sp[2] * nz < pd:
-                    continue
-                support_swept(P0, P1, nr0, rr, rh, rho0, -nx, -ny, -nz, sp)
-                if sp[0] * nx + sp[1] * ny + sp[2] * nz > pd:
-                    continue
-                if not is_ball and nrf > 0:
-                    # the tool's deepest point along the design's normal: a
-                    # sharp rim or point goes deeper into the part than any
-                    # ball inside the tool reaches out of it
-                    support_swept(P0, P1, nrf, rrf, rhf, rhof, -nx, -ny, -nz, sp)
-                    dp = pd - (sp[0] * nx + sp[1] * ny + sp[2] * nz)
-                    if dp > lo and dp > best:
+                    d = math.sqrt(core_dist2_below(tri[t], ix[1][t, 2], fc, Q1, Q2))
+                    if Rj - d + dv < e0:
+                        continue
+                    buf[m] = t
+                    gd[m] = d
+                    m += 1
+                nc = m
+            else:
+                for p in range(nc):
+                    gd[p] = -np.inf
+            for c in range(a0, a1):
+                _chord_gouge(c, j, S[c], E[c], s, kind, R, rc, k, zb, L, tri, tn, tc, tr,
+                             txy, ix, e0, tol, buf, gd, nc, dv, nr0, rho0, nrf, rhof, rr, rh,
+                             rrf, rhf, sp, qp, Q1, Q2, sbuf, out_g, out_t, out_s, out_r,
+                             out_x)
+
+
+@njit(cache=True, error_model="numpy")
+def _chord_gouge(c, j, P0, P1, s, kind, R, rc, k, zb, L, tri, tn, tc, tr, txy, ix, e0, tol,
+                 cand, gd, nc, dv, nr0, rho0, nrf, rhof, rr, rh, rrf, rhf, sp, qp, Q1, Q2,
+                 sbuf, out_g, out_t, out_s, out_r, out_x):
+    """Chord c's penetration by shape j of slot s into the triangles ``cand[:nc]`` (at
+    ``gd`` from the group's coarse core, -inf unknown), raising ``out_*[c]``."""
+    Rj = R[s, j]
+    is_ball = kind[s, j] == BALL
+    flat_core = False
+    if is_ball:
+        flat_core = ball_core(P0, P1, Rj, L[s, j], Q1, Q2)
+    best = out_g[c]
+    for p in range(nc):
+        t = cand[p]
+        lo = e0 if e0 > best else best
+        if is_ball:
+            # the chord's core is within the deviation of the group's
+            if Rj - gd[p] + dv < lo:
+                continue
+            # a bound first: the core is at least (distance from the triangle's
+            # centre) - (its radius) from the triangle
+            far = Rj - lo + tr[t]
+            if core_point_dist2_below(tc[t, 0], tc[t, 1], tc[t, 2], flat_core, Q1,
+                                      Q2) > far * far:
+                continue
+        elif dv > 0.0 and ix[1][t, 2] < underside(P0, P1, kind[s, j], Rj, rc[s, j], k[s, j],
+                                                  zb[s, j], txy[t], 0.0):
+            continue
+        # the plane of t must cut the solid's C_e0, else no point of t can be e0 deep
+        # in it (one support point each way)
+        nx, ny, nz = tn[t, 0], tn[t, 1], tn[t, 2]
+        pd = nx * tri[t, 0, 0] + ny * tri[t, 0, 1] + nz * tri[t, 0, 2]
+        support_swept(P0, P1, nr0, rr, rh, rho0, nx, ny, nz, sp)
+        if sp[0] * nx + sp[1] * ny + sp[2] * nz < pd:
+            continue
+        support_swept(P0, P1, nr0, rr, rh, rho0, -nx, -ny, -nz, sp)
+        if sp[0] * nx + sp[1] * ny + sp[2] * nz > pd:
+            continue
+        if not is_ball and nrf > 0:
+            # the tool's deepest point along the design's normal: a sharp rim or
+            # point goes deeper into the part than any ball inside the tool reaches
+            # out of it
+            support_swept(P0, P1, nrf, rrf, rhf, rhof, -nx, -ny, -nz, sp)
+            dp = pd - (sp[0] * nx + sp[1] * ny + sp[2] * nz)
+            if dp > lo and dp > best:
+                for a in range(3):
+                    qp[a] = sp[a] + dp * tn[t, a]
+                # and that point in the material (not outside, behind another face
+                # or beyond the design's edge)
+                if in_triangle(tri[t], qp) and in_material(
+                        sp, tri, ix[2], ix[3], ix[8], ix[9], ix[10], ix[11], ix[12]):
+                    ds = math.sqrt(surface_dist2(sp, dp, tri, ix, sbuf))
+                    if ds >= lo and ds > best:
+                        best = ds
+                        out_t[c] = t
+                        out_s[c] = j
+                        out_r[c] = 1
                         for a in range(3):
-                            qp[a] = sp[a] + dp * tn[t, a]
-                        # and that point in the material (not outside,
-                        # behind another face or beyond the design's edge)
-                        if in_triangle(tri[t], qp) and in_material(
-                                sp, tri, ix[2], ix[3], ix[8], ix[9], ix[10], ix[11], ix[12]):
-                            ds = math.sqrt(surface_dist2(sp, dp, tri, ix, sbuf))
-                            if ds >= lo and ds > best:
-                                best = ds
-                                bt = t
-                                bsh = j
-                                on_rim = 1
-                                for a in range(3):
-                                    xs[a] = qp[a]
-                if is_ball:     # exact: R - distance to the swept core
-                    d2 = core_dist2_below(tri[t], ix[1][t, 2], flat_core, Q1, Q2)
-                    d = Rj - math.sqrt(d2)
-                    if d < lo:
-                        continue
-                else:
-                    # no point of t within lo of the tool's side, seen from above, is
-                    # lo deep in it
-                    if Rj - lo < 0.0 or xy_dist2(tri[t], P0, P1) > (Rj - lo) ** 2:
-                        continue
-                    d = depth(tri[t], P0, P1, kind[s, j], Rj, rc[s, j], k[s, j],
-                              zb[s, j], L[s, j], lo, tol, rr, rh)
-                if d > best:
-                    best = d
-                    bt = t
-                    bsh = j
-                    on_rim = 0
-        out_g[c] = best
-        out_t[c] = bt
-        out_s[c] = bsh
-        out_r[c] = on_rim
-        for a in range(3):
-            out_x[c, a] = xs[a]
+                            out_x[c, a] = qp[a]
+        if is_ball:     # exact: R - distance to the swept core
+            d = Rj - math.sqrt(core_dist2_below(tri[t], ix[1][t, 2], flat_core, Q1, Q2))
+            if d < lo:
+                continue
+        else:
+            # no point of t within lo of the tool's side, seen from above, is lo deep
+            # in it
+            if Rj - lo < 0.0 or xy_dist2(tri[t], P0, P1) > (Rj - lo) ** 2:
+                continue
+            d = depth(tri[t], P0, P1, kind[s, j], Rj, rc[s, j], k[s, j], zb[s, j], L[s, j],
+                      lo, tol, rr, rh)
+        if d > best:
+            best = d
+            out_t[c] = t
+            out_s[c] = j
+            out_r[c] = 0
+    out_g[c] = best
 
 
 @njit(cache=True, error_model="numpy", parallel=True)
@@ -435,9 +481,12 @@ def faces_of(triangles: np.ndarray, index: BoxIndex) -> Faces:
 
 def gouge_chords(S: np.ndarray, E: np.ndarray, slot: np.ndarray, shapes: ToolShapes,
                  triangles: np.ndarray, index: BoxIndex, accuracy: float,
-                 faces: Faces | None = None) -> GougeResult:
+                 faces: Faces | None = None, groups=None) -> GougeResult:
     """Penetration of the design into each chord's swept tool (see the module doc);
-    ``faces``: :func:`faces_of` the triangles, when already made."""
+    ``faces``: :func:`faces_of` the triangles, when already made. ``groups``: (start,
+    coarse S, coarse E, deviation) of runs of the chords (``start``: first chord of
+    each, then the number of chords; see :mod:`millpath.simulate.groups`), looked at
+    whole first; default each chord alone."""
     n = len(S)
     g = np.full(n, -1.0)
     t = np.full(n, -1, np.int64)
@@ -446,11 +495,16 @@ def gouge_chords(S: np.ndarray, E: np.ndarray, slot: np.ndarray, shapes: ToolSha
     pt = np.zeros((n, 3))
     if n and len(triangles):
         f = faces if faces is not None else faces_of(triangles, index)
-        _gouge_chords(np.ascontiguousarray(S, float), np.ascontiguousarray(E, float),
-                      np.ascontiguousarray(slot, np.int64), *shapes.arrays(),
-                      triangles, f.normals, f.centres, f.radii, f.xy, index.arrays(),
-                      accuracy / 2.0,
-                      accuracy * 1e-4, g, t, s, rim, pt)
+        S = np.ascontiguousarray(S, float)
+        E = np.ascontiguousarray(E, float)
+        if groups is None:
+            groups = (np.arange(n + 1), S, E, np.zeros(n))
+        gs, gS, gE, dev = groups
+        _gouge_groups(S, E, np.ascontiguousarray(slot, np.int64),
+                      np.ascontiguousarray(gs, np.int64), np.ascontiguousarray(gS, float),
+                      np.ascontiguousarray(gE, float), np.ascontiguousarray(dev, float),
+                      *shapes.arrays(), triangles, f.normals, f.centres, f.radii, f.xy,
+                      index.arrays(), accuracy / 2.0, accuracy * 1e-4, g, t, s, rim, pt)
     return GougeResult(g, t, s, rim, pt)
 
 
