@@ -127,7 +127,6 @@ def _wall_cells(design, X, Y, Z, cw, ch, floor, flat_tol, slope):
     ok = ((hi_spread <= slope * size) & (lo_spread <= slope * size)
           & (gap > np.maximum(hi_spread, lo_spread)) & ~saddle & (nh > 0) & (nh < 4))
     idx = np.flatnonzero(ok)
-    tris: list = []
     if not len(idx):
         return np.zeros((0, 3, 3)), ok
     Xc, Yc, Zc, H = X[idx, :4], Y[idx, :4], Z[idx, :4], high[idx]
@@ -160,39 +159,32 @@ def _wall_cells(design, X, Y, Z, cw, ch, floor, flat_tol, slope):
         # a real wall: the height jumps across the bracket (not a steep smooth slope)
         jump[:, e] = (H[:, a] == H[:, b]) | (np.abs(za - zb) > gap[idx] / 2)
     good = jump.all(axis=1)
-    owner: list[int] = []
-    side: list[int] = []
-    for c in np.flatnonzero(good):
-        polys = {True: [], False: []}
-        ends = []
-        for k in range(4):
-            h = bool(H[c, k])
-            polys[h].append((Xc[c, k], Yc[c, k], Zc[c, k]))
-            if H[c, k] != H[c, (k + 1) % 4]:
-                px, py = cross[c, k]
-                polys[True].append((px, py, zcross[c, k, 0]))
-                polys[False].append((px, py, zcross[c, k, 1]))
-                ends.append((k, h))
-        for h in (True, False):
-            pts = polys[h]
-            for j in range(1, len(pts) - 1):
-                tris.append([pts[0], pts[j], pts[j + 1]])
-                owner.append(c)
-                side.append(1 if h else 0)
-        # wall: from crossing p (leaving the high side) to q; normal to the low side
-        (kp, hp), (kq, _) = ends
-        if not hp:      # p must be where the way round the cell leaves the high side
-            kp, kq = kq, kp
-        (px, py), (qx, qy) = cross[c, kp], cross[c, kq]
-        a, b = (px, py, zcross[c, kp, 1]), (qx, qy, zcross[c, kq, 1])
-        c2, d = (qx, qy, zcross[c, kq, 0]), (px, py, zcross[c, kp, 0])
-        tris.append([a, b, c2])
-        tris.append([a, c2, d])
-        owner += [c, c]
-        side += [-1, -1]
-    t = np.asarray(tris, float).reshape(-1, 3, 3)
-    owner_a = np.asarray(owner, np.int64)
-    side_a = np.asarray(side)
+    # every cell's points: its corners (0-3), each edge's crossing on the high side
+    # (4-7) and on the low side (8-11); each pattern of high corners gives its
+    # triangles as rows of those numbers
+    P = np.concatenate([np.stack([Xc, Yc, Zc], axis=2),
+                        np.concatenate([cross, zcross[:, :, :1]], axis=2),
+                        np.concatenate([cross, zcross[:, :, 1:]], axis=2)], axis=1)
+    cells = np.flatnonzero(good)
+    code = H[cells].astype(np.int64) @ np.array([1, 2, 4, 8])
+    parts, owners, sides, local = [], [], [], []
+    for pat in np.unique(code):
+        cs = cells[code == pat]
+        rows, sd = _pattern(int(pat))
+        parts.append(P[cs][:, rows].reshape(-1, 3, 3))
+        owners.append(np.repeat(cs, len(rows)))
+        sides.append(np.tile(sd, len(cs)))
+        local.append(np.tile(np.arange(len(rows)), len(cs)))
+    if parts:
+        # in the order of the cells, each cell's triangles as its pattern lists them
+        order = np.lexsort((np.concatenate(local), np.concatenate(owners)))
+        t = np.concatenate(parts)[order]
+        owner_a = np.concatenate(owners)[order]
+        side_a = np.concatenate(sides)[order]
+    else:
+        t = np.zeros((0, 3, 3))
+        owner_a = np.zeros(0, np.int64)
+        side_a = np.zeros(0, np.int64)
     # each side's triangles within flat_tol of the design at their centroids (where
     # the centroid is on that side: a curved wall's chord is off by its sagitta)
     s = np.flatnonzero(side_a >= 0)
@@ -206,3 +198,38 @@ def _wall_cells(design, X, Y, Z, cw, ch, floor, flat_tol, slope):
     handled = np.zeros(len(ok), bool)
     handled[idx[good]] = True
     return t, handled
+
+
+_PATTERNS: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+
+
+def _pattern(code: int) -> tuple[np.ndarray, np.ndarray]:
+    """Triangles of a wall cell whose high corners are the bits of ``code`` (corner k:
+    bit k; one wall, not a saddle): rows of point numbers (corners 0-3, high-side
+    crossings 4-7, low-side 8-11 on edge k -> k+1) and each triangle's side (1 high,
+    0 low, -1 the wall). The high part's fan, the low part's, then the wall (two
+    triangles from the crossing where the way round leaves the high side, normal to
+    the low side)."""
+    if code not in _PATTERNS:
+        H = [bool(code >> k & 1) for k in range(4)]
+        polys: dict[bool, list[int]] = {True: [], False: []}
+        ends = []
+        for k in range(4):
+            polys[H[k]].append(k)
+            if H[k] != H[(k + 1) % 4]:
+                polys[True].append(4 + k)
+                polys[False].append(8 + k)
+                ends.append((k, H[k]))
+        rows, side = [], []
+        for h in (True, False):
+            pts = polys[h]
+            for j in range(1, len(pts) - 1):
+                rows.append([pts[0], pts[j], pts[j + 1]])
+                side.append(1 if h else 0)
+        (kp, hp), (kq, _) = ends
+        if not hp:
+            kp, kq = kq, kp
+        rows += [[8 + kp, 8 + kq, 4 + kq], [8 + kp, 4 + kq, 4 + kp]]
+        side += [-1, -1]
+        _PATTERNS[code] = (np.array(rows, np.int64), np.array(side, np.int64))
+    return _PATTERNS[code]

@@ -15,8 +15,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit, prange, types
-from numba.typed import Dict
+from numba import njit, prange
 
 from millpath.geometry.convex import BALL, meets, shape_rings, underside
 from millpath.geometry.distance import (ball_core, core_point_dist2_below,
@@ -82,21 +81,31 @@ def sample_keys(points: np.ndarray, normals: np.ndarray, cell: float) -> np.ndar
                            np.round(normals * 4).astype(np.int64)], axis=1)
 
 
-def key_set():
+class KeySet:
+    """Sample keys already taken (rows of :func:`sample_keys` as 48-byte records,
+    sorted), for :func:`first_keys`."""
+
+    def __init__(self):
+        self.keys = np.zeros(0, _KEY)
+
+
+_KEY = np.dtype((np.void, 48))       # one row of six int64
+
+
+def key_set() -> KeySet:
     """An empty set of sample keys for :func:`first_keys`."""
-    return Dict.empty(key_type=types.UniTuple(types.int64, 6), value_type=types.boolean)
+    return KeySet()
 
 
-@njit(cache=True)
-def first_keys(key, seen):
+def first_keys(key: np.ndarray, seen: KeySet) -> np.ndarray:
     """True for each row of ``key`` not in ``seen`` nor earlier in ``key`` (then added
     to ``seen``): the first sample of each (voxel, direction), chunk after chunk."""
-    out = np.zeros(key.shape[0], np.bool_)
-    for i in range(key.shape[0]):
-        k = (key[i, 0], key[i, 1], key[i, 2], key[i, 3], key[i, 4], key[i, 5])
-        if k not in seen:
-            seen[k] = True
-            out[i] = True
+    v = np.ascontiguousarray(key, np.int64).view(_KEY).ravel()
+    u, first = np.unique(v, return_index=True)
+    new = ~np.isin(u, seen.keys) if len(seen.keys) else np.ones(len(u), bool)
+    out = np.zeros(len(v), bool)
+    out[first[new]] = True
+    seen.keys = np.union1d(seen.keys, u[new]) if len(seen.keys) else u
     return out
 
 
