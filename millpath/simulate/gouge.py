@@ -136,12 +136,14 @@ def surface_dist2(X, r, tri, ix, buf):
 
 
 @njit(cache=True, error_model="numpy")
-def under_candidates(ix, txy, P0, P1, kind, R, rc, k, zb, L, grow, buf, bb):
+def under_candidates(ix, txy, ctop, P0, P1, kind, R, rc, k, zb, L, grow, buf, bb):
     """Items of ``ix`` (triangles; ``txy`` their XY boxes) in the box of the tool shape
     swept along P0 -> P1 and grown by ``grow``, less those wholly below its
     :func:`underside`, tested for whole buckets first (a bucket whose highest item is
-    below the tool over the bucket's XY box is passed over). ``bb``: scratch (4,).
-    Returns (count, buffer) as :func:`box_candidates`."""
+    below the tool over the bucket's XY box is passed over), and for blocks of
+    ``COARSE`` x ``COARSE`` buckets before that (``ctop``: their highest tops, see
+    :func:`coarse_tops`: a holder's wide box over a low part is passed over at once).
+    ``bb``: scratch (4,). Returns (count, buffer) as :func:`box_candidates`."""
     lo, hi, start, items, bi0, bj0, blo, bhi, x0, y0, bs, nbx, nby = ix
     qx0 = min(P0[0], P1[0]) - R - grow
     qx1 = max(P0[0], P1[0]) + R + grow
@@ -151,39 +153,56 @@ def under_candidates(ix, txy, P0, P1, kind, R, rc, k, zb, L, grow, buf, bb):
     qz1 = max(P0[2], P1[2]) + L + grow + 1e-9
     ia, ib, ja, jb = bucket_range(x0, y0, bs, nbx, nby, qx0, qy0, qx1, qy1)
     n = 0
-    for bj in range(ja, jb + 1):
-        for bi in range(ia, ib + 1):
-            b = bj * nbx + bi
-            if (bhi[b, 0] < qx0 or blo[b, 0] > qx1 or bhi[b, 1] < qy0 or blo[b, 1] > qy1
-                    or bhi[b, 2] < qz0 or blo[b, 2] > qz1):
+    for cj in range(ja // COARSE, jb // COARSE + 1):
+        for ci in range(ia // COARSE, ib // COARSE + 1):
+            if ctop[cj, ci] < qz0:
                 continue
-            bb[0] = blo[b, 0]
-            bb[1] = blo[b, 1]
-            bb[2] = bhi[b, 0]
-            bb[3] = bhi[b, 1]
-            if bhi[b, 2] < underside(P0, P1, kind, R, rc, k, zb, bb, grow):
-                continue
-            for p in range(start[b], start[b + 1]):
-                t = items[p]
-                if not first_bucket(bi, bj, bi0[t], bj0[t], ia, ja):
-                    continue
-                if (hi[t, 0] < qx0 or lo[t, 0] > qx1 or hi[t, 1] < qy0 or lo[t, 1] > qy1
-                        or hi[t, 2] < qz0 or lo[t, 2] > qz1):
-                    continue
-                if hi[t, 2] < underside(P0, P1, kind, R, rc, k, zb, txy[t], grow):
-                    continue
-                if n == buf.shape[0]:
-                    grown = np.empty(2 * n + 16, np.int64)
-                    grown[:n] = buf[:n]
-                    buf = grown
-                buf[n] = t
-                n += 1
+            for bj in range(max(ja, cj * COARSE), min(jb, cj * COARSE + COARSE - 1) + 1):
+                for bi in range(max(ia, ci * COARSE), min(ib, ci * COARSE + COARSE - 1) + 1):
+                    b = bj * nbx + bi
+                    if (bhi[b, 0] < qx0 or blo[b, 0] > qx1 or bhi[b, 1] < qy0
+                            or blo[b, 1] > qy1 or bhi[b, 2] < qz0 or blo[b, 2] > qz1):
+                        continue
+                    bb[0] = blo[b, 0]
+                    bb[1] = blo[b, 1]
+                    bb[2] = bhi[b, 0]
+                    bb[3] = bhi[b, 1]
+                    if bhi[b, 2] < underside(P0, P1, kind, R, rc, k, zb, bb, grow):
+                        continue
+                    for p in range(start[b], start[b + 1]):
+                        t = items[p]
+                        if not first_bucket(bi, bj, bi0[t], bj0[t], ia, ja):
+                            continue
+                        if (hi[t, 0] < qx0 or lo[t, 0] > qx1 or hi[t, 1] < qy0
+                                or lo[t, 1] > qy1 or hi[t, 2] < qz0 or lo[t, 2] > qz1):
+                            continue
+                        if hi[t, 2] < underside(P0, P1, kind, R, rc, k, zb, txy[t], grow):
+                            continue
+                        if n == buf.shape[0]:
+                            grown = np.empty(2 * n + 16, np.int64)
+                            grown[:n] = buf[:n]
+                            buf = grown
+                        buf[n] = t
+                        n += 1
     return n, buf
+
+
+COARSE = 8          # buckets a side of the blocks :func:`under_candidates` looks at first
+
+
+def coarse_tops(index: BoxIndex) -> np.ndarray:
+    """(ceil(nby / COARSE), ceil(nbx / COARSE)): the highest item top of each block of
+    ``COARSE`` x ``COARSE`` buckets of ``index`` (-inf: empty)."""
+    top = index.bhi[:, 2].reshape(index.nby, index.nbx)
+    ny, nx = -(-index.nby // COARSE), -(-index.nbx // COARSE)
+    pad = np.full((ny * COARSE, nx * COARSE), -np.inf)
+    pad[:index.nby, :index.nbx] = top
+    return np.ascontiguousarray(pad.reshape(ny, COARSE, nx, COARSE).max(axis=(1, 3)))
 
 
 @njit(cache=True, error_model="numpy", parallel=True)
 def _gouge_groups(S, E, slot, gs, gS, gE, gdev, kind, R, rc, k, zb, L, nshape, tri, tn, tc,
-                  tr, txy, ix, e0, tol, out_g, out_t, out_s, out_r, out_x):
+                  tr, txy, ctop, ix, e0, tol, out_g, out_t, out_s, out_r, out_x):
     """Chords ``gs[g]:gs[g+1]`` form group g (coarse chord gS -> gE within ``gdev`` of
     each of them, see :mod:`millpath.simulate.groups`): its triangles are gathered once
     for the coarse sweep grown by the deviation, and, for a ball, those farther from
@@ -224,7 +243,7 @@ def _gouge_groups(S, E, slot, gs, gS, gE, gdev, kind, R, rc, k, zb, L, nshape, t
             nrf, rhof = shape_rings(kind[s, j], Rj, rc[s, j], k[s, j], zb[s, j], L[s, j], 0.0,
                                     rrf, rhf)
             # not wholly below the (grown) tool over their own XY box
-            nc, buf = under_candidates(ix, txy, gS[g], gE[g], kind[s, j], Rj, rc[s, j],
+            nc, buf = under_candidates(ix, txy, ctop, gS[g], gE[g], kind[s, j], Rj, rc[s, j],
                                        k[s, j], zb[s, j], L[s, j], dv, buf, bb)
             if gd.shape[0] < nc:
                 gd = np.empty(nc)
@@ -333,8 +352,8 @@ def _chord_gouge(c, j, P0, P1, s, kind, R, rc, k, zb, L, tri, tn, tc, tr, txy, i
 
 
 @njit(cache=True, error_model="numpy", parallel=True)
-def _near_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, txy, ix, e0, grow,
-                 out):
+def _near_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, txy, ctop, ix, e0,
+                 grow, out):
     """out[c] = 1 when some triangle comes within ``grow`` of the part of chord c's
     swept tool that is ``e0`` deep (one GJK test per triangle, no bisection)."""
     n = S.shape[0]
@@ -363,7 +382,7 @@ def _near_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, txy, ix, e0
             if nr == 0:
                 continue
             g = grow[c]
-            nc, buf = under_candidates(ix, txy, P0, P1, kind[s, j], Rj, rc[s, j], k[s, j],
+            nc, buf = under_candidates(ix, txy, ctop, P0, P1, kind[s, j], Rj, rc[s, j], k[s, j],
                                        zb[s, j], L[s, j], g, buf, bb)
             for p in range(nc):
                 t = buf[p]
@@ -465,18 +484,21 @@ def _spheres(tri: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 @dataclass
 class Faces:
     """What the checks need of each design triangle besides its corners: unit normal,
-    centre and radius of a sphere holding it, XY box (see :func:`faces_of`)."""
+    centre and radius of a sphere holding it, XY box, and the index's
+    :func:`coarse_tops` (see :func:`faces_of`)."""
 
     normals: np.ndarray
     centres: np.ndarray
     radii: np.ndarray
     xy: np.ndarray
+    tops: np.ndarray
 
 
 def faces_of(triangles: np.ndarray, index: BoxIndex) -> Faces:
     """:class:`Faces` of ``triangles`` (``index``: their :class:`BoxIndex`), made once
     for all the chords checked against them."""
-    return Faces(_normals(triangles), *_spheres(triangles), _xy_boxes(index))
+    return Faces(_normals(triangles), *_spheres(triangles), _xy_boxes(index),
+                 coarse_tops(index))
 
 
 def gouge_chords(S: np.ndarray, E: np.ndarray, slot: np.ndarray, shapes: ToolShapes,
@@ -504,7 +526,7 @@ def gouge_chords(S: np.ndarray, E: np.ndarray, slot: np.ndarray, shapes: ToolSha
                       np.ascontiguousarray(gs, np.int64), np.ascontiguousarray(gS, float),
                       np.ascontiguousarray(gE, float), np.ascontiguousarray(dev, float),
                       *shapes.arrays(), triangles, f.normals, f.centres, f.radii, f.xy,
-                      index.arrays(), accuracy / 2.0, accuracy * 1e-4, g, t, s, rim, pt)
+                      f.tops, index.arrays(), accuracy / 2.0, accuracy * 1e-4, g, t, s, rim, pt)
     return GougeResult(g, t, s, rim, pt)
 
 
@@ -534,6 +556,6 @@ def near_chords(S: np.ndarray, E: np.ndarray, slot: np.ndarray, shapes: ToolShap
         f = faces if faces is not None else faces_of(triangles, index)
         _near_chords(np.ascontiguousarray(S, float), np.ascontiguousarray(E, float),
                      np.ascontiguousarray(slot, np.int64), *shapes.arrays(), triangles,
-                     f.normals, f.xy, index.arrays(), accuracy / 2.0,
+                     f.normals, f.xy, f.tops, index.arrays(), accuracy / 2.0,
                      grow, out)
     return out.astype(bool)
