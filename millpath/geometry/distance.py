@@ -212,42 +212,27 @@ def ball_core(P0, P1, R, L, Q1, Q2):
     return True
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def _under_core(z, Q1):
+    """True when height ``z`` is at or below a flat core's bottom edge (``Q1[0]`` -
+    ``Q1[1]``, the ball centres): every core point lies straight above an edge point,
+    farther from anything that low, so the edge alone gives the distance."""
+    return z <= min(Q1[0, 2], Q1[1, 2])
+
+
 @njit(cache=True, error_model="numpy")
 def core_triangle_dist2(T, flat_core, Q1, Q2):
     """Squared distance between triangle T and a core from :func:`ball_core`."""
-    if not flat_core:
+    if not flat_core or _under_core(max(T[0, 2], T[1, 2], T[2, 2]), Q1):
         return segment_triangle_dist2(Q1[0, 0], Q1[0, 1], Q1[0, 2], Q1[1, 0], Q1[1, 1],
                                       Q1[1, 2], T)
     return min(triangle_triangle_dist2(T, Q1), triangle_triangle_dist2(T, Q2))
 
 
 @njit(cache=True, error_model="numpy")
-def core_dist2_below(T, ztop, flat_core, Q1, Q2):
-    """:func:`core_triangle_dist2` for a triangle whose highest point is ``ztop``: when
-    that is at or below the core's bottom edge (``Q1[0]`` - ``Q1[1]``, the ball centres)
-    the nearest core point is on that edge (every core point lies straight above an
-    edge point, farther from anything lower), one segment-triangle distance instead of
-    two triangle-triangle ones."""
-    if flat_core and ztop <= min(Q1[0, 2], Q1[1, 2]):
-        return segment_triangle_dist2(Q1[0, 0], Q1[0, 1], Q1[0, 2], Q1[1, 0], Q1[1, 1],
-                                      Q1[1, 2], T)
-    return core_triangle_dist2(T, flat_core, Q1, Q2)
-
-
-@njit(cache=True, error_model="numpy")
-def core_point_dist2_below(px, py, pz, flat_core, Q1, Q2):
-    """:func:`core_point_dist2`, by the bottom edge alone when the point is at or below
-    it (see :func:`core_dist2_below`)."""
-    if flat_core and pz <= min(Q1[0, 2], Q1[1, 2]):
-        return segment_segment_dist2(px, py, pz, px, py, pz, Q1[0, 0], Q1[0, 1], Q1[0, 2],
-                                     Q1[1, 0], Q1[1, 1], Q1[1, 2])
-    return core_point_dist2(px, py, pz, flat_core, Q1, Q2)
-
-
-@njit(cache=True, error_model="numpy")
 def core_segment_dist2(px, py, pz, qx, qy, qz, flat_core, Q1, Q2):
     """Squared distance between segment p-q and a core from :func:`ball_core`."""
-    if not flat_core:
+    if not flat_core or _under_core(max(pz, qz), Q1):
         return segment_segment_dist2(px, py, pz, qx, qy, qz, Q1[0, 0], Q1[0, 1], Q1[0, 2],
                                      Q1[1, 0], Q1[1, 1], Q1[1, 2])
     return min(segment_triangle_dist2(px, py, pz, qx, qy, qz, Q1),
@@ -257,7 +242,7 @@ def core_segment_dist2(px, py, pz, qx, qy, qz, flat_core, Q1, Q2):
 @njit(cache=True, error_model="numpy")
 def core_point_dist2(px, py, pz, flat_core, Q1, Q2):
     """Squared distance between a point and a core from :func:`ball_core`."""
-    if not flat_core:
+    if not flat_core or _under_core(pz, Q1):
         return segment_segment_dist2(px, py, pz, px, py, pz, Q1[0, 0], Q1[0, 1], Q1[0, 2],
                                      Q1[1, 0], Q1[1, 1], Q1[1, 2])
     return min(point_triangle_dist2(px, py, pz, Q1), point_triangle_dist2(px, py, pz, Q2))

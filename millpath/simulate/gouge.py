@@ -23,7 +23,7 @@ from numba import njit, prange
 
 from millpath.geometry.convex import (BALL, BULL, CYL, DRILL, FLAT, depth, meets, shape_rings,
                                       support_swept, underside)
-from millpath.geometry.distance import (ball_core, core_dist2_below, core_point_dist2_below,
+from millpath.geometry.distance import (ball_core, core_point_dist2, core_triangle_dist2,
                                         point_triangle_dist2, segment_segment_dist2)
 from millpath.geometry.index import BoxIndex, box_candidates, bucket_range, first_bucket
 from millpath.geometry.inside import in_material
@@ -253,10 +253,10 @@ def _gouge_groups(S, E, slot, gs, gS, gE, gdev, kind, R, rc, k, zb, L, nshape, t
                 for p in range(nc):
                     t = buf[p]
                     far = Rj - e0 + tr[t] + dv
-                    if core_point_dist2_below(tc[t, 0], tc[t, 1], tc[t, 2], fc, Q1,
+                    if core_point_dist2(tc[t, 0], tc[t, 1], tc[t, 2], fc, Q1,
                                               Q2) > far * far:
                         continue
-                    d = math.sqrt(core_dist2_below(tri[t], ix[1][t, 2], fc, Q1, Q2))
+                    d = math.sqrt(core_triangle_dist2(tri[t], fc, Q1, Q2))
                     if Rj - d + dv < e0:
                         continue
                     buf[m] = t
@@ -295,7 +295,7 @@ def _chord_gouge(c, j, P0, P1, s, kind, R, rc, k, zb, L, tri, tn, tc, tr, txy, i
             # a bound first: the core is at least (distance from the triangle's
             # centre) - (its radius) from the triangle
             far = Rj - lo + tr[t]
-            if core_point_dist2_below(tc[t, 0], tc[t, 1], tc[t, 2], flat_core, Q1,
+            if core_point_dist2(tc[t, 0], tc[t, 1], tc[t, 2], flat_core, Q1,
                                       Q2) > far * far:
                 continue
         elif dv > 0.0 and ix[1][t, 2] < underside(P0, P1, kind[s, j], Rj, rc[s, j], k[s, j],
@@ -333,7 +333,7 @@ def _chord_gouge(c, j, P0, P1, s, kind, R, rc, k, zb, L, tri, tn, tc, tr, txy, i
                         for a in range(3):
                             out_x[c, a] = qp[a]
         if is_ball:     # exact: R - distance to the swept core
-            d = Rj - math.sqrt(core_dist2_below(tri[t], ix[1][t, 2], flat_core, Q1, Q2))
+            d = Rj - math.sqrt(core_triangle_dist2(tri[t], flat_core, Q1, Q2))
             if d < lo:
                 continue
         else:
@@ -400,7 +400,7 @@ def _near_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, txy, ctop, 
                 if is_ball:
                     # C_e0 lies within Rj - e0 of the core (the full core: its top
                     # is not lowered by e0, which only adds to the hits)
-                    if core_dist2_below(tri[t], ix[1][t, 2], flat_core, Q1,
+                    if core_triangle_dist2(tri[t], flat_core, Q1,
                                         Q2) <= (Rj - e0 + g) ** 2:
                         hit = 1
                         break

@@ -18,9 +18,8 @@ import numpy as np
 from numba import njit, prange
 
 from millpath.geometry.convex import BALL, meets, shape_rings, underside
-from millpath.geometry.distance import (ball_core, core_point_dist2_below,
-                                        core_segment_dist2, point_triangle_dist2,
-                                        segment_segment_dist2)
+from millpath.geometry.distance import (ball_core, core_point_dist2, core_segment_dist2,
+                                        point_triangle_dist2, segment_segment_dist2)
 from millpath.geometry.index import BoxIndex, box_candidates
 
 
@@ -269,7 +268,7 @@ def _point_cut(X, cand, nc, S, E, slot, clo, chi, gstart, gS, gE, gdev, glo, ghi
                 continue
             if kind[s, 0] == BALL:
                 fc = ball_core(gS[gi], gE[gi], R[s, 0], L[s, 0], Q1, Q2)
-                if core_point_dist2_below(X[0], X[1], X[2], fc, Q1, Q2) > Rg * Rg:
+                if core_point_dist2(X[0], X[1], X[2], fc, Q1, Q2) > Rg * Rg:
                     continue
             else:
                 nr, rho = shape_rings(kind[s, 0], R[s, 0], rc[s, 0], k[s, 0], 0.0, L[s, 0],
@@ -289,7 +288,7 @@ def _point_cut(X, cand, nc, S, E, slot, clo, chi, gstart, gS, gE, gdev, glo, ghi
                 continue
             if kind[s, 0] == BALL:
                 fc = ball_core(S[c], E[c], R[s, 0], L[s, 0], Q1, Q2)
-                if core_point_dist2_below(X[0], X[1], X[2], fc, Q1,
+                if core_point_dist2(X[0], X[1], X[2], fc, Q1,
                                           Q2) <= R[s, 0] * R[s, 0]:
                     return c
                 continue
@@ -433,7 +432,7 @@ def _left(P, N, U0, S, E, slot, clo, chi, gstart, gS, gE, gdev, kind, R, rc, k, 
                         # faster than t): a ray meeting the ball head-on ends in one
                         t = 0.0
                         for _ in range(8):
-                            dd = math.sqrt(core_point_dist2_below(p[0] + n[0] * t,
+                            dd = math.sqrt(core_point_dist2(p[0] + n[0] * t,
                                                                   p[1] + n[1] * t,
                                                                   p[2] + n[2] * t, fc,
                                                                   Q1, Q2)) - Rb

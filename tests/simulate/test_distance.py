@@ -5,9 +5,9 @@ import numpy as np
 import pytest
 
 from millpath.geometry.convex import BALL, FLAT, depth, meets, shape_rings
-from millpath.geometry.distance import (ball_core, core_dist2_below, core_point_dist2,
-                                        core_point_dist2_below, core_triangle_dist2,
-                                        segment_triangle_dist2)
+from millpath.geometry.distance import (ball_core, core_point_dist2, core_segment_dist2,
+                                        core_triangle_dist2, point_triangle_dist2,
+                                        segment_triangle_dist2, triangle_triangle_dist2)
 
 
 def test_segment_triangle_distance_matches_sampling():
@@ -26,10 +26,10 @@ def test_segment_triangle_distance_matches_sampling():
         assert brute - d < 0.03            # and the sampling comes close to it
 
 
-def test_core_distance_below_the_ball_centres_matches_the_whole_core():
-    """A triangle at or below the ball centres' edge of the core (ball swept along a
-    sloped chord, the core the vertical quad above it): the bottom edge alone gives
-    the distance to the whole core; above it the full test is used."""
+def test_core_distance_below_the_ball_centres_is_the_whole_cores():
+    """A triangle, segment or point at or below the ball centres' edge of the core (a
+    ball swept along a sloped chord, the core the vertical quad above it) is measured
+    from that edge alone: the same distance as to the quad's two triangles."""
     rng = np.random.default_rng(1519)
     R, L = 3.0, 20.0
     Q1, Q2 = np.empty((3, 3)), np.empty((3, 3))
@@ -38,14 +38,18 @@ def test_core_distance_below_the_ball_centres_matches_the_whole_core():
         P0 = rng.uniform(-2, 2, 3)
         P1 = P0 + rng.uniform(-3, 3, 3)
         T = rng.uniform(-4, 4, (3, 3)) + np.array([0, 0, 1.0])
-        fc = ball_core(P0, P1, R, L, Q1, Q2)
-        ztop = T[:, 2].max()
-        below += ztop <= min(P0[2], P1[2]) + R
-        assert core_dist2_below(T, ztop, fc, Q1, Q2) == \
-            pytest.approx(core_triangle_dist2(T, fc, Q1, Q2), rel=1e-12, abs=1e-12)
-        c = T.mean(axis=0)
-        assert core_point_dist2_below(*c, fc, Q1, Q2) == \
-            pytest.approx(core_point_dist2(*c, fc, Q1, Q2), rel=1e-12, abs=1e-12)
+        assert ball_core(P0, P1, R, L, Q1, Q2)
+        below += T[:, 2].max() <= min(P0[2], P1[2]) + R
+        whole = min(triangle_triangle_dist2(T, Q1), triangle_triangle_dist2(T, Q2))
+        assert core_triangle_dist2(T, True, Q1, Q2) == pytest.approx(whole, rel=1e-12,
+                                                                       abs=1e-12)
+        p, q = T[0], T[1]
+        whole = min(segment_triangle_dist2(*p, *q, Q1), segment_triangle_dist2(*p, *q, Q2))
+        assert core_segment_dist2(*p, *q, True, Q1, Q2) == pytest.approx(whole, rel=1e-12,
+                                                                          abs=1e-12)
+        whole = min(point_triangle_dist2(*p, Q1), point_triangle_dist2(*p, Q2))
+        assert core_point_dist2(*p, True, Q1, Q2) == pytest.approx(whole, rel=1e-12,
+                                                                    abs=1e-12)
     assert below > 100
 
 
