@@ -23,7 +23,7 @@ from millpath.model.stock import Stock
 from millpath.model.tool import Tool
 from millpath.simulate.gouge import (GougeResult, ToolShapes, faces_of, gouge_chords, locate,
                                      near_chords)
-from millpath.simulate.leftover import (SweptChords, first_keys, key_set, medial_cap, ray_caps,
+from millpath.simulate.leftover import (SweptChords, first_of_each, medial_cap, ray_caps,
                                         sample_keys, sample_triangles, shorten_rays,
                                         swept_chords)
 from millpath.simulate.groups import ChordGroups, chord_groups
@@ -332,16 +332,22 @@ def _samples(tri: np.ndarray, spacing: float, chunk: int = 10_000):
     """Material-left sample points of ``tri``: one per (``spacing``-sized voxel, normal
     direction), the first made (tiny triangles, walls of a height-field mesh, would
     otherwise give far more points than ``spacing`` asks); made ``chunk`` triangles at
-    a time so memory stays bounded on large meshes."""
-    seen = key_set()
+    a time, each chunk's first kept, so memory stays bounded on large meshes."""
+    if not len(tri):
+        return np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0, np.int64)
+    lo, hi = tri.reshape(-1, 3).min(axis=0), tri.reshape(-1, 3).max(axis=0)
     parts = []
     for a in range(0, len(tri), chunk):
         p, n, o = sample_triangles(tri[a:a + chunk], spacing)
-        if spacing > 0 and len(p):
-            first = first_keys(sample_keys(p, n, spacing), seen)
-            p, n, o = p[first], n[first], o[first]
-        parts.append((p, n, o + a))
+        k = sample_keys(p, n, spacing, lo, hi) if spacing > 0 else None
+        if k is not None:
+            first = first_of_each(k)
+            p, n, o, k = p[first], n[first], o[first], k[first]
+        parts.append((p, n, o + a, k))
     if len(parts) == 1:
-        return parts[0]
-    return (np.vstack([p for p, _, _ in parts]), np.vstack([n for _, n, _ in parts]),
-            np.concatenate([o for _, _, o in parts]))
+        return parts[0][:3]
+    p, n, o = (np.concatenate([q[i] for q in parts]) for i in range(3))
+    if spacing > 0:
+        first = first_of_each(np.concatenate([q[3] for q in parts]))
+        p, n, o = p[first], n[first], o[first]
+    return p, n, o

@@ -73,39 +73,30 @@ def sample_triangles(tri: np.ndarray, spacing: float) -> tuple[np.ndarray, np.nd
     return np.vstack(pts), np.vstack(nor), np.concatenate(own)
 
 
-def sample_keys(points: np.ndarray, normals: np.ndarray, cell: float) -> np.ndarray:
-    """(n, 6) int64: each sample's ``cell``-sized voxel and its normal's direction
-    (rounded to quarters), for :func:`first_keys`."""
-    return np.concatenate([np.floor(points / cell).astype(np.int64),
-                           np.round(normals * 4).astype(np.int64)], axis=1)
-
-
-class KeySet:
-    """Sample keys already taken (rows of :func:`sample_keys` as 48-byte records,
-    sorted), for :func:`first_keys`."""
-
-    def __init__(self):
-        self.keys = np.zeros(0, _KEY)
-
-
 _KEY = np.dtype((np.void, 48))       # one row of six int64
 
 
-def key_set() -> KeySet:
-    """An empty set of sample keys for :func:`first_keys`."""
-    return KeySet()
+def sample_keys(points: np.ndarray, normals: np.ndarray, cell: float, lo, hi) -> np.ndarray:
+    """One sortable key per sample: its ``cell``-sized voxel and its normal's direction
+    (rounded to quarters, -4 .. 4). An int64 (the voxel numbered within the box ``lo``
+    .. ``hi``, the mesh's, grown by a voxel) when that numbering fits, else the six
+    numbers as a 48-byte record."""
+    vox = np.floor(points / cell).astype(np.int64)
+    d = np.round(normals * 4).astype(np.int64)
+    v0 = np.floor(np.asarray(lo, float) / cell).astype(np.int64) - 1
+    size = np.floor(np.asarray(hi, float) / cell).astype(np.int64) + 2 - v0
+    if float(np.prod(size.astype(float))) * 729 >= 2.0 ** 62:
+        return np.ascontiguousarray(np.concatenate([vox, d], axis=1)).view(_KEY).ravel()
+    v = np.clip(vox - v0, 0, size - 1)      # (inside by a voxel: a clip never bites)
+    return ((v[:, 0] * size[1] + v[:, 1]) * size[2] + v[:, 2]) * 729 \
+        + (d[:, 0] + 4) * 81 + (d[:, 1] + 4) * 9 + (d[:, 2] + 4)
 
 
-def first_keys(key: np.ndarray, seen: KeySet) -> np.ndarray:
-    """True for each row of ``key`` not in ``seen`` nor earlier in ``key`` (then added
-    to ``seen``): the first sample of each (voxel, direction), chunk after chunk."""
-    v = np.ascontiguousarray(key, np.int64).view(_KEY).ravel()
-    u, first = np.unique(v, return_index=True)
-    new = ~np.isin(u, seen.keys) if len(seen.keys) else np.ones(len(u), bool)
-    out = np.zeros(len(v), bool)
-    out[first[new]] = True
-    seen.keys = np.union1d(seen.keys, u[new]) if len(seen.keys) else u
-    return out
+def first_of_each(keys: np.ndarray) -> np.ndarray:
+    """Indices of the first occurrence of each key, in order."""
+    _, first = np.unique(keys, return_index=True)
+    first.sort()
+    return first
 
 
 SLACK = 1.0 - 1e-9          # "nearer" in _medial: by more than rounding (relative, squared)
