@@ -108,6 +108,7 @@ class ExactResult:
 MOTION_BLOCK = 100_000      # motions turned into chords at a time (bounds memory)
 CHORD_BLOCK = 1_000_000     # and about this many chords at most (fine arcs)
 GROUP_DEV = 10.0            # runs of chords checked first as one within GROUP_DEV * accuracy
+LEFT_DEV = 200.0            # and, for the material-left rays, within LEFT_DEV * accuracy
 
 
 @dataclass
@@ -155,7 +156,9 @@ def _chord_blocks(motions: list[Motion], mop: np.ndarray, lut: np.ndarray, chord
     for _, ch in _blocks(motions, mop, lut, chord, block):
         if len(ch.S):
             grp = chord_groups(ch.S, ch.E, ch.slot, ch.op, dmax, group_len)
-            yield ch, grp, _last_first(ch, grp, shapes)
+            rays = grp if LEFT_DEV == GROUP_DEV else chord_groups(
+                ch.S, ch.E, ch.slot, ch.op, dmax * LEFT_DEV / GROUP_DEV, group_len)
+            yield ch, grp, _last_first(ch, rays, shapes)
 
 
 @dataclass
