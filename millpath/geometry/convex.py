@@ -28,6 +28,8 @@ import math
 import numpy as np
 from numba import njit
 
+from millpath.geometry.distance import segment_segment_dist2
+
 FLAT, BALL, BULL, DRILL, CYL = 0, 1, 2, 3, 4
 
 
@@ -263,6 +265,64 @@ def _closest_tet(W, v):
 
 
 @njit(cache=True, error_model="numpy")
+def meets_prism(T, x0, y0, x1, y1, r, za, zb):
+    """True when triangle ``T`` meets the prism {(x, y, z): (x, y) within ``r`` of the
+    segment (x0, y0) - (x1, y1), za <= z <= zb}: a cylinder of radius r (flat end, the
+    rings of a flat or a shank) swept along a level chord. Exact: the triangle is
+    clipped to the slab, and the clipped polygon's distance from the segment, seen from
+    above, compared with r."""
+    # clip to za <= z <= zb (Sutherland-Hodgman, two planes): at most 5 corners
+    A = np.empty((6, 3))
+    B = np.empty((6, 3))
+    for i in range(3):
+        for a in range(3):
+            A[i, a] = T[i, a]
+    n = 3
+    for side in range(2):
+        m = 0
+        for i in range(n):
+            j = (i + 1) % n
+            zi = A[i, 2] - za if side == 0 else zb - A[i, 2]
+            zj = A[j, 2] - za if side == 0 else zb - A[j, 2]
+            if zi >= 0.0:
+                for a in range(3):
+                    B[m, a] = A[i, a]
+                m += 1
+            if (zi >= 0.0) != (zj >= 0.0):
+                t = zi / (zi - zj)
+                for a in range(3):
+                    B[m, a] = A[i, a] + (A[j, a] - A[i, a]) * t
+                m += 1
+        n = m
+        if n == 0:
+            return False
+        for i in range(n):
+            for a in range(3):
+                A[i, a] = B[i, a]
+    r2 = r * r
+    for i in range(n):
+        j = (i + 1) % n
+        if segment_segment_dist2(A[i, 0], A[i, 1], 0.0, A[j, 0], A[j, 1], 0.0,
+                                 x0, y0, 0.0, x1, y1, 0.0) <= r2:
+            return True
+    # the segment wholly inside the polygon (either winding; a polygon seen edge-on,
+    # a wall's, is its edges, done above)
+    area = 0.0
+    for i in range(n):
+        j = (i + 1) % n
+        area += ((A[i, 0] - A[0, 0]) * (A[j, 1] - A[0, 1])
+                 - (A[j, 0] - A[0, 0]) * (A[i, 1] - A[0, 1]))
+    if n < 3 or area == 0.0:
+        return False
+    for i in range(n):
+        j = (i + 1) % n
+        c = ((A[j, 0] - A[i, 0]) * (y0 - A[i, 1]) - (A[j, 1] - A[i, 1]) * (x0 - A[i, 0]))
+        if c * area < 0.0:
+            return False
+    return True
+
+
+@njit(cache=True, error_model="numpy")
 def meets(T, P0, P1, nr, rr, rh, rho, tol):
     """True when triangle ``T`` (3, 3) meets the swept solid (rings, rho along
     P0 -> P1) or comes within ``tol`` of it: GJK distance iteration (van den Bergen)
@@ -271,6 +331,11 @@ def meets(T, P0, P1, nr, rr, rh, rho, tol):
     (``w`` the support point against ``v``) from below, so the answer is proven once
     one bound passes ``tol``, or when the bounds meet (within ``1e-10`` of the
     coordinates' size: both answers are then right to that)."""
+    if (tol <= 0.0 and rho == 0.0 and nr == 2 and rr[0] == rr[1] and P0[2] == P1[2]
+            and rh[1] >= rh[0]):
+        # a cylinder swept along a level chord is a prism: exact without iterating
+        return meets_prism(T, P0[0], P0[1], P1[0], P1[1], rr[0], P0[2] + rh[0],
+                           P0[2] + rh[1])
     W = np.empty((4, 3))
     Wn = np.empty((4, 3))
     nw = 0

@@ -136,10 +136,13 @@ def surface_dist2(X, r, tri, ix, buf):
 
 
 @njit(cache=True, error_model="numpy")
-def under_candidates(ix, txy, ctop, P0, P1, kind, R, rc, k, zb, L, grow, buf, bb):
+def under_candidates(ix, txy, ctop, P0, P1, kind, R, rc, k, zb, L, grow, lift, buf, bb):
     """Items of ``ix`` (triangles; ``txy`` their XY boxes) in the box of the tool shape
     swept along P0 -> P1 and grown by ``grow``, less those wholly below its
-    :func:`underside`, tested for whole buckets first (a bucket whose highest item is
+    :func:`underside` raised by ``lift``: give ``lift = e`` to keep only what may come
+    within ``grow`` of the part ``e`` deep in the tool (``C_e``: the points of
+    ``C_e`` grown by ``grow``, lowered by ``e``, lie in the tool grown by ``grow``, so
+    they are at least ``e`` above its underside), tested for whole buckets first (a bucket whose highest item is
     below the tool over the bucket's XY box is passed over), and for blocks of
     ``COARSE`` x ``COARSE`` buckets before that (``ctop``: their highest tops, see
     :func:`coarse_tops`: a holder's wide box over a low part is passed over at once).
@@ -149,7 +152,7 @@ def under_candidates(ix, txy, ctop, P0, P1, kind, R, rc, k, zb, L, grow, buf, bb
     qx1 = max(P0[0], P1[0]) + R + grow
     qy0 = min(P0[1], P1[1]) - R - grow
     qy1 = max(P0[1], P1[1]) + R + grow
-    qz0 = min(P0[2], P1[2]) + zb - grow - 1e-9
+    qz0 = min(P0[2], P1[2]) + zb - grow + lift - 1e-9
     qz1 = max(P0[2], P1[2]) + L + grow + 1e-9
     ia, ib, ja, jb = bucket_range(x0, y0, bs, nbx, nby, qx0, qy0, qx1, qy1)
     n = 0
@@ -167,7 +170,7 @@ def under_candidates(ix, txy, ctop, P0, P1, kind, R, rc, k, zb, L, grow, buf, bb
                     bb[1] = blo[b, 1]
                     bb[2] = bhi[b, 0]
                     bb[3] = bhi[b, 1]
-                    if bhi[b, 2] < underside(P0, P1, kind, R, rc, k, zb, bb, grow):
+                    if bhi[b, 2] < underside(P0, P1, kind, R, rc, k, zb, bb, grow) + lift:
                         continue
                     for p in range(start[b], start[b + 1]):
                         t = items[p]
@@ -176,7 +179,8 @@ def under_candidates(ix, txy, ctop, P0, P1, kind, R, rc, k, zb, L, grow, buf, bb
                         if (hi[t, 0] < qx0 or lo[t, 0] > qx1 or hi[t, 1] < qy0
                                 or lo[t, 1] > qy1 or hi[t, 2] < qz0 or lo[t, 2] > qz1):
                             continue
-                        if hi[t, 2] < underside(P0, P1, kind, R, rc, k, zb, txy[t], grow):
+                        if hi[t, 2] < underside(P0, P1, kind, R, rc, k, zb, txy[t],
+                                                grow) + lift:
                             continue
                         if n == buf.shape[0]:
                             grown = np.empty(2 * n + 16, np.int64)
@@ -244,7 +248,7 @@ def _gouge_groups(S, E, slot, gs, gS, gE, gdev, kind, R, rc, k, zb, L, nshape, t
                                     rrf, rhf)
             # not wholly below the (grown) tool over their own XY box
             nc, buf = under_candidates(ix, txy, ctop, gS[g], gE[g], kind[s, j], Rj, rc[s, j],
-                                       k[s, j], zb[s, j], L[s, j], dv, buf, bb)
+                                       k[s, j], zb[s, j], L[s, j], dv, e0, buf, bb)
             if gd.shape[0] < nc:
                 gd = np.empty(nc)
             if is_ball and a1 - a0 > 1:
@@ -299,7 +303,7 @@ def _chord_gouge(c, j, P0, P1, s, kind, R, rc, k, zb, L, tri, tn, tc, tr, txy, i
                                       Q2) > far * far:
                 continue
         elif dv > 0.0 and ix[1][t, 2] < underside(P0, P1, kind[s, j], Rj, rc[s, j], k[s, j],
-                                                  zb[s, j], txy[t], 0.0):
+                                                  zb[s, j], txy[t], 0.0) + lo:
             continue
         # the plane of t must cut the solid's C_e0, else no point of t can be e0 deep
         # in it (one support point each way)
@@ -383,7 +387,7 @@ def _near_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, txy, ctop, 
                 continue
             g = grow[c]
             nc, buf = under_candidates(ix, txy, ctop, P0, P1, kind[s, j], Rj, rc[s, j], k[s, j],
-                                       zb[s, j], L[s, j], g, buf, bb)
+                                       zb[s, j], L[s, j], g, e0, buf, bb)
             for p in range(nc):
                 t = buf[p]
                 nx, ny, nz = tn[t, 0], tn[t, 1], tn[t, 2]

@@ -135,3 +135,49 @@ def test_flat_depth_of_a_sliver_near_the_rim():
     for e in np.linspace(2e-5, 0.002, 100):
         nr, rho = shape_rings(FLAT, R, 0.0, 0.0, 0.0, L, e, rr, rh)
         assert meets(T, P0, P1, nr, rr, rh, rho, 0.0) == (e <= g)
+
+
+def test_level_cylinder_prism_against_sampling_and_gjk():
+    """A cylinder swept along a level chord (flat end mill, shank) is tested as a prism:
+    its answer agrees with dense sampling of the triangle wherever the sampled distance
+    is clear of the radius, and with the GJK iteration on the same solid (fixed seed);
+    vertical triangles (walls) and triangles cut by the slab's faces included."""
+    from millpath.geometry.convex import meets_prism
+    rng = np.random.default_rng(1523)
+    u, v = np.meshgrid(np.linspace(0, 1, 201), np.linspace(0, 1, 201))
+    keep = u + v <= 1
+    rr, rh = np.empty(3), np.empty(3)
+    checked = [0, 0]
+    for n in range(600):
+        T = rng.uniform(-2, 2, (3, 3))
+        if n % 4 == 0:                      # a wall: vertical triangle
+            T[:, 1] = T[0, 1] + (T[:, 0] - T[0, 0]) * rng.uniform(-2, 2)
+        P0 = rng.uniform(-1.5, 1.5, 3)
+        P1 = P0 + np.append(rng.uniform(-1.5, 1.5, 2), 0.0)
+        r = rng.uniform(0.2, 1.5)
+        za, zb = P0[2] + 0.1, P0[2] + rng.uniform(0.3, 2.0)
+        got = meets_prism(T, P0[0], P0[1], P1[0], P1[1], r, za, zb)
+        pts = T[0] + u[keep, None] * (T[1] - T[0]) + v[keep, None] * (T[2] - T[0])
+        pts = pts[(pts[:, 2] >= za) & (pts[:, 2] <= zb)]
+        if len(pts):
+            d = np.array([np.sqrt(segment_triangle_dist2(*p[:2], 0.0, *p[:2], 0.0,
+                                                         np.array([[P0[0], P0[1], 0.0],
+                                                                   [P1[0], P1[1], 0.0],
+                                                                   [P1[0], P1[1], 0.0]])))
+                          for p in pts[::7]])
+            ds = d.min()
+            if ds <= r - 1e-9:
+                assert got, n
+                checked[0] += 1
+            elif ds > r + 0.05:
+                assert not got, n
+                checked[1] += 1
+        # the same solid through meets(): the prism (tol 0) and GJK (a tiny tol) agree
+        rr[:2] = r
+        rh[0], rh[1] = za - P0[2], zb - P0[2]
+        assert meets(T, P0, P1, 2, rr, rh, 0.0, 0.0) == got
+        if got != meets(T, P0, P1, 2, rr, rh, 0.0, 1e-12):
+            # only at a touch: the GJK answer within its 1e-10 of the boundary
+            assert meets(T, P0, P1, 2, rr - 1e-7, rh, 0.0, 0.0) != \
+                meets(T, P0, P1, 2, rr + 1e-7, rh, 0.0, 0.0)
+    assert checked[0] > 100 and checked[1] > 100
