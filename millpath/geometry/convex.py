@@ -400,6 +400,19 @@ def meets(T, P0, P1, nr, rr, rh, rho, tol):
 
 
 @njit(cache=True, error_model="numpy")
+def may_meet(T, P0, P1, nr, rr, rh, rho, g):
+    """:func:`meets` ``(..., g)`` for pre-tests, which may answer True more often: a
+    cylinder swept along a level chord is tested as its prism grown by ``g`` across
+    and along the axis (which holds the prism grown by ``g`` in every direction)
+    without iterating."""
+    if (g > 0.0 and rho == 0.0 and nr == 2 and rr[0] == rr[1] and P0[2] == P1[2]
+            and rh[1] >= rh[0]):
+        return meets_prism(T, P0[0], P0[1], P1[0], P1[1], rr[0] + g, P0[2] + rh[0] - g,
+                           P0[2] + rh[1] + g)
+    return meets(T, P0, P1, nr, rr, rh, rho, g)
+
+
+@njit(cache=True, error_model="numpy")
 def depth(T, P0, P1, kind, R, rc, k, zb, L, e0, tol, rr, rh):
     """Deepest penetration of triangle ``T`` into the solid swept along P0 -> P1:
     the largest ``e`` in [e0, R] with ``T`` meeting ``C_e``, to ``tol``; -1 when ``T``

@@ -21,8 +21,8 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit, prange
 
-from millpath.geometry.convex import (BALL, BULL, CYL, DRILL, FLAT, depth, meets, shape_rings,
-                                      support_swept, underside)
+from millpath.geometry.convex import (BALL, BULL, CYL, DRILL, FLAT, depth, may_meet, meets,
+                                      shape_rings, support_swept, underside)
 from millpath.geometry.distance import (ball_core, core_point_dist2, core_triangle_dist2,
                                         point_triangle_dist2, segment_segment_dist2)
 from millpath.geometry.index import BoxIndex, box_candidates, bucket_range, first_bucket
@@ -408,7 +408,7 @@ def _near_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, txy, ctop, 
                                         Q2) <= (Rj - e0 + g) ** 2:
                         hit = 1
                         break
-                elif meets(tri[t], P0, P1, nr, rr, rh, rho, g):
+                elif may_meet(tri[t], P0, P1, nr, rr, rh, rho, g):
                     hit = 1
                     break
         out[c] = hit

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit, prange
 
-from millpath.geometry.convex import BALL, meets, shape_rings, underside
+from millpath.geometry.convex import BALL, may_meet, meets, shape_rings, underside
 from millpath.geometry.distance import (ball_core, core_point_dist2, core_segment_dist2,
                                         point_triangle_dist2, segment_segment_dist2)
 from millpath.geometry.index import BoxIndex, box_candidates
@@ -264,7 +264,7 @@ def _point_cut(X, cand, nc, S, E, slot, clo, chi, gstart, gS, gE, gdev, glo, ghi
             else:
                 nr, rho = shape_rings(kind[s, 0], R[s, 0], rc[s, 0], k[s, 0], 0.0, L[s, 0],
                                       0.0, rr, rh)
-                if nr == 0 or not meets(T, gS[gi], gE[gi], nr, rr, rh, rho, dv):
+                if nr == 0 or not may_meet(T, gS[gi], gE[gi], nr, rr, rh, rho, dv):
                     continue
         for c in range(gstart[gi], gstart[gi + 1]):
             if (chi[c, 0] < X[0] or clo[c, 0] > X[0] or chi[c, 1] < X[1]
@@ -366,7 +366,7 @@ def _left(P, N, U0, S, E, slot, clo, chi, gstart, gS, gE, gdev, kind, R, rc, k, 
                                                   L[s, 0], p, ex, rr, rh, T)
                         if nr == 0:
                             continue
-                        if not meets(T, gS[gi], gE[gi], nr, rr, rh, rho, dv):
+                        if not may_meet(T, gS[gi], gE[gi], nr, rr, rh, rho, dv):
                             continue
                 # the group's chord passing nearest the ray's start first (seen from
                 # above): the others then mostly miss the ray it has shortened

@@ -181,3 +181,23 @@ def test_level_cylinder_prism_against_sampling_and_gjk():
             assert meets(T, P0, P1, 2, rr - 1e-7, rh, 0.0, 0.0) != \
                 meets(T, P0, P1, 2, rr + 1e-7, rh, 0.0, 0.0)
     assert checked[0] > 100 and checked[1] > 100
+
+
+def test_may_meet_holds_every_meeting():
+    """The pre-test's grown prism (level cylinder) never misses what GJK finds within
+    the grow distance (fixed seed)."""
+    from millpath.geometry.convex import may_meet
+    rng = np.random.default_rng(1529)
+    rr, rh = np.empty(3), np.empty(3)
+    hits = 0
+    for _ in range(800):
+        T = rng.uniform(-2, 2, (3, 3))
+        P0 = rng.uniform(-1.5, 1.5, 3)
+        P1 = P0 + np.append(rng.uniform(-1.5, 1.5, 2), 0.0)
+        rr[:2] = rng.uniform(0.2, 1.5)
+        rh[0], rh[1] = 0.1, rng.uniform(0.3, 2.0)
+        g = rng.uniform(0.0, 0.3)
+        if meets(T, P0, P1, 2, rr, rh, 0.0, g):
+            hits += 1
+            assert may_meet(T, P0, P1, 2, rr, rh, 0.0, g)
+    assert hits > 100
