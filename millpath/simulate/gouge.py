@@ -305,6 +305,14 @@ def _chord_gouge(c, j, P0, P1, s, kind, R, rc, k, zb, L, tri, tn, tc, tr, txy, i
         elif dv > 0.0 and ix[1][t, 2] < underside(P0, P1, kind[s, j], Rj, rc[s, j], k[s, j],
                                                   zb[s, j], txy[t], 0.0) + lo:
             continue
+        xy2 = 0.0
+        if not is_ball:
+            # a triangle more than R from the chord seen from above has no point in
+            # the tool, nor is the foot of the rim's deepest point on it (that foot is
+            # within R of the chord unless the rim goes a tool diameter into the part)
+            xy2 = xy_dist2(tri[t], P0, P1)
+            if xy2 > Rj * Rj:
+                continue
         # the plane of t must cut the solid's C_e0, else no point of t can be e0 deep
         # in it (one support point each way)
         nx, ny, nz = tn[t, 0], tn[t, 1], tn[t, 2]
@@ -343,7 +351,7 @@ def _chord_gouge(c, j, P0, P1, s, kind, R, rc, k, zb, L, tri, tn, tc, tr, txy, i
         else:
             # no point of t within lo of the tool's side, seen from above, is lo deep
             # in it
-            if Rj - lo < 0.0 or xy_dist2(tri[t], P0, P1) > (Rj - lo) ** 2:
+            if Rj - lo < 0.0 or xy2 > (Rj - lo) ** 2:
                 continue
             d = depth(tri[t], P0, P1, kind[s, j], Rj, rc[s, j], k[s, j], zb[s, j], L[s, j],
                       lo, tol, rr, rh)
