@@ -152,27 +152,37 @@ def _caps(P, N, own, blo, bhi, tri, ix, reach, out):
                 t = buf[k]
                 if t == own[q]:
                     continue
-                # Moller-Trumbore
-                a0 = tri[t, 0]
-                e1 = tri[t, 1] - a0
-                e2 = tri[t, 2] - a0
-                h = np.cross(n, e2)
-                det = np.dot(e1, h)
-                if abs(det) < 1e-14:
-                    continue
-                f = 1.0 / det
-                sv = p - a0
-                u = f * np.dot(sv, h)
-                if u < -1e-12 or u > 1.0 + 1e-12:
-                    continue
-                qv = np.cross(sv, e1)
-                v = f * np.dot(n, qv)
-                if v < -1e-12 or u + v > 1.0 + 1e-12:
-                    continue
-                tt = f * np.dot(e2, qv)
+                tt = _ray_triangle(p, n, tri, t)
                 if 1e-7 < tt < U:
                     U = tt
         out[q] = U
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _ray_triangle(p, n, tri, t):
+    """Distance along ``n`` from ``p`` to triangle ``t`` (Moller-Trumbore, in scalars;
+    -1 when the line misses it or lies in its plane)."""
+    ax, ay, az = tri[t, 0, 0], tri[t, 0, 1], tri[t, 0, 2]
+    e1x, e1y, e1z = tri[t, 1, 0] - ax, tri[t, 1, 1] - ay, tri[t, 1, 2] - az
+    e2x, e2y, e2z = tri[t, 2, 0] - ax, tri[t, 2, 1] - ay, tri[t, 2, 2] - az
+    hx = n[1] * e2z - n[2] * e2y
+    hy = n[2] * e2x - n[0] * e2z
+    hz = n[0] * e2y - n[1] * e2x
+    det = e1x * hx + e1y * hy + e1z * hz
+    if abs(det) < 1e-14:
+        return -1.0
+    f = 1.0 / det
+    sx, sy, sz = p[0] - ax, p[1] - ay, p[2] - az
+    u = f * (sx * hx + sy * hy + sz * hz)
+    if u < -1e-12 or u > 1.0 + 1e-12:
+        return -1.0
+    qx = sy * e1z - sz * e1y
+    qy = sz * e1x - sx * e1z
+    qz = sx * e1y - sy * e1x
+    v = f * (n[0] * qx + n[1] * qy + n[2] * qz)
+    if v < -1e-12 or u + v > 1.0 + 1e-12:
+        return -1.0
+    return f * (e2x * qx + e2y * qy + e2z * qz)
 
 
 @njit(cache=True, parallel=True)
@@ -192,7 +202,11 @@ def _medial(P, N, own, tri, ix, margin, out):
             continue
         w = min(U, margin)
         qx0, qy0, qz0, qx1, qy1, qz1 = _ray_box(p, n, U, ex)
-        nc, buf = box_candidates(ix, qx0 - w, qy0 - w, qz0 - w, qx1 + w, qy1 + w, qz1 + w, buf)
+        # a triangle nearer than t to the ray's point at t <= U is nearer than U to its
+        # end ``ex``: only the box U around ``ex`` (within the ray's box grown by w)
+        nc, buf = box_candidates(ix, max(qx0 - w, ex[0] - U), max(qy0 - w, ex[1] - U),
+                                 max(qz0 - w, ex[2] - U), min(qx1 + w, ex[0] + U),
+                                 min(qy1 + w, ex[1] + U), min(qz1 + w, ex[2] + U), buf)
         for k in range(nc):
             t = buf[k]
             if t == own[q]:
