@@ -129,10 +129,17 @@ def box_candidates(ix, qx0, qy0, qz0, qx1, qy1, qz1, buf):
                 if (hi[t, 0] < qx0 or lo[t, 0] > qx1 or hi[t, 1] < qy0 or lo[t, 1] > qy1
                         or hi[t, 2] < qz0 or lo[t, 2] > qz1):
                     continue
-                if n == buf.shape[0]:
-                    grown = np.empty(2 * n + 16, np.int64)
-                    grown[:n] = buf[:n]
-                    buf = grown
-                buf[n] = t
-                n += 1
+                n, buf = push(buf, n, t)
     return n, buf
+
+
+@njit(cache=True, inline="always")
+def push(buf, n, t):
+    """``buf[n] = t``, ``buf`` (int64) replaced by one twice as long when full; returns
+    (n + 1, buffer)."""
+    if n == buf.shape[0]:
+        grown = np.empty(2 * n + 16, np.int64)
+        grown[:n] = buf[:n]
+        buf = grown
+    buf[n] = t
+    return n + 1, buf

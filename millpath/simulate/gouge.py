@@ -25,7 +25,8 @@ from millpath.geometry.convex import (BALL, BULL, CYL, DRILL, FLAT, depth, may_m
                                       shape_rings, support_swept, underside)
 from millpath.geometry.distance import (ball_core, core_point_dist2, core_triangle_dist2,
                                         point_triangle_dist2, segment_segment_dist2)
-from millpath.geometry.index import BoxIndex, box_candidates, bucket_range, first_bucket
+from millpath.geometry.index import (BoxIndex, box_candidates, bucket_range, first_bucket,
+                                     push)
 from millpath.geometry.inside import in_material
 from millpath.model.tool import Tool
 
@@ -182,12 +183,7 @@ def under_candidates(ix, txy, ctop, P0, P1, kind, R, rc, k, zb, L, grow, lift, b
                         if hi[t, 2] < underside(P0, P1, kind, R, rc, k, zb, txy[t],
                                                 grow) + lift:
                             continue
-                        if n == buf.shape[0]:
-                            grown = np.empty(2 * n + 16, np.int64)
-                            grown[:n] = buf[:n]
-                            buf = grown
-                        buf[n] = t
-                        n += 1
+                        n, buf = push(buf, n, t)
     return n, buf
 
 
