@@ -221,6 +221,8 @@ def _gouge_groups(S, E, slot, gs, gS, gE, gdev, kind, R, rc, k, zb, L, nshape, t
         Q2 = np.empty((3, 3))
         rrf = np.empty(3)
         rhf = np.empty(3)
+        rrd = np.empty(3)
+        rhd = np.empty(3)
         qp = np.empty(3)
         a0 = gs[g]
         a1 = gs[g + 1]
@@ -269,14 +271,14 @@ def _gouge_groups(S, E, slot, gs, gS, gE, gdev, kind, R, rc, k, zb, L, nshape, t
             for c in range(a0, a1):
                 _chord_gouge(c, j, S[c], E[c], s, kind, R, rc, k, zb, L, tri, tn, tc, tr,
                              txy, ix, e0, tol, buf, gd, nc, dv, nr0, rho0, nrf, rhof, rr, rh,
-                             rrf, rhf, sp, qp, Q1, Q2, sbuf, out_g, out_t, out_s, out_r,
-                             out_x)
+                             rrf, rhf, rrd, rhd, sp, qp, Q1, Q2, sbuf, out_g, out_t, out_s,
+                             out_r, out_x)
 
 
 @njit(cache=True, error_model="numpy")
 def _chord_gouge(c, j, P0, P1, s, kind, R, rc, k, zb, L, tri, tn, tc, tr, txy, ix, e0, tol,
-                 cand, gd, nc, dv, nr0, rho0, nrf, rhof, rr, rh, rrf, rhf, sp, qp, Q1, Q2,
-                 sbuf, out_g, out_t, out_s, out_r, out_x):
+                 cand, gd, nc, dv, nr0, rho0, nrf, rhof, rr, rh, rrf, rhf, rrd, rhd, sp, qp,
+                 Q1, Q2, sbuf, out_g, out_t, out_s, out_r, out_x):
     """Chord c's penetration by shape j of slot s into the triangles ``cand[:nc]`` (at
     ``gd`` from the group's coarse core, -inf unknown), raising ``out_*[c]``."""
     Rj = R[s, j]
@@ -349,8 +351,9 @@ def _chord_gouge(c, j, P0, P1, s, kind, R, rc, k, zb, L, tri, tn, tc, tr, txy, i
             # in it
             if Rj - lo < 0.0 or xy2 > (Rj - lo) ** 2:
                 continue
+            # (its own ring arrays: rr / rh hold C_e0's for the next triangles)
             d = depth(tri[t], P0, P1, kind[s, j], Rj, rc[s, j], k[s, j], zb[s, j], L[s, j],
-                      lo, tol, rr, rh)
+                      lo, tol, rrd, rhd)
         if d > best:
             best = d
             out_t[c] = t
