@@ -143,8 +143,9 @@ def under_candidates(ix, txy, ctop, P0, P1, kind, R, rc, k, zb, L, grow, lift, b
     :func:`underside` raised by ``lift``: give ``lift = e`` to keep only what may come
     within ``grow`` of the part ``e`` deep in the tool (``C_e``: the points of
     ``C_e`` grown by ``grow``, lowered by ``e``, lie in the tool grown by ``grow``, so
-    they are at least ``e`` above its underside), tested for whole buckets first (a bucket whose highest item is
-    below the tool over the bucket's XY box is passed over), and for blocks of
+    they are at least ``e`` above its underside), tested for whole buckets first (a
+    bucket whose highest item is below the tool over the bucket's XY box is passed
+    over), and for blocks of
     ``COARSE`` x ``COARSE`` buckets before that (``ctop``: their highest tops, see
     :func:`coarse_tops`: a holder's wide box over a low part is passed over at once).
     ``bb``: scratch (4,). Returns (count, buffer) as :func:`box_candidates`."""

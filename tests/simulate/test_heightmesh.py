@@ -58,7 +58,9 @@ def test_wall_over_a_sloped_floor(offset):
                      accuracy=0.001)
     if offset < 0:
         assert r.max_gouge == pytest.approx(-offset, abs=TOL)
-        assert r.gouge_at["line"] == 3                 # the pass along the wall
+        # the pass along the wall, or the retract at its end: beside the wall too, it
+        # gouges it by as much (the tie goes to whichever chord measures a hair deeper)
+        assert r.gouge_at["line"] in (3, 4)
         at = np.array([r.gouge_at["x"], r.gouge_at["y"]]) - ORIGIN
         assert abs(at @ N) < 1e-6                      # on the wall
     else:
