@@ -264,6 +264,14 @@ def _closest_tet(W, v):
     return m
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def _level_cylinder(P0, P1, nr, rr, rh, rho):
+    """True when the solid (rings, rho) is a cylinder and P0 -> P1 is level: swept, a
+    prism (see :func:`meets_prism`)."""
+    return (rho == 0.0 and nr == 2 and rr[0] == rr[1] and P0[2] == P1[2]
+            and rh[1] >= rh[0])
+
+
 @njit(cache=True, error_model="numpy")
 def meets_prism(T, x0, y0, x1, y1, r, za, zb):
     """True when triangle ``T`` meets the prism {(x, y, z): (x, y) within ``r`` of the
@@ -331,8 +339,7 @@ def meets(T, P0, P1, nr, rr, rh, rho, tol):
     (``w`` the support point against ``v``) from below, so the answer is proven once
     one bound passes ``tol``, or when the bounds meet (within ``1e-10`` of the
     coordinates' size: both answers are then right to that)."""
-    if (tol <= 0.0 and rho == 0.0 and nr == 2 and rr[0] == rr[1] and P0[2] == P1[2]
-            and rh[1] >= rh[0]):
+    if tol <= 0.0 and _level_cylinder(P0, P1, nr, rr, rh, rho):
         # a cylinder swept along a level chord is a prism: exact without iterating
         return meets_prism(T, P0[0], P0[1], P1[0], P1[1], rr[0], P0[2] + rh[0],
                            P0[2] + rh[1])
@@ -405,8 +412,7 @@ def may_meet(T, P0, P1, nr, rr, rh, rho, g):
     cylinder swept along a level chord is tested as its prism grown by ``g`` across
     and along the axis (which holds the prism grown by ``g`` in every direction)
     without iterating."""
-    if (g > 0.0 and rho == 0.0 and nr == 2 and rr[0] == rr[1] and P0[2] == P1[2]
-            and rh[1] >= rh[0]):
+    if g > 0.0 and _level_cylinder(P0, P1, nr, rr, rh, rho):
         return meets_prism(T, P0[0], P0[1], P1[0], P1[1], rr[0] + g, P0[2] + rh[0] - g,
                            P0[2] + rh[1] + g)
     return meets(T, P0, P1, nr, rr, rh, rho, g)

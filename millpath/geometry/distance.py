@@ -124,25 +124,32 @@ def segment_segment_dist2(p1x, p1y, p1z, q1x, q1y, q1z, p2x, p2y, p2z, q2x, q2y,
 
 
 @njit(cache=True, error_model="numpy")
-def _segment_crosses(px, py, pz, qx, qy, qz, T):
-    """True when segment p-q passes through triangle T (Moller-Trumbore, segment bounds)."""
-    dx, dy, dz = qx - px, qy - py, qz - pz
+def ray_triangle(px, py, pz, dx, dy, dz, T, tiny, slack):
+    """Parameter ``t`` where the line ``p + t d`` meets triangle ``T`` (Moller-Trumbore,
+    in scalars; barycentrics allowed ``slack`` outside [0, 1]), or -1.0 when it misses
+    or lies in the triangle's plane (``|det| < tiny``)."""
     e1x, e1y, e1z = T[1, 0] - T[0, 0], T[1, 1] - T[0, 1], T[1, 2] - T[0, 2]
     e2x, e2y, e2z = T[2, 0] - T[0, 0], T[2, 1] - T[0, 1], T[2, 2] - T[0, 2]
     hx, hy, hz = dy * e2z - dz * e2y, dz * e2x - dx * e2z, dx * e2y - dy * e2x
     det = _d3(e1x, e1y, e1z, hx, hy, hz)
-    if abs(det) < 1e-300:
-        return False
+    if abs(det) < tiny:
+        return -1.0
     f = 1.0 / det
     sx, sy, sz = px - T[0, 0], py - T[0, 1], pz - T[0, 2]
     u = f * _d3(sx, sy, sz, hx, hy, hz)
-    if u < 0.0 or u > 1.0:
-        return False
+    if u < -slack or u > 1.0 + slack:
+        return -1.0
     cx, cy, cz = sy * e1z - sz * e1y, sz * e1x - sx * e1z, sx * e1y - sy * e1x
     v = f * _d3(dx, dy, dz, cx, cy, cz)
-    if v < 0.0 or u + v > 1.0:
-        return False
-    t = f * _d3(e2x, e2y, e2z, cx, cy, cz)
+    if v < -slack or u + v > 1.0 + slack:
+        return -1.0
+    return f * _d3(e2x, e2y, e2z, cx, cy, cz)
+
+
+@njit(cache=True, error_model="numpy")
+def _segment_crosses(px, py, pz, qx, qy, qz, T):
+    """True when segment p-q passes through triangle T."""
+    t = ray_triangle(px, py, pz, qx - px, qy - py, qz - pz, T, 1e-300, 0.0)
     return 0.0 <= t <= 1.0
 
 

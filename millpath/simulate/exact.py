@@ -147,17 +147,17 @@ def _blocks(motions: list[Motion], mop: np.ndarray, lut: np.ndarray, chord: floa
 
 
 def _chord_blocks(motions: list[Motion], mop: np.ndarray, lut: np.ndarray, chord: float,
-                  block: int, dmax: float, group_len: float, shapes: ToolShapes):
+                  block: int, accuracy: float, group_len: float, shapes: ToolShapes):
     """(chords, their groups, swept chords last first) of each block of :func:`_blocks`
     that has chords. Groups: runs of connected chords (the fine chords of a curve, a
     raster's short lines) whose chords are checked only where the coarse chord of the
-    run, grown by the run's deviation (at most ``dmax``), may gouge or cut a ray
+    run, grown by the run's deviation (at most ``GROUP_DEV * accuracy``; for the
+    material-left rays ``LEFT_DEV * accuracy``), may gouge or cut a ray
     (:mod:`millpath.simulate.groups`)."""
     for _, ch in _blocks(motions, mop, lut, chord, block):
         if len(ch.S):
-            grp = chord_groups(ch.S, ch.E, ch.slot, ch.op, dmax, group_len)
-            rays = grp if LEFT_DEV == GROUP_DEV else chord_groups(
-                ch.S, ch.E, ch.slot, ch.op, dmax * LEFT_DEV / GROUP_DEV, group_len)
+            grp = chord_groups(ch.S, ch.E, ch.slot, ch.op, GROUP_DEV * accuracy, group_len)
+            rays = chord_groups(ch.S, ch.E, ch.slot, ch.op, LEFT_DEV * accuracy, group_len)
             yield ch, grp, _last_first(ch, rays, shapes)
 
 
@@ -221,9 +221,8 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
         states.append(_LeftState(pts, nrm, own, near, near.copy(),
                                  np.full(len(pts), -1, np.int64)))
     nchords = 0
-    dmax = GROUP_DEV * accuracy
     nblocks, only = 0, None     # a program of one block keeps it for the second pass
-    for ch, grp, cidx in _chord_blocks(motions, mop, lut, chord, block, dmax, group_len,
+    for ch, grp, cidx in _chord_blocks(motions, mop, lut, chord, block, accuracy, group_len,
                                        shapes):
         nchords += len(ch.S)
         nblocks += 1
@@ -276,7 +275,7 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
         far.append(f)
     if any(len(f) for f in far):
         again = [only] if only is not None else _chord_blocks(motions, mop, lut, chord, block,
-                                                               dmax, group_len, shapes)
+                                                               accuracy, group_len, shapes)
         for ch, _, cidx in again:
             for st, f in zip(states, far):
                 if len(f):

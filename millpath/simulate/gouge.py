@@ -145,9 +145,9 @@ def under_candidates(ix, txy, ctop, P0, P1, kind, R, rc, k, zb, L, grow, lift, b
     ``C_e`` grown by ``grow``, lowered by ``e``, lie in the tool grown by ``grow``, so
     they are at least ``e`` above its underside), tested for whole buckets first (a
     bucket whose highest item is below the tool over the bucket's XY box is passed
-    over), and for blocks of
-    ``COARSE`` x ``COARSE`` buckets before that (``ctop``: their highest tops, see
-    :func:`coarse_tops`: a holder's wide box over a low part is passed over at once).
+    over), and for blocks of ``COARSE`` x ``COARSE`` buckets before that (``ctop``:
+    their highest tops, see :func:`coarse_tops`: a holder's wide box over a low part
+    is passed over at once).
     ``bb``: scratch (4,). Returns (count, buffer) as :func:`box_candidates`."""
     lo, hi, start, items, bi0, bj0, blo, bhi, x0, y0, bs, nbx, nby = ix
     qx0 = min(P0[0], P1[0]) - R - grow
@@ -256,8 +256,7 @@ def _gouge_groups(S, E, slot, gs, gS, gE, gdev, kind, R, rc, k, zb, L, nshape, t
                 for p in range(nc):
                     t = buf[p]
                     far = Rj - e0 + tr[t] + dv
-                    if core_point_dist2(tc[t, 0], tc[t, 1], tc[t, 2], fc, Q1,
-                                              Q2) > far * far:
+                    if core_point_dist2(tc[t, 0], tc[t, 1], tc[t, 2], fc, Q1, Q2) > far * far:
                         continue
                     d = math.sqrt(core_triangle_dist2(tri[t], fc, Q1, Q2))
                     if Rj - d + dv < e0:
@@ -299,7 +298,7 @@ def _chord_gouge(c, j, P0, P1, s, kind, R, rc, k, zb, L, tri, tn, tc, tr, txy, i
             # centre) - (its radius) from the triangle
             far = Rj - lo + tr[t]
             if core_point_dist2(tc[t, 0], tc[t, 1], tc[t, 2], flat_core, Q1,
-                                      Q2) > far * far:
+                                Q2) > far * far:
                 continue
         elif dv > 0.0 and ix[1][t, 2] < underside(P0, P1, kind[s, j], Rj, rc[s, j], k[s, j],
                                                   zb[s, j], txy[t], 0.0) + lo:
@@ -366,8 +365,9 @@ def _chord_gouge(c, j, P0, P1, s, kind, R, rc, k, zb, L, tri, tn, tc, tr, txy, i
 @njit(cache=True, error_model="numpy", parallel=True)
 def _near_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, txy, ctop, ix, e0,
                  grow, out):
-    """out[c] = 1 when some triangle comes within ``grow`` of the part of chord c's
-    swept tool that is ``e0`` deep (one GJK test per triangle, no bisection)."""
+    """out[c] = 1 when some triangle may come within ``grow`` of the part of chord c's
+    swept tool that is ``e0`` deep (one test per triangle, no bisection: a ball's core
+    distance, else :func:`may_meet`)."""
     n = S.shape[0]
     for c in prange(n):
         buf = np.empty(256, np.int64)
@@ -412,8 +412,7 @@ def _near_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, txy, ctop, 
                 if is_ball:
                     # C_e0 lies within Rj - e0 of the core (the full core: its top
                     # is not lowered by e0, which only adds to the hits)
-                    if core_triangle_dist2(tri[t], flat_core, Q1,
-                                        Q2) <= (Rj - e0 + g) ** 2:
+                    if core_triangle_dist2(tri[t], flat_core, Q1, Q2) <= (Rj - e0 + g) ** 2:
                         hit = 1
                         break
                 elif may_meet(tri[t], P0, P1, nr, rr, rh, rho, g):
@@ -538,7 +537,8 @@ def gouge_chords(S: np.ndarray, E: np.ndarray, slot: np.ndarray, shapes: ToolSha
                       np.ascontiguousarray(gs, np.int64), np.ascontiguousarray(gS, float),
                       np.ascontiguousarray(gE, float), np.ascontiguousarray(dev, float),
                       *shapes.arrays(), triangles, f.normals, f.centres, f.radii, f.xy,
-                      f.tops, index.arrays(), accuracy / 2.0, accuracy * 1e-4, g, t, s, rim, pt)
+                      f.tops, index.arrays(), accuracy / 2.0, accuracy * 1e-4, g, t, s, rim,
+                      pt)
     return GougeResult(g, t, s, rim, pt)
 
 

@@ -19,7 +19,8 @@ from numba import njit, prange
 
 from millpath.geometry.convex import BALL, may_meet, meets, shape_rings, underside
 from millpath.geometry.distance import (ball_core, core_point_dist2, core_segment_dist2,
-                                        point_triangle_dist2, segment_segment_dist2)
+                                        point_triangle_dist2, ray_triangle,
+                                        segment_segment_dist2)
 from millpath.geometry.index import BoxIndex, box_candidates
 
 
@@ -152,37 +153,10 @@ def _caps(P, N, own, blo, bhi, tri, ix, reach, out):
                 t = buf[k]
                 if t == own[q]:
                     continue
-                tt = _ray_triangle(p, n, tri, t)
+                tt = ray_triangle(p[0], p[1], p[2], n[0], n[1], n[2], tri[t], 1e-14, 1e-12)
                 if 1e-7 < tt < U:
                     U = tt
         out[q] = U
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def _ray_triangle(p, n, tri, t):
-    """Distance along ``n`` from ``p`` to triangle ``t`` (Moller-Trumbore, in scalars;
-    -1 when the line misses it or lies in its plane)."""
-    ax, ay, az = tri[t, 0, 0], tri[t, 0, 1], tri[t, 0, 2]
-    e1x, e1y, e1z = tri[t, 1, 0] - ax, tri[t, 1, 1] - ay, tri[t, 1, 2] - az
-    e2x, e2y, e2z = tri[t, 2, 0] - ax, tri[t, 2, 1] - ay, tri[t, 2, 2] - az
-    hx = n[1] * e2z - n[2] * e2y
-    hy = n[2] * e2x - n[0] * e2z
-    hz = n[0] * e2y - n[1] * e2x
-    det = e1x * hx + e1y * hy + e1z * hz
-    if abs(det) < 1e-14:
-        return -1.0
-    f = 1.0 / det
-    sx, sy, sz = p[0] - ax, p[1] - ay, p[2] - az
-    u = f * (sx * hx + sy * hy + sz * hz)
-    if u < -1e-12 or u > 1.0 + 1e-12:
-        return -1.0
-    qx = sy * e1z - sz * e1y
-    qy = sz * e1x - sx * e1z
-    qz = sx * e1y - sy * e1x
-    v = f * (n[0] * qx + n[1] * qy + n[2] * qz)
-    if v < -1e-12 or u + v > 1.0 + 1e-12:
-        return -1.0
-    return f * (e2x * qx + e2y * qy + e2z * qz)
 
 
 @njit(cache=True, parallel=True)
@@ -293,8 +267,7 @@ def _point_cut(X, cand, nc, S, E, slot, clo, chi, gstart, gS, gE, gdev, glo, ghi
                 continue
             if kind[s, 0] == BALL:
                 fc = ball_core(S[c], E[c], R[s, 0], L[s, 0], Q1, Q2)
-                if core_point_dist2(X[0], X[1], X[2], fc, Q1,
-                                          Q2) <= R[s, 0] * R[s, 0]:
+                if core_point_dist2(X[0], X[1], X[2], fc, Q1, Q2) <= R[s, 0] * R[s, 0]:
                     return c
                 continue
             nr, rho = shape_rings(kind[s, 0], R[s, 0], rc[s, 0], k[s, 0], 0.0, L[s, 0], 0.0,
@@ -438,9 +411,9 @@ def _left(P, N, U0, S, E, slot, clo, chi, gstart, gS, gE, gdev, kind, R, rc, k, 
                         t = 0.0
                         for _ in range(8):
                             dd = math.sqrt(core_point_dist2(p[0] + n[0] * t,
-                                                                  p[1] + n[1] * t,
-                                                                  p[2] + n[2] * t, fc,
-                                                                  Q1, Q2)) - Rb
+                                                            p[1] + n[1] * t,
+                                                            p[2] + n[2] * t, fc, Q1,
+                                                            Q2)) - Rb
                             if dd <= tol:
                                 break
                             t += dd
