@@ -29,6 +29,11 @@ Plane = Literal["XY", "XZ", "YZ"]
 PLANE_AXES: dict[str, tuple[int, int, int]] = {"XY": (0, 1, 2), "XZ": (2, 0, 1), "YZ": (1, 2, 0)}
 
 
+#: move kinds made by :meth:`Toolpath.rapid` and :meth:`Toolpath.line`: only ``end``,
+#: ``feed`` and ``op`` set
+_PLAIN = frozenset(("rapid", "line"))
+
+
 @dataclass(slots=True)
 class Move:
     """One move. Which fields matter depends on ``kind``:
@@ -112,6 +117,13 @@ class Toolpath:
     def line(self, x: float, y: float, z: float, feed: float) -> None:
         self.moves.append(Move("line", (float(x), float(y), float(z)), float(feed), self._op))
 
+    def lines(self, points, feed: float) -> None:
+        """Feed lines to each of ``points`` ((n, 3) tip positions) in turn."""
+        op = self._op
+        feed = float(feed)
+        self.moves.extend(Move("line", (x, y, z), feed, op)
+                          for x, y, z in np.asarray(points, dtype=float).reshape(-1, 3).tolist())
+
     def arc(self, end: Vec3, center: Vec3, clockwise: bool, feed: float,
             plane: Plane = "XY", turns: int = 1) -> None:
         self.moves.append(Move("arc", tuple(map(float, end)), float(feed), self._op,
@@ -144,10 +156,14 @@ class Toolpath:
             raise ValueError(f"cannot join a {other.units} toolpath to a {self.units} one")
         base = len(self.ops)
         self.ops.extend(other.ops)
+        append = self.moves.append
         for m in other.moves:
-            self.moves.append(Move(m.kind, m.end, m.feed, m.op + base, m.center, m.plane,
-                                   m.clockwise, m.turns, m.c1, m.c2, m.cycle, m.r_plane,
-                                   m.peck, m.dwell, m.retract_initial, m.comp, m.comp_d))
+            if m.kind in _PLAIN and m.center is None:      # the other fields are defaults
+                append(Move(m.kind, m.end, m.feed, m.op + base))
+            else:
+                append(Move(m.kind, m.end, m.feed, m.op + base, m.center, m.plane,
+                            m.clockwise, m.turns, m.c1, m.c2, m.cycle, m.r_plane,
+                            m.peck, m.dwell, m.retract_initial, m.comp, m.comp_d))
 
     # --- queries --------------------------------------------------------------------
     def __len__(self) -> int:
@@ -175,9 +191,15 @@ class Toolpath:
 
     def check_finite(self) -> None:
         """Raise ValueError naming the first move with a NaN or infinite coordinate."""
+        isfinite = math.isfinite
         for i, m in enumerate(self.moves):
+            e = m.end
+            # a sum of finite values is finite (unless it overflows: then look closer)
+            if (isfinite(e[0] + e[1] + e[2] + m.feed) and m.center is None and m.c1 is None
+                    and m.c2 is None):
+                continue
             vals = list(m.end) + list(m.center or ()) + list(m.c1 or ()) + list(m.c2 or ())
-            if not all(math.isfinite(v) for v in vals) or not math.isfinite(m.feed):
+            if not all(isfinite(v) for v in vals) or not isfinite(m.feed):
                 raise ValueError(f"move {i} ({m.kind}, operation "
                                  f"{self.ops[m.op].name!r}) has a non-finite coordinate")
 

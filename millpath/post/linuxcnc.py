@@ -120,8 +120,10 @@ class _Writer:
         self.f = _Fmt(tp.units)
         self.lines: list[str] = []
         self.pos: list[float | None] = [None, None, None]   # last written position
+        self._written: list[float | None] = [None, None, None]   # by the last _axes
         self.motion: str | None = None
         self.feed: float | None = None
+        self._feed_in = math.nan       # the planned feed that ``self.feed`` was written for
         self.plane = "XY"
         self.tool: int | None = None
         self.spindle: float | None = None
@@ -137,8 +139,11 @@ class _Writer:
         self.lines.append(s)
 
     def _feed_word(self, feed: float) -> str:
+        if feed == self._feed_in and self.feed is not None:
+            return ""               # the same planned feed as the move before: written
         if feed <= 0 or not math.isfinite(feed):
             raise ValueError(f"feed move with feed rate {feed!r}")
+        self._feed_in = feed
         feed = round_feed(feed, self.tp.units)
         if self.feed is None or abs(feed - self.feed) > 1e-9:
             self.feed = feed
@@ -157,12 +162,24 @@ class _Writer:
             self.plane = plane
 
     def _axes(self, end, force: bool = False) -> str:
+        """The axis words of a move to ``end`` (those that change, or all with
+        ``force``); the written position is kept for :meth:`_moved_written`."""
         words = []
+        written = []
+        pos = self.pos
+        s = self.f.s
         for i, a in enumerate("XYZ"):
-            t = self.f.s(end[i])
-            if force or self.pos[i] is None or float(t) != self.pos[i]:
+            t = s(end[i])
+            v = float(t)
+            written.append(v)
+            if force or pos[i] is None or v != pos[i]:
                 words.append(a + t)
+        self._written = written
         return " ".join(words)
+
+    def _moved_written(self) -> None:
+        """The position is the end written by the last :meth:`_axes`."""
+        self.pos = self._written
 
     def _moved(self, end) -> None:
         self.pos = [self.f.r(v) for v in end]
@@ -254,7 +271,7 @@ class _Writer:
             if ax:
                 self.emit(("G0 " if self.motion != "G0" else "") + ax)
                 self.motion = "G0"
-            self._moved(m.end)
+            self._moved_written()
         elif k == "line":
             ax = self._axes(m.end)
             fw = self._feed_word(m.feed)
@@ -263,7 +280,7 @@ class _Writer:
                 self.motion = "G1"
             elif fw:
                 self.emit(fw.strip())
-            self._moved(m.end)
+            self._moved_written()
         elif k == "arc":
             self.arc(m)
         elif k == "cubic":

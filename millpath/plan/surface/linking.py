@@ -21,33 +21,38 @@ import numpy as np
 from millpath.model.toolpath import Toolpath
 from millpath.plan.entry import helix_entry, ramp_entry
 from millpath.plan.surface.sampler import Sampler
-from millpath.plan.surface.zigzag import Pass, refine_chords
+from millpath.plan.surface.zigzag import Pass, refine_chords_many
 
 
-def surface_link(sampler: Sampler, a: np.ndarray, b: np.ndarray, tol: float,
-                 step: float) -> np.ndarray:
-    """Tip points from ``a`` to ``b`` (x, y, z) following the surface, both ends included."""
-    ua = sampler.uw(a[0], a[1])
-    ub = sampler.uw(b[0], b[1])
-    n = max(1, int(math.ceil(float(np.hypot(*(ub - ua))) / step)))
-    t = np.linspace(0.0, 1.0, n + 1)
-    uw = ua[None, :] + (ub - ua)[None, :] * t[:, None]
+def surface_links(sampler: Sampler, pairs: list[tuple[np.ndarray, np.ndarray]], tol: float,
+                  step: float, silhouette: bool = False) -> list[np.ndarray | None]:
+    """Tip points from ``a`` to ``b`` (x, y, z) following the surface, both ends
+    included, for every pair ``(a, b)`` (one drop-cutter batch per refinement round for
+    all of them); None with ``silhouette`` where the tool would leave the part."""
+    if not pairs:
+        return []
+    runs = []
+    for a, b in pairs:
+        ua = sampler.uw(a[0], a[1])
+        ub = sampler.uw(b[0], b[1])
+        n = max(1, int(math.ceil(float(np.hypot(*(ub - ua))) / step)))
+        t = np.linspace(0.0, 1.0, n + 1)
+        runs.append(ua[None, :] + (ub - ua)[None, :] * t[:, None])
+    uw = np.concatenate(runs)
     z, _ = sampler.z_safe(uw[:, 0], uw[:, 1])
-    z[0], z[-1] = a[2], b[2]
-    P = refine_chords(sampler, np.column_stack([uw, z]), tol, tol, 1e-4)
-    xy = sampler.xy(P[:, 0], P[:, 1])
-    return np.column_stack([xy, P[:, 2]])
-
-
-def _link_on_part(sampler: Sampler, a: np.ndarray, b: np.ndarray, tol: float,
-                  silhouette: bool) -> np.ndarray | None:
-    """:func:`surface_link`, or None with ``silhouette`` when the tool leaves the part."""
-    L = surface_link(sampler, a, b, tol, 0.25 * sampler.cutter.radius)
+    Ps = []
+    for (a, b), Z, U in zip(pairs, np.split(z, np.cumsum([len(r) for r in runs])[:-1]), runs):
+        Z[0], Z[-1] = a[2], b[2]
+        Ps.append(np.column_stack([U, Z]))
+    Ps = refine_chords_many(sampler, Ps, tol, tol, 1e-4)
+    allp = np.concatenate(Ps)
+    cut = np.cumsum([len(P) for P in Ps])[:-1]
+    xy = sampler.xy(allp[:, 0], allp[:, 1])
+    out = [np.column_stack([q, P[:, 2]]) for q, P in zip(np.split(xy, cut), Ps)]
     if silhouette:
-        uw = sampler.uw(L[:, 0], L[:, 1])
-        if not sampler.touches(uw[:, 0], uw[:, 1]).all():
-            return None
-    return L
+        touch = np.split(sampler.touches(allp[:, 0], allp[:, 1]), cut)
+        out = [L if t.all() else None for L, t in zip(out, touch)]
+    return out
 
 
 def _descend(tp: Toolpath, start, safe_z: float, clearance: float, approach_z: float,
@@ -92,21 +97,23 @@ def add_passes(tp: Toolpath, sampler: Sampler, passes: list[Pass], *, feed: floa
     ``silhouette``: a link whose tool would leave the part (touch nothing, see
     :meth:`.sampler.Sampler.touches`) retracts instead of following the surface."""
     links = {"surface": 0, "retract": 0, "helix": 0}
+    passes = [p for p in passes if len(p.points)]
+    near = [k for k in range(1, len(passes))
+            if math.hypot(*(passes[k].points[0, :2] - passes[k - 1].points[-1, :2])) <= link_max]
+    found = surface_links(sampler, [(passes[k - 1].points[-1], passes[k].points[0])
+                                    for k in near],
+                          tolerance, 0.25 * sampler.cutter.radius, silhouette)
+    link_to = dict(zip(near, found))
     cur = None
-    for p in passes:
+    for k, p in enumerate(passes):
         P = p.points
-        if len(P) == 0:
-            continue
         start = P[0]
         if cur is None:
             tp.rapid(start[0], start[1], safe_z)
             links["helix"] += _descend(tp, start, safe_z, clearance, approach_z,
                                        plunge_feed, sampler, allowance)
-        elif (math.hypot(start[0] - cur[0], start[1] - cur[1]) <= link_max
-              and (L := _link_on_part(sampler, cur, start, tolerance, silhouette))
-              is not None):
-            for q in L[1:]:
-                tp.line(*q, feed)
+        elif (L := link_to.get(k)) is not None:
+            tp.lines(L[1:], feed)
             links["surface"] += 1
         else:
             tp.rapid(cur[0], cur[1], safe_z)
@@ -114,8 +121,7 @@ def add_passes(tp: Toolpath, sampler: Sampler, passes: list[Pass], *, feed: floa
             links["helix"] += _descend(tp, start, safe_z, clearance, approach_z,
                                        plunge_feed, sampler, allowance)
             links["retract"] += 1
-        for q in P[1:]:
-            tp.line(*q, feed)
+        tp.lines(P[1:], feed)
         cur = P[-1]
     if cur is not None:
         tp.rapid(cur[0], cur[1], safe_z)

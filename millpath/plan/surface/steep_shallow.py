@@ -32,7 +32,7 @@ from millpath.plan.surface.sampler import Sampler
 from millpath.plan.surface.waterline import (Raster, WaterlineResult, WaterlineSettings,
                                              index_runs, make_raster, waterline)
 from millpath.plan.surface.zigzag import (Pass, PassStats, ZigzagResult, ZigzagSettings,
-                                           refine_chords, zigzag)
+                                           refine_chords_many, zigzag)
 
 
 #: degrees: the zigzag of a steep-shallow holds no scallop on ground this steep
@@ -61,10 +61,9 @@ def masks(R: Raster, steep_angle: float, overlap: float) -> tuple[np.ndarray, np
     return to_steep <= overlap, to_shallow <= overlap
 
 
-def _extend(sampler: Sampler, R: Raster, mask: np.ndarray, a: np.ndarray, b: np.ndarray,
-            tol: float, tol_m: float) -> np.ndarray | None:
-    """Points after ``a`` (kept) toward ``b`` (not kept) up to the mask's border: the
-    tip point there from the drop-cutter, the segment refined; None if nothing to add."""
+def _border(R: Raster, mask: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray | None:
+    """The last point from ``a`` (kept) toward ``b`` (not kept), half a raster spacing
+    apart, whose nearest raster node is in ``mask``; None if the first is not."""
     L = float(np.hypot(*(b[:2] - a[:2])))
     k = max(2, int(np.ceil(L / (0.5 * R.spacing))))
     t = np.linspace(0.0, 1.0, k + 1)[1:]
@@ -73,15 +72,37 @@ def _extend(sampler: Sampler, R: Raster, mask: np.ndarray, a: np.ndarray, b: np.
     if not inside[0]:
         return None
     n = int(np.argmin(inside)) if not inside.all() else len(inside)
-    end = xy[n - 1]
-    uw = sampler.uw(np.array([a[0], end[0]]), np.array([a[1], end[1]]))
-    z, _ = sampler.z_safe(uw[:, 0], uw[:, 1])
-    if not np.isfinite(z[1]):
-        return None
-    P = refine_chords(sampler, np.column_stack([uw, [a[2], z[1]]]), tol, tol_m,
-                1e-3 * sampler.cutter.radius)
-    back = sampler.xy(P[1:, 0], P[1:, 1])
-    return np.column_stack([back, P[1:, 2]])
+    return xy[n - 1]
+
+
+def _extend_all(sampler: Sampler, R: Raster, mask: np.ndarray,
+                ends: list[tuple[np.ndarray, np.ndarray]], tol: float, tol_m: float
+                ) -> list[np.ndarray | None]:
+    """For each ``(a, b)``: points after ``a`` (kept) toward ``b`` (not kept) up to the
+    mask's border, the tip point there from the drop-cutter, the segment refined (all
+    segments in one batch); None if nothing to add."""
+    out: list[np.ndarray | None] = [None] * len(ends)
+    todo, segs = [], []
+    for i, (a, b) in enumerate(ends):
+        end = _border(R, mask, a, b)
+        if end is not None:
+            todo.append(i)
+            segs.append((a, end))
+    if not todo:
+        return out
+    A = np.array([a for a, _ in segs])
+    E = np.array([e for _, e in segs])
+    uwa = sampler.uw(A[:, 0], A[:, 1])
+    uwe = sampler.uw(E[:, 0], E[:, 1])
+    z, _ = sampler.z_safe(uwe[:, 0], uwe[:, 1])
+    ok = np.isfinite(z)
+    Ps = [np.array([[uwa[k, 0], uwa[k, 1], A[k, 2]], [uwe[k, 0], uwe[k, 1], z[k]]])
+          for k in range(len(todo)) if ok[k]]
+    Ps = refine_chords_many(sampler, Ps, tol, tol_m, 1e-3 * sampler.cutter.radius)
+    for i, P in zip([i for i, good in zip(todo, ok) if good], Ps):
+        back = sampler.xy(P[1:, 0], P[1:, 1])
+        out[i] = np.column_stack([back, P[1:, 2]])
+    return out
 
 
 def mask_passes(sampler: Sampler, R: Raster, mask: np.ndarray, passes: list[Pass],
@@ -89,30 +110,41 @@ def mask_passes(sampler: Sampler, R: Raster, mask: np.ndarray, passes: list[Pass
     """The pieces of ``passes`` whose points' nearest raster node is in ``mask``, each
     carried up to the border along its end segments; pieces shorter than
     ``min_length`` (XY) dropped."""
-    out: list[Pass] = []
+    pieces = []                 # (pass, run, index of its forward and backward extension)
+    ends: list[tuple[np.ndarray, np.ndarray]] = []
     for p in passes:
         P = p.points
         inside = R.nearest(mask, P[:, :2])
         if inside.all():
-            out.append(p)
+            pieces.append((p, None, -1, -1))
             continue
         for run in index_runs(inside, False):
-            Q = P[run]
-            lifted = p.lifted[run]
             i0, i1 = run[0], run[-1]
+            fwd = back = -1
             if i1 + 1 < len(P):
-                e = _extend(sampler, R, mask, P[i1], P[i1 + 1], tol, tol_m)
-                if e is not None:
-                    Q = np.concatenate([Q, e])
-                    lifted = np.concatenate([lifted, np.zeros(len(e), bool)])
+                fwd = len(ends)
+                ends.append((P[i1], P[i1 + 1]))
             if i0 > 0:
-                e = _extend(sampler, R, mask, P[i0], P[i0 - 1], tol, tol_m)
-                if e is not None:
-                    Q = np.concatenate([e[::-1], Q])
-                    lifted = np.concatenate([np.zeros(len(e), bool), lifted])
-            if len(Q) < 2 or np.hypot(*np.diff(Q[:, :2], axis=0).T).sum() < min_length:
-                continue
-            out.append(Pass(Q, lifted))
+                back = len(ends)
+                ends.append((P[i0], P[i0 - 1]))
+            pieces.append((p, run, fwd, back))
+    ext = _extend_all(sampler, R, mask, ends, tol, tol_m)
+    out: list[Pass] = []
+    for p, run, fwd, back in pieces:
+        if run is None:
+            out.append(p)
+            continue
+        Q = p.points[run]
+        lifted = p.lifted[run]
+        if fwd >= 0 and (e := ext[fwd]) is not None:
+            Q = np.concatenate([Q, e])
+            lifted = np.concatenate([lifted, np.zeros(len(e), bool)])
+        if back >= 0 and (e := ext[back]) is not None:
+            Q = np.concatenate([e[::-1], Q])
+            lifted = np.concatenate([np.zeros(len(e), bool), lifted])
+        if len(Q) < 2 or np.hypot(*np.diff(Q[:, :2], axis=0).T).sum() < min_length:
+            continue
+        out.append(Pass(Q, lifted))
     return out
 
 

@@ -146,34 +146,59 @@ def _runmin(a: np.ndarray, k: int = 1) -> np.ndarray:
     return out
 
 
+class StepMemo:
+    """Station steps already computed, per station: a station's step depends on its own
+    point ``(u, w)`` only, so a look-ahead round that moves a few stations recomputes
+    those alone. Keyed by the stations' ``u`` array (the pass stations, or the halfway
+    points between them); ``slots`` recent ``w`` per station are kept."""
+
+    def __init__(self, slots: int = 8):
+        self.slots = slots
+        self.rows: dict[bytes, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
+
+    def lookup(self, u: np.ndarray, W: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(step, known) at each station: ``known`` where ``(u, W)`` was stored."""
+        key = u.tobytes()
+        if key not in self.rows:
+            n = len(u)
+            self.rows[key] = (np.full((n, self.slots), np.nan), np.full((n, self.slots), np.nan),
+                              np.zeros(n, np.int64))
+        Wc, Ec, _ = self.rows[key]
+        hit = Wc == W[:, None]
+        known = hit.any(axis=1)
+        step = Ec[np.arange(len(u)), np.argmax(hit, axis=1)]
+        return np.where(known, step, np.nan), known
+
+    def store(self, u: np.ndarray, W: np.ndarray, step: np.ndarray, where: np.ndarray) -> None:
+        Wc, Ec, nxt = self.rows[u.tobytes()]
+        i = np.nonzero(where)[0]
+        Wc[i, nxt[i]] = W[i]
+        Ec[i, nxt[i]] = step[i]
+        nxt[i] = (nxt[i] + 1) % self.slots
+
+
 def _station_steps(sampler: Sampler, u, W, r, h, fd, keep=None, need=None,
-                   memo: dict | None = None) -> np.ndarray:
+                   memo: StepMemo | None = None) -> np.ndarray:
     """XY side step at each station from the published formula with the local curvature
     and slope across the passes. The scallop is limited to ``h`` measured vertically:
     the normal height used in the formula is ``h cos(slope)``. NaN where unknown (no
     surface, or outside ``keep``) or not ``need``-ed. One drop-cutter batch for the
     three rows. ``memo`` (one per ``sampler, r, h, fd, keep``): steps of stations
-    already computed at these exact ``(u, W)`` arrays are reused (a station's step
-    depends on its own point only; the look-ahead's last candidate line is the next
-    line)."""
+    already computed at the same point are reused."""
     u = np.asarray(u, float)
     W = np.asarray(W, float)
+    want = np.ones(len(u), bool) if need is None else np.asarray(need, bool)
     if memo is not None:
-        key = (u.tobytes(), W.tobytes())
-        out, done = memo.pop(key, (np.full(len(u), np.nan), np.zeros(len(u), bool)))
-        want = np.ones(len(u), bool) if need is None else np.asarray(need, bool)
-        todo = want & ~done
+        out, known = memo.lookup(u, W)
+        todo = want & ~known
         if todo.any():
             out[todo] = _station_steps(sampler, u[todo], W[todo], r, h, fd, keep)
-            done = done | todo
-        memo[key] = (out, done)
-        while len(memo) > 8:
-            memo.pop(next(iter(memo)))
+            memo.store(u, W, out, todo)
         return np.where(want, out, np.nan)
-    if need is not None and not np.all(need):
+    if not np.all(want):
         out = np.full(len(u), np.nan)
-        if np.any(need):
-            out[need] = _station_steps(sampler, u[need], W[need], r, h, fd, keep)
+        if np.any(want):
+            out[want] = _station_steps(sampler, u[want], W[want], r, h, fd, keep)
         return out
     n = len(u)
     uu, ww = np.concatenate([u, u, u]), np.concatenate([W - fd, W, W + fd])
@@ -267,7 +292,7 @@ def pass_lines(sampler: Sampler, design, s: ZigzagSettings) -> tuple[np.ndarray,
     else:
         W = np.full(n, wmin)
     lines = [W.copy()]
-    memo: dict = {}                       # station steps at recent (u, W) arrays
+    memo = StepMemo()                     # station steps at recent points
     steps: list[float] = []
     target = 0.9 * h - min(s.material_tolerance or s.tolerance, 0.25 * h)
     target = max(target, 0.25 * h)
@@ -338,7 +363,7 @@ def _to_held(sampler: Sampler, u, W, hold, cap: float, k: int = 16) -> np.ndarra
 
 
 def _between(sampler: Sampler, u, W, step, r: float, target: float, fd: float,
-             keep=None, need=None, memo: dict | None = None) -> np.ndarray:
+             keep=None, need=None, memo: StepMemo | None = None) -> np.ndarray:
     """Each station's step, also held to the steps found halfway to its neighbours (on
     the chord between their points): the passes are straight between stations, so the
     surface there counts too, but not what a neighbour meets farther along w."""
@@ -356,7 +381,7 @@ def _between(sampler: Sampler, u, W, step, r: float, target: float, fd: float,
 
 def _look_ahead(sampler: Sampler, u, W, dW, wmax, r: float, target: float,
                 fd: float, uniform: bool, keep=None, rounds: int = 4,
-                memo: dict | None = None) -> np.ndarray:
+                memo: StepMemo | None = None) -> np.ndarray:
     """Shrink the step ``dW`` to the published step found at the candidate next line:
     the formula is local, and over a convex crease (or the edge the tool rolls over)
     it allows up to a cutter diameter that the surface beyond cannot take. Each round
@@ -401,14 +426,23 @@ def refine_chords_many(sampler: Sampler, Ps: list[np.ndarray], tol_g: float, tol
 
 
 def _refine_many(sampler: Sampler, Ps: list[np.ndarray], tol_g: float, tol_m: float,
-                 min_len: float, checks: int = 3, good: list[np.ndarray] | None = None
-                 ) -> tuple[list[np.ndarray], list[np.ndarray]]:
+                 min_len: float, checks: int = 3, good: list[np.ndarray] | None = None,
+                 r: float = 0.0) -> tuple[list[np.ndarray], list[np.ndarray]]:
     """:func:`refine_chords_many`, skipping the segments ``good`` marks (per polyline,
     per segment: checked before at these same ends); also returns the segments found
-    within tolerance (or too short to split)."""
+    within tolerance (or too short to split).
+
+    With ``r > 0`` (the ball's radius, or the bull's corner) a chord is also checked on
+    the gouge side at points ``s = sqrt(0.4 r tol_g)`` apart (3D; at least ``checks``
+    evenly spaced points): where the CL curves along the pass with a radius of at least
+    ``r`` (a ball over a convex edge or surface), it rises above the chord between two
+    such points by at most ``s^2 / (8 r) = tol_g / 20`` more than at them, so each point
+    is held to ``0.95 tol_g``. Three checks per chord alone let a CL cap between them
+    through (surface-cavity: 0.0107 mm for 0.01)."""
     if not Ps:
         return [], []
-    t = np.arange(1, checks + 1) / (checks + 1.0)
+    s = math.sqrt(0.4 * r * tol_g) if r > 0.0 else math.inf
+    lim_g = 0.95 * tol_g if r > 0.0 else tol_g
     P = np.concatenate(Ps)
     pid = np.repeat(np.arange(len(Ps)), [len(Q) for Q in Ps])
     todo = pid[:-1] == pid[1:]                      # segments still to check
@@ -419,20 +453,26 @@ def _refine_many(sampler: Sampler, Ps: list[np.ndarray], tol_g: float, tol_m: fl
         if len(idx) == 0:
             break
         A, B = P[idx], P[idx + 1]
-        Q = A[:, None, :] + (B - A)[:, None, :] * t[None, :, None]
-        zt, _ = sampler.z_safe(Q[..., 0].ravel(), Q[..., 1].ravel())
-        zt = zt.reshape(len(A), checks)
-        dev = zt - Q[..., 2]
-        over = np.maximum(dev - tol_g, -dev - tol_m)
+        n = np.full(len(idx), checks, np.int64)
+        if r > 0.0:
+            dense = np.ceil(np.linalg.norm(B - A, axis=1) / s).astype(np.int64) - 1
+            n = np.maximum(n, dense)
+        row = np.repeat(np.arange(len(idx)), n)
+        k = np.arange(int(n.sum())) - np.repeat(np.cumsum(n) - n, n) + 1
+        Q = A[row] + (B - A)[row] * (k / (n[row] + 1.0))[:, None]
+        zt, _ = sampler.z_safe(Q[:, 0], Q[:, 1])
+        dev = zt - Q[:, 2]
+        over = np.maximum(dev - lim_g, -dev - tol_m)             # > 0: outside
+        # the worst check point of each chord
+        order = np.lexsort((-over, row))
+        worst = order[np.searchsorted(row[order], np.arange(len(idx)))]
         seg = np.hypot(B[:, 0] - A[:, 0], B[:, 1] - A[:, 1])
-        worst = np.argmax(over, axis=1)
-        rows = np.arange(len(A))
-        bad = (over[rows, worst] > 0) & (seg > min_len)
+        bad = (over[worst] > 0) & (seg > min_len)
         todo[idx[~bad]] = False
         if not bad.any():
             break
-        new = Q[rows, worst][bad]
-        new[:, 2] = zt[rows, worst][bad]
+        new = Q[worst[bad]].copy()
+        new[:, 2] = zt[worst[bad]]
         at = idx[bad]
         P = np.insert(P, at + 1, new, axis=0)
         pid = np.insert(pid, at + 1, pid[at])
@@ -442,55 +482,6 @@ def _refine_many(sampler: Sampler, Ps: list[np.ndarray], tol_g: float, tol_m: fl
     ok = ~todo
     return (np.split(P, ends[:-1]),
             [ok[e - c:e - 1] for e, c in zip(ends, counts)])
-
-
-def _verify_dense(sampler: Sampler, Ps: list[np.ndarray], tol_g: float, r: float,
-                  min_len: float) -> list[np.ndarray]:
-    """Every chord checked on the gouge side at points ``s = sqrt(0.4 r tol_g)`` apart
-    (3D): where the CL curves along the pass with a radius of at least ``r`` (the
-    ball's, or the bull's corner: a ball over a convex edge or surface), it rises above
-    the chord between two such points by at most ``s^2 / (8 r) = tol_g / 20`` more than
-    at them, so each point is held to ``0.95 tol_g``; the worst point of a failing
-    chord is inserted, until none fails (20 rounds). Three checks per chord alone let
-    a CL cap between them through (surface-cavity: 0.0107 mm for 0.01)."""
-    if not Ps or r <= 0.0:
-        return Ps
-    s = math.sqrt(0.4 * r * tol_g)
-    lim = 0.95 * tol_g
-    P = np.concatenate(Ps)
-    pid = np.repeat(np.arange(len(Ps)), [len(Q) for Q in Ps])
-    todo = pid[:-1] == pid[1:]
-    for _ in range(20):
-        idx = np.nonzero(todo)[0]
-        A, B = P[idx], P[idx + 1]
-        n = np.maximum(np.ceil(np.linalg.norm(B - A, axis=1) / s).astype(np.int64) - 1, 0)
-        has = n > 0
-        todo[idx[~has]] = False
-        idx, A, B, n = idx[has], A[has], B[has], n[has]
-        if not len(idx):
-            break
-        row = np.repeat(np.arange(len(idx)), n)
-        k = np.arange(int(n.sum())) - np.repeat(np.cumsum(n) - n, n) + 1
-        t = k / (n[row] + 1.0)
-        Q = A[row] + (B - A)[row] * t[:, None]
-        zt, _ = sampler.z_safe(Q[:, 0], Q[:, 1])
-        dev = zt - Q[:, 2]
-        # the worst check point of each chord
-        order = np.lexsort((-dev, row))
-        first = order[np.searchsorted(row[order], np.arange(len(idx)))]
-        seg = np.hypot(B[:, 0] - A[:, 0], B[:, 1] - A[:, 1])
-        bad = (dev[first] > lim) & (seg > min_len)
-        todo[idx[~bad]] = False
-        if not bad.any():
-            break
-        new = Q[first[bad]].copy()
-        new[:, 2] = zt[first[bad]]
-        at = idx[bad]
-        P = np.insert(P, at + 1, new, axis=0)
-        pid = np.insert(pid, at + 1, pid[at])
-        todo = np.insert(todo, at + 1, True)
-    counts = np.bincount(pid, minlength=len(Ps))
-    return np.split(P, np.cumsum(counts)[:-1])
 
 
 def sample_passes(sampler: Sampler, runs: list[tuple[np.ndarray, np.ndarray]],
@@ -523,7 +514,7 @@ def sample_passes(sampler: Sampler, runs: list[tuple[np.ndarray, np.ndarray]],
     z, _ = sampler.z_safe(allp[:, 0], allp[:, 1])
     Ps = np.split(np.column_stack([allp, z]), np.cumsum([len(q) for q in samples])[:-1])
     min_len = 1e-3 * max(r, 1e-3)
-    Ps, good = _refine_many(sampler, Ps, tol_g, tol_m, min_len)
+    Ps, good = _refine_many(sampler, Ps, tol_g, tol_m, min_len, r=r)
     # after merging, a segment between two points that were neighbours is one already
     # checked: only the merged chords are checked again
     merged, good_m = [], []
@@ -531,8 +522,7 @@ def sample_passes(sampler: Sampler, runs: list[tuple[np.ndarray, np.ndarray]],
         k = collinear_keep(P, 0.2 * min(tol_g, tol_m))
         merged.append(P[k])
         good_m.append((np.diff(k) == 1) & g[k[:-1]])
-    Ps, _ = _refine_many(sampler, merged, tol_g, tol_m, min_len, good=good_m)
-    Ps = _verify_dense(sampler, Ps, tol_g, r, min_len)
+    Ps, _ = _refine_many(sampler, merged, tol_g, tol_m, min_len, good=good_m, r=r)
     for i, P in zip(owners, Ps):
         out[i] = P
     return out
