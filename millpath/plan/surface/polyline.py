@@ -66,6 +66,22 @@ def collinear_keep(P: np.ndarray, tol: float) -> np.ndarray:
     return _merge_keep(np.ascontiguousarray(P, dtype=np.float64), float(tol))
 
 
+def chord_offsets(P: np.ndarray, keep: np.ndarray) -> np.ndarray:
+    """For each chord between consecutive kept rows ``keep`` of ``P``: the largest
+    distance (all columns) of the rows it replaces from it; 0 where it replaces none."""
+    out = np.zeros(max(len(keep) - 1, 0))
+    drop = np.setdiff1d(np.arange(len(P)), keep, assume_unique=True)
+    if len(drop) == 0 or len(keep) < 2:
+        return out
+    seg = np.searchsorted(keep, drop) - 1
+    A, B = P[keep[seg]], P[keep[seg + 1]]
+    d = B - A
+    L2 = np.einsum("ij,ij->i", d, d)
+    t = np.clip(np.einsum("ij,ij->i", P[drop] - A, d) / np.where(L2 > 0, L2, 1.0), 0.0, 1.0)
+    np.maximum.at(out, seg, np.linalg.norm(P[drop] - (A + t[:, None] * d), axis=1))
+    return out
+
+
 def densify(P: np.ndarray, step: float) -> np.ndarray:
     """Points along the polyline ``P`` no more than ``step`` apart (its vertices kept)."""
     if len(P) < 2:

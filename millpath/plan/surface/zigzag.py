@@ -34,10 +34,14 @@ from typing import Callable
 import numpy as np
 
 from millpath.errors import PlanningError
-from millpath.plan.surface.polyline import collinear_keep
+from millpath.plan.surface.polyline import chord_offsets, collinear_keep
 from millpath.plan.surface.refine import refine_worst
 from millpath.plan.surface.sampler import Sampler
 from millpath.plan.surface.steps import curvature_radius, feed_step, flat_side_step, side_step
+
+
+#: job units: a merged chord through points this near it needs no new check
+ON_CHORD = 1e-9
 
 
 @dataclass
@@ -516,12 +520,16 @@ def sample_passes(sampler: Sampler, runs: list[tuple[np.ndarray, np.ndarray]],
     min_len = 1e-3 * max(r, 1e-3)
     Ps, good = _refine_many(sampler, Ps, tol_g, tol_m, min_len, r=r)
     # after merging, a segment between two points that were neighbours is one already
-    # checked: only the merged chords are checked again
+    # checked, and so is a chord through points it passes within ON_CHORD of (straight
+    # stretches: the chords it replaces were checked at the same points, to within
+    # that): only the other merged chords are checked again
     merged, good_m = [], []
     for P, g in zip(Ps, good):
         k = collinear_keep(P, 0.2 * min(tol_g, tol_m))
         merged.append(P[k])
-        good_m.append((np.diff(k) == 1) & g[k[:-1]])
+        bad = np.concatenate([[0], np.cumsum(~g)])          # unchecked chords so far
+        all_good = bad[k[1:]] == bad[k[:-1]]
+        good_m.append(all_good & (chord_offsets(P, k) <= ON_CHORD))
     Ps, _ = _refine_many(sampler, merged, tol_g, tol_m, min_len, good=good_m, r=r)
     for i, P in zip(owners, Ps):
         out[i] = P
