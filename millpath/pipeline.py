@@ -247,7 +247,8 @@ def _run(job_path: str | Path, outdir: str | Path, prog: Progress, force: bool) 
                                machine=job.machine, progress=prog, chord_tol=chord,
                                references=refs if exact else None,
                                motion_op=_motion_ops(tp, move_lines, motions),
-                               accuracy=_accuracy(job.units) if exact else None)
+                               accuracy=_accuracy(job.units) if exact else None,
+                               times=times)
         report.verification = sim.to_json()
     else:
         report.verification = {"skipped": "simulation disabled in the job"}

@@ -306,7 +306,8 @@ def simulate_motions(motions: list[Motion], tools: dict[int, Tool], stock: Stock
                      progress: "bool | Progress" = False, corner_angle: float = 10.0,
                      chord_tol: float | None = None,
                      references: list[Reference] | None = None,
-                     motion_op=None, accuracy: float | None = 0.001) -> SimResult:
+                     motion_op=None, accuracy: float | None = 0.001,
+                     times: np.ndarray | None = None) -> SimResult:
     """Simulate interpreted motion (tool tip = motion coordinates, program units).
 
     The first motion, and the first after each tool change, start above their end
@@ -322,6 +323,8 @@ def simulate_motions(motions: list[Motion], tools: dict[int, Tool], stock: Stock
     ``references`` (triangle meshes with the operations they apply to; ``motion_op``
     gives each motion's operation), or against ``design`` meshed (its ``mesh()``, else
     a height-field mesh); ``accuracy`` bounds them (None: Z-map figures only).
+    ``times``: the motions' seconds if already known (:func:`motion_times` of these
+    motions, started from above, on ``machine`` at ``corner_angle``).
     """
     machine = machine or Machine()
     motions = _lift_start(list(motions), stock)
@@ -329,7 +332,8 @@ def simulate_motions(motions: list[Motion], tools: dict[int, Tool], stock: Stock
     lines = [m.line for m in motions]
     flags, nseg = sweep_motions(zmap, motions, tools, chord_tol or resolution / 20.0,
                                 progress=progress, lines=lines)
-    times = motion_times(motions, machine, corner_angle=corner_angle)
+    if times is None or len(times) != len(motions):
+        times = motion_times(motions, machine, corner_angle=corner_angle)
     res = _finish(zmap, design, motions, flags, times, resolution, lines, nseg)
     res.rapid_hit, res.holder_hit = flags
     return _exact(res, motions, tools, stock, design, references, motion_op, accuracy)

@@ -26,8 +26,9 @@ under the cutter are scanned highest bound first, and no further once a cell's b
 (its top lowered by the profile at its distance) cannot beat the best contact;
 bounding-box rejection, then the drop onto the triangle's whole plane (an upper bound
 for the triangle), before any exact test; a triangle listed in several cells is tested
-once per query; each query starts from the previous point's contact (a mesh point under
-the cutter bounds the drop from below), so points in pass order test few triangles;
+once per query; each query starts from the previous point's contact and from the mesh
+point under its axis (a mesh point under the cutter bounds the drop from below), so
+points in pass order test few triangles;
 ``numba`` ``prange`` over chunks of points.
 
 Points where the cutter touches no triangle get ``-inf`` (or ``z_floor``).
@@ -250,6 +251,27 @@ def _drop_one(x, y, R, rc, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts, 
             ccx = wx
             ccy = wy
             ccz = wz
+    # the mesh point straight under the axis (the highest triangle there) bounds the
+    # drop from below too: the tip is the tool's lowest point
+    icx = int(math.floor((x - x0) / cell))
+    icy = int(math.floor((y - y0) / cell))
+    if icx >= 0 and icy >= 0 and icx < nx and icy < ny:
+        c = icy * nx + icx
+        for k in range(starts[c], starts[c + 1]):
+            t = items[k]
+            if ztop[t] <= best:
+                break
+            if box[t, 0] > x or box[t, 1] < x or box[t, 2] > y or box[t, 3] < y:
+                continue
+            nzz = plane[t, 2]
+            if nzz <= 1e-12 or not _inside_xy(tri, t, x, y, 0.0):
+                continue
+            zt = (plane[t, 3] - plane[t, 0] * x - plane[t, 1] * y) / nzz
+            if zt > best:
+                best = zt
+                ccx = x
+                ccy = y
+                ccz = zt
     ix0 = max(0, int(math.floor((x - R - x0) / cell)))
     ix1 = min(nx - 1, int(math.floor((x + R - x0) / cell)))
     iy0 = max(0, int(math.floor((y - R - y0) / cell)))

@@ -467,9 +467,12 @@ def _refine_many(sampler: Sampler, Ps: list[np.ndarray], tol_g: float, tol_m: fl
         zt, _ = sampler.z_safe(Q[:, 0], Q[:, 1])
         dev = zt - Q[:, 2]
         over = np.maximum(dev - lim_g, -dev - tol_m)             # > 0: outside
-        # the worst check point of each chord
-        order = np.lexsort((-over, row))
-        worst = order[np.searchsorted(row[order], np.arange(len(idx)))]
+        # the worst check point of each chord (its first, on a tie; NaN counts least)
+        first = np.cumsum(n) - n
+        top = np.fmax.reduceat(over, first)
+        pos = np.where(over == top[row], np.arange(len(over)), len(over))
+        worst = np.minimum.reduceat(pos, first)
+        worst = np.where(worst < len(over), worst, first)
         seg = np.hypot(B[:, 0] - A[:, 0], B[:, 1] - A[:, 1])
         bad = (over[worst] > 0) & (seg > min_len)
         todo[idx[~bad]] = False
