@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from millpath.geometry.rows import unique_rows
 from millpath.model.tool import Tool
 from millpath.plan.surface.cutter import Cutter
 from millpath.plan.surface.dropcutter import MeshIndex
@@ -74,7 +75,7 @@ def mesh_concave_radius(mesh, region=None, percentile: float = 100.0) -> float:
     sharpest edges (mesh noise). ``inf`` if no edge is concave."""
     t = mesh.triangles
     n = len(t)
-    V, inv = np.unique(np.round(t.reshape(-1, 3), 9), axis=0, return_inverse=True)
+    V, inv, _ = unique_rows(np.round(t.reshape(-1, 3), 9))
     F = inv.reshape(n, 3)
     fn = np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])      # length = 2 * area
     fn[fn[:, 2] < 0] *= -1.0
@@ -85,7 +86,7 @@ def mesh_concave_radius(mesh, region=None, percentile: float = 100.0) -> float:
     vn[ln > 0] /= ln[ln > 0, None]
     e = np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]])
     e.sort(axis=1)
-    e, uses = np.unique(e, axis=0, return_counts=True)
+    e, _, uses = unique_rows(e)
     # normals at the mesh's boundary are one-sided: leave its edges out
     rim = np.zeros(len(V), bool)
     rim[e[uses == 1].ravel()] = True

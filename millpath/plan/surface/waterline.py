@@ -44,6 +44,7 @@ from typing import Callable
 import numpy as np
 
 from millpath.errors import PlanningError
+from millpath.geometry.rows import unique_rows
 from millpath.plan.surface.dropcutter import drop
 from millpath.plan.surface.sampler import Sampler
 from millpath.plan.surface.steps import flat_side_step, side_step
@@ -107,8 +108,8 @@ def boundary_segments(sampler: Sampler) -> np.ndarray:
     first = (a[:, 0] < b[:, 0]) | ((a[:, 0] == b[:, 0]) & ((a[:, 1] < b[:, 1])
                                     | ((a[:, 1] == b[:, 1]) & (a[:, 2] <= b[:, 2]))))
     k = np.where(first[:, None], key, np.concatenate([b, a], axis=1))
-    _, inv, cnt = np.unique(k, axis=0, return_inverse=True, return_counts=True)
-    once = cnt[inv.ravel()] == 1
+    _, inv, cnt = unique_rows(k)
+    once = cnt[inv] == 1
     return e[once][:, :, :2]
 
 
