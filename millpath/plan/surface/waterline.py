@@ -3,9 +3,10 @@
 At a level ``z`` the tool tip runs along the curve where the drop-cutter tip Z equals
 ``z`` (the CL surface's iso-contour). The contours come from a raster of drop-cutter
 Z over the region (one batched :func:`.dropcutter.drop`, spacing ``spacing``), traced by
-marching squares (``contourpy``); every vertex is then moved onto the exact level by
-bisection along the raster gradient with the drop-cutter, keeping the bracket end on
-the low side, so the tip at ``z`` is never below the drop-cutter Z there. Segments are
+marching squares (``contourpy``); every vertex is then moved onto the exact level
+along the raster gradient with the drop-cutter (a bracket narrowed by secant guesses
+and halvings to ``width``), keeping the bracket end on the low side, so the tip at ``z``
+is never below the drop-cutter Z there. Segments are
 verified at their midpoints with the drop-cutter (split where the CL surface rises
 above the chord by more than ``tolerance``, measured vertically, or falls away from it
 by more than ``material_tolerance``, measured along the surface normal), collinear

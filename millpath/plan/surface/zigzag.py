@@ -5,10 +5,11 @@ Passes run along ``u`` (at ``angle`` from +X, see :mod:`.sampler`) and step acro
 
 - is sampled by constant CL arc length (denser where steep), the step from the chord
   tolerance and the local curvature along the pass (:func:`.steps.feed_step`);
-- is verified at the midpoint of every segment: the drop-cutter Z there may exceed the
-  chord by at most ``tolerance`` (the gouge side) and fall below it by at most
-  ``material_tolerance`` (the material side); failing segments are split, collinear
-  points merged, and the result verified again;
+- is verified at evenly spaced points of every segment (three, or more for a ball so
+  that they are at most ``sqrt(0.4 r tolerance)`` apart, see :func:`_refine_many`): the
+  drop-cutter Z there may exceed the chord by at most ``tolerance`` (the gouge side)
+  and fall below it by at most ``material_tolerance`` (the material side); failing
+  segments are split, collinear points merged, and the merged chords verified again;
 - never lets the shank or the holder touch the surface (points are lifted, counted).
 
 Side step, ``side_step = "published"``: every pass is a straight line; the step to the
