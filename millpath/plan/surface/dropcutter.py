@@ -253,25 +253,13 @@ def _drop_one(x, y, R, rc, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts, 
             ccz = wz
     # the mesh point straight under the axis (the highest triangle there) bounds the
     # drop from below too: the tip is the tool's lowest point
-    icx = int(math.floor((x - x0) / cell))
-    icy = int(math.floor((y - y0) / cell))
-    if icx >= 0 and icy >= 0 and icx < nx and icy < ny:
-        c = icy * nx + icx
-        for k in range(starts[c], starts[c + 1]):
-            t = items[k]
-            if ztop[t] <= best:
-                break
-            if box[t, 0] > x or box[t, 1] < x or box[t, 2] > y or box[t, 3] < y:
-                continue
-            nzz = plane[t, 2]
-            if nzz <= 1e-12 or not _inside_xy(tri, t, x, y, 0.0):
-                continue
-            zt = (plane[t, 3] - plane[t, 0] * x - plane[t, 1] * y) / nzz
-            if zt > best:
-                best = zt
-                ccx = x
-                ccy = y
-                ccz = zt
+    zt = _highest_under(x, y, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts, items,
+                        best, 0.0, False)
+    if zt > best:
+        best = zt
+        ccx = x
+        ccy = y
+        ccz = zt
     ix0 = max(0, int(math.floor((x - R - x0) / cell)))
     ix1 = min(nx - 1, int(math.floor((x + R - x0) / cell)))
     iy0 = max(0, int(math.floor((y - R - y0) / cell)))
@@ -524,11 +512,15 @@ def drop_z(index: MeshIndex, cutter: Cutter, x, y, z_floor: float = -np.inf) -> 
     return drop(index, cutter, xy, z_floor).z.reshape(x.shape)
 
 
-@njit(cache=True)
-def _height_one(x, y, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts, items):
+@njit(cache=True, inline="always")
+def _highest_under(x, y, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts, items, best,
+                   rel_eps, walls):
+    """The highest mesh Z straight above or below (x, y) if higher than ``best``, else
+    ``best``. ``rel_eps``: the in-triangle slack (of its doubled area); ``walls``: a
+    vertical triangle through (x, y) counts at its top (a height field's wall), else
+    not at all."""
     ix = int(math.floor((x - x0) / cell))
     iy = int(math.floor((y - y0) / cell))
-    best = -np.inf
     if ix < 0 or iy < 0 or ix >= nx or iy >= ny:
         return best
     c = iy * nx + ix
@@ -539,7 +531,7 @@ def _height_one(x, y, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts, items
         if box[t, 0] > x or box[t, 1] < x or box[t, 2] > y or box[t, 3] < y:
             continue
         nzz = plane[t, 2]
-        if not _inside_xy(tri, t, x, y, 1e-9):
+        if not (walls or nzz > 1e-12) or not _inside_xy(tri, t, x, y, rel_eps):
             continue
         if nzz > 1e-12:
             z = (plane[t, 3] - plane[t, 0] * x - plane[t, 1] * y) / nzz
@@ -548,6 +540,12 @@ def _height_one(x, y, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts, items
         if z > best:
             best = z
     return best
+
+
+@njit(cache=True)
+def _height_one(x, y, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts, items):
+    return _highest_under(x, y, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts, items,
+                          -np.inf, 1e-9, True)
 
 
 @njit(parallel=True, cache=True)
