@@ -170,20 +170,23 @@ def default_resolution(job: Job, stock: Stock, tp: Toolpath) -> float:
 
 
 def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False,
-            force: bool = False) -> RunResult:
+            force: bool = False, pictures: bool | None = None) -> RunResult:
     """Run the job file at ``job_path``, writing program.ngc, tools.tbl, report.json,
     preview.png, stock.png, deviation.png and view.html into ``outdir``.
 
     When the simulation finds a problem (see :mod:`millpath.verify.gate`) the report,
     pictures and viewer are written without the program and UnsafeProgramError is
     raised; with ``force`` the program is written as ``program.unsafe.ngc`` headed by
-    the list of problems. ``progress``: bars on stderr for every stage."""
+    the list of problems. ``progress``: bars on stderr for every stage. ``pictures``:
+    draw the three PNGs (None: as the job's ``[simulation] pictures`` says, default
+    true)."""
     prog = Progress(progress)
     with prog.session():
-        return _run(job_path, outdir, prog, force)
+        return _run(job_path, outdir, prog, force, pictures)
 
 
-def _run(job_path: str | Path, outdir: str | Path, prog: Progress, force: bool) -> RunResult:
+def _run(job_path: str | Path, outdir: str | Path, prog: Progress, force: bool,
+         pictures: bool | None = None) -> RunResult:
     t0 = time.perf_counter()
     with prog.task("reading the job", total=1) as bar:
         job = load_job(job_path)
@@ -275,16 +278,18 @@ def _run(job_path: str | Path, outdir: str | Path, prog: Progress, force: bool) 
     report.safety = {"status": "ok" if not problems else ("forced" if force else "refused"),
                      "problems": [p.to_json() for p in problems]}
 
-    from millpath.report.preview import render_preview
+    draw = bool(job.simulation.get("pictures", True)) if pictures is None else pictures
     out = Path(outdir)
     files = []
     with staged_dir(out) as tmp, prog.task("rendering pictures and viewer", total=4) as bar:
         if force or not problems:
             (tmp / program_name).write_text(program)
             (tmp / "tools.tbl").write_text(table)
-        render_preview(tp, tmp / "preview.png", title=job.name, stock=stock)
+        if draw:
+            from millpath.report.preview import render_preview
+            render_preview(tp, tmp / "preview.png", title=job.name, stock=stock)
         bar.advance()
-        if sim is not None:
+        if draw and sim is not None:
             from millpath.simulate import render_deviation, render_stock
             render_stock(sim.zmap, tmp / "stock.png", units=job.units)
             if design is not None:

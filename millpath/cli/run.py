@@ -55,7 +55,10 @@ def print_verification(console: Console, report: dict) -> None:
 @click.option("--quiet", is_flag=True, help="Print nothing but errors.")
 @click.option("--force", is_flag=True, help="Write a program the simulation found unsafe, "
               "as program.unsafe.ngc headed by the list of problems.")
-def command(job: Path, outdir: Path | None, quiet: bool, force: bool) -> None:
+@click.option("--no-pictures", "no_pictures", is_flag=True,
+              help="Draw no PNG pictures (the job's [simulation] pictures = false).")
+def command(job: Path, outdir: Path | None, quiet: bool, force: bool,
+            no_pictures: bool) -> None:
     """Run JOB (TOML): writes program.ngc, tools.tbl, report.json and pictures into DIR."""
     from millpath.io.atomic import output_lock
     from millpath.pipeline import run_job
@@ -64,7 +67,8 @@ def command(job: Path, outdir: Path | None, quiet: bool, force: bool) -> None:
     console = Console(quiet=quiet, highlight=False)
     try:
         with output_lock(out):
-            res = run_job(job, out, progress=not quiet, force=force)
+            res = run_job(job, out, progress=not quiet, force=force,
+                          pictures=False if no_pictures else None)
     except UnsafeProgramError as e:
         print_verification(console, e.report)
         raise

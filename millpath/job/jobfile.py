@@ -105,6 +105,9 @@ SIMULATION = {
     "exact": Param("bool", True, doc="measure gouge and material left grid-free, normal to "
                                      "the design, and prove the program with those figures "
                                      "(false: the Z-map's, bounded by its cell size)"),
+    "pictures": Param("bool", True, doc="draw preview.png, stock.png and deviation.png "
+                                        "(false: the program, report and view.html only, "
+                                        "without matplotlib's start-up and drawing)"),
 }
 
 
