@@ -10,6 +10,7 @@ goes to a folder in the bench's temporary directory, filled by the warm run);
 ``--no-bytecode`` times them recompiling millpath's modules on every start instead.
 
     python bench/run_speed.py [--repeat 3] [--only NAME ...] [--no-warm] [--no-bytecode]
+                              [--no-pictures]
 """
 
 from __future__ import annotations
@@ -63,6 +64,8 @@ def main() -> None:
     ap.add_argument("--no-warm", action="store_true")
     ap.add_argument("--no-bytecode", action="store_true",
                     help="children do not keep byte code (PYTHONDONTWRITEBYTECODE=1)")
+    ap.add_argument("--no-pictures", action="store_true",
+                    help="also time each run with --no-pictures (no PNGs drawn)")
     ns = ap.parse_args()
     exe = [sys.executable, "-m", "millpath.cli.main"]
     print(f"load average at start: {' '.join(f'{v:.2f}' for v in os.getloadavg())} "
@@ -91,6 +94,8 @@ def main() -> None:
             if not ns.no_warm:
                 measure(cmd, work)
             timed(f"run {name}", cmd, work, ns.repeat)
+            if ns.no_pictures:
+                timed(f"run {name} --no-pictures", cmd + ["--no-pictures"], work, ns.repeat)
     print(f"load average at end: {' '.join(f'{v:.2f}' for v in os.getloadavg())}")
 
 
