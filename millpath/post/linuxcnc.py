@@ -120,7 +120,6 @@ class _Writer:
         self.f = _Fmt(tp.units)
         self.lines: list[str] = []
         self.pos: list[float | None] = [None, None, None]   # last written position
-        self._written: list[float | None] = [None, None, None]   # by the last _axes
         self.motion: str | None = None
         self.feed: float | None = None
         self._feed_in = math.nan       # the planned feed that ``self.feed`` was written for
@@ -161,9 +160,9 @@ class _Writer:
             self.emit(_PLANE_CODE[plane])
             self.plane = plane
 
-    def _axes(self, end, force: bool = False) -> str:
+    def _axes(self, end, force: bool = False) -> tuple[str, list[float]]:
         """The axis words of a move to ``end`` (those that change, or all with
-        ``force``); the written position is kept for :meth:`_moved_written`."""
+        ``force``) and the position as written."""
         words = []
         written = []
         pos = self.pos
@@ -174,12 +173,7 @@ class _Writer:
             written.append(v)
             if force or pos[i] is None or v != pos[i]:
                 words.append(a + t)
-        self._written = written
-        return " ".join(words)
-
-    def _moved_written(self) -> None:
-        """The position is the end written by the last :meth:`_axes`."""
-        self.pos = self._written
+        return " ".join(words), written
 
     def _moved(self, end) -> None:
         self.pos = [self.f.r(v) for v in end]
@@ -267,20 +261,20 @@ class _Writer:
         if k != "drill":
             self._end_cycle()
         if k == "rapid":
-            ax = self._axes(m.end)
+            ax, written = self._axes(m.end)
             if ax:
                 self.emit(("G0 " if self.motion != "G0" else "") + ax)
                 self.motion = "G0"
-            self._moved_written()
+            self.pos = written
         elif k == "line":
-            ax = self._axes(m.end)
+            ax, written = self._axes(m.end)
             fw = self._feed_word(m.feed)
             if ax:
                 self.emit(("G1 " if self.motion != "G1" else "") + ax + fw)
                 self.motion = "G1"
             elif fw:
                 self.emit(fw.strip())
-            self._moved_written()
+            self.pos = written
         elif k == "arc":
             self.arc(m)
         elif k == "cubic":

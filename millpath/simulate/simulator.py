@@ -332,7 +332,7 @@ def simulate_motions(motions: list[Motion], tools: dict[int, Tool], stock: Stock
     lines = [m.line for m in motions]
     flags, nseg = sweep_motions(zmap, motions, tools, chord_tol or resolution / 20.0,
                                 progress=progress, lines=lines)
-    if times is None or len(times) != len(motions):
+    if times is None:
         times = motion_times(motions, machine, corner_angle=corner_angle)
     res = _finish(zmap, design, motions, flags, times, resolution, lines, nseg)
     res.rapid_hit, res.holder_hit = flags

@@ -5,12 +5,12 @@ At a level ``z`` the tool tip runs along the curve where the drop-cutter tip Z e
 Z over the region (one batched :func:`.dropcutter.drop`, spacing ``spacing``), traced by
 marching squares (``contourpy``); every vertex is then moved onto the exact level
 along the raster gradient with the drop-cutter (a bracket narrowed by secant guesses
-and halvings to ``width``), keeping the bracket end on the low side, so the tip at ``z``
-is never below the drop-cutter Z there. Segments are
-verified at their midpoints with the drop-cutter (split where the CL surface rises
-above the chord by more than ``tolerance``, measured vertically, or falls away from it
-by more than ``material_tolerance``, measured along the surface normal), collinear
-points merged, and verified again. Job units throughout; angles in degrees.
+and halvings to ``width``), keeping the bracket end on the low side, so the tip at
+``z`` is never below the drop-cutter Z there. Segments are verified at their midpoints
+with the drop-cutter (split where the CL surface rises above the chord by more than
+``tolerance``, measured vertically, or falls away from it by more than
+``material_tolerance``, measured along the surface normal), collinear points merged,
+and verified again. Job units throughout; angles in degrees.
 
 Levels go down from the top of the CL surface. The step between two levels is set so
 that the scallop, **measured along the surface normal**, stays under ``scallop`` on
@@ -242,8 +242,8 @@ class _Level:
 
     def onto(self, xy: np.ndarray, z: float, d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Move points onto the level ``z`` along the unit directions ``d`` (uphill), to
-        within ``width`` of where the tip crosses it; returns the low-side points (tip Z at or below ``z``) and a mask of
-        points that could be bracketed."""
+        within ``width`` of where the tip crosses it; returns the low-side points (tip Z
+        at or below ``z``) and a mask of points that could be bracketed."""
         h = self.R.spacing
         lo = xy - h * d
         hi = xy + h * d

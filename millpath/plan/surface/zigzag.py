@@ -36,7 +36,6 @@ import numpy as np
 
 from millpath.errors import PlanningError
 from millpath.plan.surface.polyline import chord_offsets, collinear_keep
-from millpath.plan.surface.refine import refine_worst
 from millpath.plan.surface.sampler import Sampler
 from millpath.plan.surface.steps import curvature_radius, feed_step, flat_side_step, side_step
 
@@ -410,23 +409,14 @@ def _look_ahead(sampler: Sampler, u, W, dW, wmax, r: float, target: float,
     return dW
 
 
-def refine_chords(sampler: Sampler, P: np.ndarray, tol_g: float, tol_m: float,
-            min_len: float, checks: int = 3) -> np.ndarray:
-    """Split segments of ``P`` (rows u, w, z) that deviate beyond tolerance at any of
-    ``checks`` evenly spaced interior points (the midpoint alone misses a bump of the
-    CL surface narrower than half a segment); the worst point is inserted."""
-    def judge(Q, zt):
-        dev = zt - Q[..., 2]
-        return np.maximum(dev - tol_g, -dev - tol_m), zt                # > 0: outside
-
-    return refine_worst(sampler, P, judge, 0.0, min_len, checks)
-
-
 def refine_chords_many(sampler: Sampler, Ps: list[np.ndarray], tol_g: float, tol_m: float,
                        min_len: float, checks: int = 3) -> list[np.ndarray]:
-    """:func:`refine_chords` of every polyline in ``Ps`` at once: one drop-cutter batch
-    per round for all of them (numba's parallel loop), and a segment found within
-    tolerance is not checked again (its ends do not change)."""
+    """Split the segments of every polyline in ``Ps`` (rows u, w, z) that deviate beyond
+    tolerance at any of ``checks`` evenly spaced interior points (the midpoint alone
+    misses a bump of the CL surface narrower than half a segment), inserting the worst
+    point, until none does: one drop-cutter batch per round for all of them (numba's
+    parallel loop), and a segment found within tolerance is not checked again (its ends
+    do not change)."""
     return _refine_many(sampler, Ps, tol_g, tol_m, min_len, checks)[0]
 
 
@@ -575,14 +565,14 @@ def sample_pass(sampler: Sampler, u: np.ndarray, W: np.ndarray, s: ZigzagSetting
     from the chord tolerance and the curvature along the pass (:func:`.steps.feed_step`),
     the stations kept too (``w(u)`` is piecewise linear between them, and a chord across
     a kink would leave the next pass's scallop wider than planned; collinear ones are
-    merged), every chord verified (:func:`refine_chords`)."""
+    merged), every chord verified (:func:`refine_chords_many`)."""
     return sample_passes(sampler, [(u, W)], s, r)[0]
 
 
 def beside_part(sampler: Sampler, P: np.ndarray, touch: np.ndarray | None = None
                 ) -> list[np.ndarray]:
     """The runs of ``P`` (rows u, w, z) where the cutter touches the part (at least two
-    points each). The chord verification (:func:`refine_chords`) has already put points
+    points each). The chord verification (:func:`refine_chords_many`) has already put points
     down the cliff where the drop-cutter falls to ``z_floor`` beside the part, so a run
     ends within the minimum segment length of the tool's last contact."""
     if touch is None:
