@@ -4,6 +4,10 @@ Nesting is by containment: a loop inside an even number of others is an outer
 boundary, inside an odd number an island of the smallest loop around it (a boundary
 inside an island starts a new region). Loops that cross themselves or each other are
 GeometryErrors naming their entities (or keys) and the place.
+
+:func:`shift_region` moves a region's contours sideways by a small distance (mitred
+corners): flattened contours within ``s`` of the drawn curves, moved by ``s`` toward one
+side, lie wholly on that side of the drawing (see its docstring).
 """
 
 from __future__ import annotations
@@ -116,3 +120,23 @@ def region_from_polygon(polygon, islands, file=None, key: str = "polygon",
         isl.append(poly)
     poly = orient(Polygon(outer.exterior.coords, [i.exterior.coords for i in isl]), 1.0)
     return Region(poly, key, [f"{islands_key}[{k}]" for k in range(len(isl))])
+
+
+def shift_region(region: Region, distance: float) -> Region:
+    """``region`` with every contour moved sideways by ``distance`` (job units): positive
+    grows the region (outline outward, islands shrink), negative shrinks it; corners
+    mitred (a mitred offset contains the round one, so nothing of it comes nearer the
+    old contour than ``|distance|``).
+
+    Use: contours whose vertices lie on the drawn curves with chords within ``s`` of
+    them (so every point between a chord and its curve is within ``s`` of the chord)
+    and moved by ``s`` lie wholly on the side they were moved to: shrunk by ``s`` the
+    region is inside the drawn one, grown by ``s`` it contains it; each wall is then
+    within ``2 s`` of the drawn one. A move that would split the region or close it up
+    (a neck or a gap narrower than ``2 |distance|``) leaves it unchanged."""
+    if distance == 0:
+        return region
+    moved = region.polygon.buffer(distance, join_style="mitre", mitre_limit=5.0)
+    if not isinstance(moved, Polygon) or moved.is_empty or not moved.is_valid:
+        return region
+    return Region(orient(moved, 1.0), region.name, list(region.island_names))
