@@ -229,7 +229,10 @@ def _run(job_path: str | Path, outdir: str | Path, prog: Progress, force: bool,
                        reference=job.reference or None)
     from millpath.simulate import motion_times
     from millpath.simulate.approach import approach_from_above
-    motions = approach_from_above(motions, stock.zmax)
+    from millpath.simulate.tip import tip_motions
+    # the proof follows the tool tip as the machine moves it: tool lengths, frames
+    # (G92, G52, G10 L2 in a preamble), units switches
+    motions = approach_from_above(tip_motions(motions, job.units), stock.zmax)
     times = motion_times(motions, job.machine)
     op_secs = _seconds_per_operation(tp, move_lines, motions, times)
     sim = None

@@ -217,7 +217,7 @@ class SimulatedProgram:
     """A program interpreted and simulated on its stock (program units)."""
 
     units: str
-    motions: list            # interpreted motion, as LinuxCNC runs it
+    motions: list            # tool tips in the program's frame, as LinuxCNC moves them
     tools: dict              # tool shapes by number
     stock: object            # millpath.model.stock.Stock
     design: object | None
@@ -265,7 +265,8 @@ def simulate_program(program: Path, tools_path: Path | None, stock_text: str,
             res = interpret_program(program, tool_arg, "inch", spindle_tool)
     design, refs = (read_design(design_path, units, stock) if design_path is not None
                     else (None, None))
-    motions = list(res.motions)
+    from millpath.simulate.tip import tip_motions
+    motions = tip_motions(res.motions, units)     # tool tips, as the machine moves them
     used = sorted({m.tool for m in motions if m.kind != "dwell" and m.tool != 0})
     for t in used:
         if t not in tools:

@@ -330,8 +330,10 @@ class Machine(MachineState):
     def tool_length_offset(self, code: int, w: dict) -> None:
         if self.comp.side:
             raise GCodeError("Cannot change tool offset with cutter radius compensation on")
+        k_mm = MM_PER_INCH if self.units == "inch" else 1.0
         if code == 490:
             new = [0.0, 0.0, 0.0]
+            new_mm = (0.0, 0.0, 0.0)
         elif code == 430:
             if "h" in w:
                 h = int(w["h"])
@@ -341,11 +343,15 @@ class Machine(MachineState):
             else:
                 d = self.tool_data(0)
             new = [self.user_to_prog(d[1]), self.user_to_prog(d[2]), self.user_to_prog(d[3])]
+            new_mm = (new[0] * k_mm, new[1] * k_mm, new[2] * k_mm)
         elif code == 431:
             new = list(self.tlo)
+            mm = list(self.tlo_mm)
             for k, a in enumerate("xyz"):
                 if a in w:
                     new[k] = w[a]
+                    mm[k] = w[a] * k_mm
+            new_mm = (mm[0], mm[1], mm[2])
         else:                                      # G43.2
             if "h" not in w:
                 raise GCodeError("G43.2: No axes specified and H word missing")
@@ -355,6 +361,9 @@ class Machine(MachineState):
             d = self.tool_data(h)
             new = [self.tlo[0] + self.user_to_prog(d[1]), self.tlo[1] + self.user_to_prog(d[2]),
                    self.tlo[2] + self.user_to_prog(d[3])]
+            t = self.tlo_mm
+            new_mm = (t[0] + self.user_to_prog(d[1]) * k_mm, t[1] + self.user_to_prog(d[2]) * k_mm,
+                      t[2] + self.user_to_prog(d[3]) * k_mm)
         if self._moved_since(self.tlo_mark):
             self.tlo_effect = [0.0, 0.0, 0.0]
         self.tlo_mark = len(self.store)
@@ -364,6 +373,7 @@ class Machine(MachineState):
             self.cur[k] += d[k]
             self.tlo_effect[k] += d[k]
         self.tlo = new
+        self.tlo_mm = new_mm
         self.sync_out()
         self.touch_state()
 

@@ -11,6 +11,7 @@ parameters are machine units (``user_to_prog`` / ``prog_to_user`` convert).
 from __future__ import annotations
 
 from millpath.interpret.store import KIND_CODE, PACK, MotionList, PLANE_CODE
+from millpath.model.motion import Frame
 
 PLANE_AXES = {"XY": (0, 1, 2), "XZ": (2, 0, 1), "YZ": (1, 2, 0)}
 T_DWELL = KIND_CODE["dwell"]
@@ -24,6 +25,7 @@ class MachineState:
         if machine_units not in ("inch", "mm"):
             raise ValueError("machine_units must be 'inch' or 'mm'")
         self.tools = tools
+        self.table = dict(tools)                # the tool table as written: real tools
         self.machine_units = machine_units
         self.units = "mm"                       # rs274 starts in mm
         self.plane = "XY"
@@ -42,6 +44,7 @@ class MachineState:
         self.rotation = 0.0                     # XY rotation of the work system, degrees
         self.axis_offset = [0.0, 0.0, 0.0]      # G92/G52 offset, program units
         self.tlo = [0.0, 0.0, 0.0]              # tool length offset, program units
+        self.tlo_mm = (0.0, 0.0, 0.0)           # the same as the machine applies it, mm
         self.params = [0.0] * 5602
         self.params[5220] = 1.0
         self.named: dict[str, float] = {}
@@ -80,10 +83,17 @@ class MachineState:
         spindle, feed mode) the next motion is recorded with."""
         return self._state_idx
 
+    def frame(self) -> Frame:
+        """Where program coordinates are on the machine now (see :class:`Frame`)."""
+        row = self.table.get(self.spindle_tool, (0.0, 0.0, 0.0, 0.0))
+        k = MM_PER_INCH if self.machine_units == "inch" else 1.0
+        return Frame(self.units, tuple(self.origin), tuple(self.axis_offset), self.rotation,
+                     self.tlo_mm, (row[1] * k, row[2] * k, row[3] * k))
+
     def touch_state(self) -> None:
         key = ((self.tlo[0], self.tlo[1], self.tlo[2]), self.spindle_tool,
                self.speed * self.spindle_dir,
-               "inverse_time" if self.feed_mode == 1 else "units_per_minute")
+               "inverse_time" if self.feed_mode == 1 else "units_per_minute", self.frame())
         if key != self._state_key:
             self._state_key = key
             self.store.states.append(key)
@@ -111,3 +121,4 @@ class MachineState:
     def sync_out(self) -> None:
         """The current point moved without motion (offsets changed)."""
         self.out = list(self.cur)
+        self.touch_state()

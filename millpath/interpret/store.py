@@ -41,7 +41,7 @@ class MotionList(Sequence):
 
     def __init__(self, sink=None) -> None:
         self.buf = bytearray()
-        self.states: list[tuple] = []      # (tool_offset, tool, spindle, feed_mode)
+        self.states: list[tuple] = []      # (tool_offset, tool, spindle, feed_mode, frame)
         self.controls: dict[int, tuple] = {}
         self.sink = sink
         self.base = 0                      # motions handed to the sink so far
@@ -74,10 +74,10 @@ class MotionList(Sequence):
         r = RECORD.unpack_from(self.buf, (n - self.base) * RSIZE)
         f = r
         k, line, rot, plane, st = r[10:]
-        tlo, tool, spindle, fmode = self.states[st]
+        tlo, tool, spindle, fmode, frame = self.states[st]
         kind = KINDS[k]
         m = Motion(kind, line, (f[0], f[1], f[2]), (f[3], f[4], f[5]), f[6], tlo, tool,
-                   PLANES[plane], None, rot, None, 0.0, fmode, spindle)
+                   PLANES[plane], None, rot, None, 0.0, fmode, spindle, frame)
         if kind == "arc":
             m.center = (f[7], f[8], f[9])
         elif kind == "dwell":

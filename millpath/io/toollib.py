@@ -19,6 +19,7 @@ from millpath.errors import JobError
 from millpath.io.schema import Param, parse_toml, validate
 from millpath.io.text import MAX_COORDINATE
 from millpath.model.tool import TOOL_TYPES, Tool
+from millpath.model.units import length_scale
 
 TOOL = {
     "number": Param("int", positive=True, doc="tool number (T and the tool table's P)"),
@@ -82,13 +83,21 @@ def tools_from_tables(tables: Any, file: str | Path | None = None,
 
 
 def read_tool_library(path: str | Path, units: str = "mm") -> dict[int, Tool]:
-    """Read a TOML tool library file (``[[tools]]`` entries)."""
+    """Read a TOML tool library file (``[[tools]]`` entries), its lengths in ``units``.
+
+    A library's top-level ``units`` ("mm" | "inch", default ``units``) is the unit its
+    lengths are written in; they are converted to ``units``."""
     p = Path(path)
     data = parse_toml(p.read_text(encoding="utf-8"), p)
     for k in data:
         if k not in ("tools", "units"):
             raise JobError(f"{k}: unknown key (allowed: tools, units)", p)
-    return tools_from_tables(data.get("tools", []), p, data.get("units", units))
+    own = data.get("units", units)
+    if own not in ("mm", "inch"):
+        raise JobError(f"units: expected \"mm\" or \"inch\", not {own!r}", p)
+    tools = tools_from_tables(data.get("tools", []), p, own)
+    k = length_scale(own, units)
+    return tools if k == 1.0 else {n: t.scaled(k) for n, t in tools.items()}
 
 
 def tool_to_table(t: Tool) -> dict[str, Any]:

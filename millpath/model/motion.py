@@ -8,17 +8,49 @@ LinuxCNC's canonical calls. ``tool_offset`` is the tool length offset in force
 plane normal: +1 counter-clockwise (G3), -1 clockwise (G2), -2 for ``G2 ... P2``.
 Cubics (G5, XY only): ``controls`` = the two Bezier control points (x, y). NURBS (G5.2/G5.3,
 XY only, Z constant): ``controls`` = a :class:`millpath.model.nurbs.Nurbs`.
+
+``frame`` (:class:`Frame`, set by the interpreter) is what places the program point on
+the machine: units, work offset, G92/G52 offset, XY rotation, the tool length offset in
+force and the length of the tool really in the spindle
+(:func:`millpath.interpret.tip.tip_motions` turns motion into tool tips in the part's frame).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
+
+from millpath.model.units import length_scale
 
 if TYPE_CHECKING:
     from millpath.model.nurbs import Nurbs
 
 Vec3 = tuple[float, float, float]
+
+
+@dataclass(frozen=True, slots=True)
+class Frame:
+    """Where a motion's program coordinates are on the machine (LinuxCNC's emccanon):
+    controlled point (mm) = ``scale`` * (rotate_xy(program + ``axis_offset``,
+    ``rotation``) + ``origin``) + ``tlo_mm``; the tool tip is the controlled point minus
+    ``tool_mm``, the offsets (x, y, z) of the tool in the spindle as the tool table was
+    written (G10 L1/L10 changes to the table do not change the tool).
+
+    ``units``: program units ("mm" | "inch"); ``scale``: mm per program unit;
+    ``origin`` (G54-G59.3) and ``axis_offset`` (G92/G52) in program units; ``rotation``:
+    degrees counter-clockwise (G10 L2 R); ``tlo_mm``: tool length offset as applied
+    (G43/G43.1/G43.2), mm; ``tool_mm``: the spindle tool's table offsets, mm."""
+
+    units: str = "mm"
+    origin: Vec3 = (0.0, 0.0, 0.0)
+    axis_offset: Vec3 = (0.0, 0.0, 0.0)
+    rotation: float = 0.0
+    tlo_mm: Vec3 = (0.0, 0.0, 0.0)
+    tool_mm: Vec3 = (0.0, 0.0, 0.0)
+
+    @property
+    def scale(self) -> float:
+        return length_scale(self.units, "mm")
 
 
 @dataclass(slots=True)
@@ -37,6 +69,7 @@ class Motion:
     dwell: float = 0.0              # seconds, for kind "dwell"
     feed_mode: str = "units_per_minute"   # or "inverse_time"
     spindle: float = 0.0            # rpm (negative: M4)
+    frame: Frame | None = field(default=None, compare=False)   # None: tip = program point
 
     def to_json(self) -> dict:
         d = {"kind": self.kind, "line": self.line, "start": list(self.start),

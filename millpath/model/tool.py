@@ -11,7 +11,7 @@ the holder face the tool is the cutter (``flute_length`` long) and then the shan
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Literal
 
 ToolType = Literal["flat", "ball", "bull", "drill"]
@@ -57,6 +57,15 @@ class Tool:
             if not (0.0 < self.corner_radius <= self.diameter / 2.0):
                 raise ValueError(f"tool {self.number}: bull corner radius must be in (0, D/2]")
         self.holder = [(float(d), float(l)) for d, l in self.holder]
+
+    def scaled(self, k: float) -> "Tool":
+        """The same tool with every length multiplied by ``k`` (a change of units)."""
+        return replace(self, diameter=self.diameter * k, corner_radius=self.corner_radius * k,
+                       flute_length=self.flute_length * k, stickout=self.stickout * k,
+                       holder=[(d * k, l * k) for d, l in self.holder],
+                       shank_diameter=(None if self.shank_diameter is None
+                                       else self.shank_diameter * k),
+                       length=None if self.length is None else self.length * k)
 
     @property
     def radius(self) -> float:

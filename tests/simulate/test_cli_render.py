@@ -14,7 +14,7 @@ from millpath.simulate import (BoxDesign, PlaneDesign, render_deviation, render_
                                simulate_toolpath)
 
 PROGRAM = """G21 G17 G90
-T1 M6
+T1 M6 G43 H1
 S10000 M3
 G0 X5.3 Y5.13 Z5
 G1 Z-2 F200
@@ -145,7 +145,7 @@ def test_renderers_write_readable_pngs(tmp_path):
 
 
 def test_inch_program_with_inch_tool_library(tmp_path):
-    (tmp_path / "p.ngc").write_text("G20 G17 G90\nT2 M6\nG0 X0.53 Y0.41 Z0.2\nG1 Z-0.1 F10\n"
+    (tmp_path / "p.ngc").write_text("G20 G17 G90\nT2 M6 G43 H2\nG0 X0.53 Y0.41 Z0.2\nG1 Z-0.1 F10\n"
                                     "G1 X2.37 F20\nG0 Z0.2\nM2\n")
     (tmp_path / "t.toml").write_text('[[tools]]\nnumber = 2\ntype = "flat"\n'
                                      'diameter = 0.25\n')

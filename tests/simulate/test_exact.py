@@ -138,7 +138,7 @@ def _comp_program(code: str, xw: float) -> str:
     else:
         a, b, c, d = (10, 30), (xw, 25), (xw, -25), (10, -30)
     return "\n".join([
-        "G21 G90 G17 G40 G49 G80", "T1 M6", f"G0 X{a[0]} Y{a[1]} Z5", "G1 Z-12 F500",
+        "G21 G90 G17 G40 G49 G80", "T1 M6 G43 H1", f"G0 X{a[0]} Y{a[1]} Z5", "G1 Z-12 F500",
         f"{code} G1 X{b[0]:.4f} Y{b[1]}", f"G1 X{c[0]:.4f} Y{c[1]}", f"G40 G1 X{d[0]} Y{d[1]}",
         "G0 Z5", "M2", ""])
 

@@ -37,8 +37,10 @@ def files(tmp_path):
     (tmp_path / "withchange.ngc").write_text("T1 M6\n" + BODY.format(feed=600))
     (tmp_path / "fast.ngc").write_text(BODY.format(feed=4500000))
     (tmp_path / "capped.ngc").write_text(BODY.format(feed=3000))
-    # T2 is tiny and never used: it must not set the resolution
-    (tmp_path / "tools.tbl").write_text("; values in mm\nT1 P1 D6 Z50\nT2 P2 D0.1 Z40\n")
+    # T2 is tiny and never used: it must not set the resolution. Lengths are 0, as on a
+    # machine whose tools are touched off into the work offset (the samples' G49 runs
+    # the tool's tip at the programmed point only then)
+    (tmp_path / "tools.tbl").write_text("; values in mm\nT1 P1 D6 Z0\nT2 P2 D0.1 Z0\n")
     return tmp_path
 
 
@@ -48,7 +50,7 @@ def _invoke(args):
 
 def test_tool_in_spindle_is_the_tool_changed_in(files):
     """--tool 1 interprets and cuts exactly as the program with T1 M6 in front."""
-    tools = [ToolEntry(1, 1, 6.0, {"Z": 50.0})]
+    tools = [ToolEntry(1, 1, 6.0, {"Z": 0.0})]
     a = list(interpret(files / "nochange.ngc", tools, machine_units="mm", spindle_tool=1))
     b = list(interpret(files / "withchange.ngc", tools, machine_units="mm"))
     assert len(a) == len(b) and all(m.tool == 1 for m in a)
