@@ -16,6 +16,7 @@ from pathlib import Path
 import click
 import numpy as np
 
+from millpath.cli.programs import MachineSetup, setup_options
 from millpath.errors import MillpathError
 from millpath.interpret import run
 from millpath.interpret.store import KINDS, MotionList
@@ -238,8 +239,10 @@ def summary(motions: MotionList, units: str, max_feed: float = math.inf) -> dict
               help="Machine's feed limit for the cycle time, program units/min (default "
                    "3000 mm/min, 120 in/min); faster feeds are capped with a warning.")
 @click.option("--json", "as_json", is_flag=True, help="Print the motion as one JSON object.")
+@setup_options
 def command(program: Path, tools: Path | None, machine_units: str | None,
-            spindle_tool: int, max_feed: float | None, as_json: bool) -> None:
+            spindle_tool: int, max_feed: float | None, as_json: bool,
+            setup: MachineSetup) -> None:
     """Interpret PROGRAM.ngc as LinuxCNC 2.9 would and summarize or dump its motion."""
     from millpath.io.tooltable import file_table_units
     if max_feed is not None and not (max_feed > 0 and math.isfinite(max_feed)):
@@ -253,7 +256,8 @@ def command(program: Path, tools: Path | None, machine_units: str | None,
     # the summary streams: memory stays bounded whatever the program's length
     try:
         result = run(program, tools, machine_units=machine_units,
-                     sink=None if acc is None else acc.add, spindle_tool=spindle_tool)
+                     sink=None if acc is None else acc.add, spindle_tool=spindle_tool,
+                     units=setup.units, params=setup.for_machine(machine_units))
     except ValueError:
         raise MillpathError(f"--tool {spindle_tool}: no such tool in the tool table "
                             "(give --tools with it)", program) from None

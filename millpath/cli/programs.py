@@ -35,6 +35,7 @@ class ProgramArgs:
     resolution: float | None
     machine_units: str | None
     spindle_tool: int
+    setup: "MachineSetup | None" = None
 
     def simulate(self, *, progress: bool = False,
                  max_feed: float | None = None) -> "SimulatedProgram":
@@ -42,7 +43,57 @@ class ProgramArgs:
         return simulate_program(self.program, self.tools, self.stock, self.design,
                                 self.resolution, progress=progress,
                                 machine_units=self.machine_units,
-                                spindle_tool=self.spindle_tool, max_feed=max_feed)
+                                spindle_tool=self.spindle_tool, max_feed=max_feed,
+                                setup=self.setup)
+
+
+@dataclass
+class MachineSetup:
+    """The control as the program finds it: ``units`` it starts in (None: mm, as
+    rs274), ``params`` its stored parameters (work offsets, G92) in ``params_units``."""
+
+    units: str | None = None
+    params: dict[int, float] | None = None
+    params_units: str | None = None
+
+    def for_machine(self, machine_units: str) -> dict[int, float] | None:
+        """The parameters in the interpreter's machine units."""
+        if not self.params:
+            return None
+        from millpath.io.varfile import convert_params
+        return convert_params(self.params,
+                              length_scale(self.params_units or machine_units, machine_units))
+
+
+def setup_options(func):
+    """``--units``, ``--work-offset`` and ``--var``: the machine as the program finds it,
+    handed to the command as ``setup`` (a :class:`MachineSetup`)."""
+    options = [
+        click.option("--units", "start_units", type=click.Choice(["inch", "mm"]), default=None,
+                     help="Units the control starts in (a program without G20/G21 is read "
+                          "in them; default mm, as rs274)."),
+        click.option("--work-offset", "work_offset", default=None,
+                     help="G54's offsets X,Y,Z in the machine units (where the part's zero "
+                          "is in machine coordinates: G53 moves are placed from it)."),
+        click.option("--var", "var_file", type=click.Path(path_type=Path), default=None,
+                     help="LinuxCNC parameter file (.var): work offsets G54-G59.3, the work "
+                          "system in force, G92, G28/G30, in the machine units."),
+    ]
+
+    @functools.wraps(func)
+    def command(*args, start_units: str | None, work_offset: str | None,
+                var_file: Path | None, **kw):
+        from millpath.io.varfile import read_var, work_offset_params
+        params: dict[int, float] = {}
+        if var_file is not None:
+            params.update(read_var(var_file))
+        if work_offset is not None:
+            params.update(work_offset_params(work_offset))
+        return func(*args, setup=MachineSetup(start_units, params or None,
+                                              kw.get("machine_units")), **kw)
+    for option in reversed(options):
+        command = option(command)
+    return command
 
 
 def program_options(design_use: str):
@@ -76,9 +127,11 @@ def program_options(design_use: str):
         @functools.wraps(func)
         def command(program: Path, tools_path: Path | None, stock_text: str,
                     design_path: Path | None, resolution: float | None,
-                    machine_units: str | None, spindle_tool: int, **others):
+                    machine_units: str | None, spindle_tool: int, setup: MachineSetup,
+                    **others):
             return func(ProgramArgs(program, tools_path, stock_text, design_path, resolution,
-                                    machine_units, spindle_tool), **others)
+                                    machine_units, spindle_tool, setup), **others)
+        command = setup_options(command)
         for option in reversed(options):
             command = option(command)
         return command
@@ -126,13 +179,16 @@ def read_tools(path: Path | None, units: str, table_k: float = 1.0):
     return tools, path
 
 
-def interpret_program(program: Path, tool_arg, units: str, spindle_tool: int = 0):
+def interpret_program(program: Path, tool_arg, units: str, spindle_tool: int = 0,
+                      setup: MachineSetup | None = None):
     """Interpret ``program`` with machine units ``units`` (``spindle_tool`` already in the
-    spindle); an error raises :class:`millpath.interpret.InterpreterError` naming the
-    line."""
+    spindle; ``setup``: the control's starting units and stored parameters); an error
+    raises :class:`millpath.interpret.InterpreterError` naming the line."""
     from millpath.interpret import InterpreterError, run
+    setup = setup or MachineSetup()
     try:
-        res = run(program, tool_arg, machine_units=units, spindle_tool=spindle_tool)
+        res = run(program, tool_arg, machine_units=units, spindle_tool=spindle_tool,
+                  units=setup.units, params=setup.for_machine(units))
     except ValueError:
         raise MillpathError(f"--tool {spindle_tool}: no such tool in the tool table "
                             "(give --tools with it)", program) from None
@@ -229,7 +285,8 @@ def simulate_program(program: Path, tools_path: Path | None, stock_text: str,
                      design_path: Path | None, resolution: float | None, *,
                      progress: bool = False,
                      machine_units: str | None = None, spindle_tool: int = 0,
-                     max_feed: float | None = None) -> SimulatedProgram:
+                     max_feed: float | None = None,
+                     setup: MachineSetup | None = None) -> SimulatedProgram:
     """Interpret ``program`` and simulate it on the stock. A LinuxCNC tool table is in
     the machine's units: those its header states, else ``machine_units``, else inch
     (as LinuxCNC's rs274); a TOML tool library is in the program's units (read in mm
@@ -253,16 +310,16 @@ def simulate_program(program: Path, tools_path: Path | None, stock_text: str,
             tools_path.suffix.lower() != ".toml":
         from millpath.io.tooltable import file_table_units
         mu = file_table_units(tools_path) or machine_units or "inch"
-        res = interpret_program(program, tools_path, mu, spindle_tool)
+        res = interpret_program(program, tools_path, mu, spindle_tool, setup)
         units = res.units
         tools, tool_arg = read_tools(tools_path, units, length_scale(mu, units))
     else:
         tools, tool_arg = read_tools(tools_path, "mm")
-        res = interpret_program(program, tool_arg, "mm", spindle_tool)
+        res = interpret_program(program, tool_arg, "mm", spindle_tool, setup)
         units = res.units
         if units == "inch":
             tools, tool_arg = read_tools(tools_path, "inch")
-            res = interpret_program(program, tool_arg, "inch", spindle_tool)
+            res = interpret_program(program, tool_arg, "inch", spindle_tool, setup)
     design, refs = (read_design(design_path, units, stock) if design_path is not None
                     else (None, None))
     from millpath.simulate.tip import tip_motions

@@ -33,22 +33,29 @@ def _text(program: str | Path) -> tuple[str, str | None]:
 
 
 def run(program: str | Path, tools=None, *, machine_units: str = "inch",
-        sink=None, spindle_tool: int = 0) -> InterpretResult:
+        sink=None, spindle_tool: int = 0, units: str | None = None,
+        params: dict[int, float] | None = None) -> InterpretResult:
     """Interpret a program; G-code errors are reported in ``result.error``. With
     ``sink(arrays, states, controls)``, motion streams to it in blocks and only the last
     block stays in ``result.motions`` (see :class:`MotionList`). ``spindle_tool``: the
-    tool already in the spindle at the start (ValueError if not in ``tools``)."""
+    tool already in the spindle at the start (ValueError if not in ``tools``).
+    ``units``: the units the control starts in (default mm, as rs274); ``params``: its
+    stored parameters in machine units (work offsets, G92; a LinuxCNC ``.var`` file)."""
     text, _ = _text(program)
-    units, motions, err = run_program(text, tools, machine_units, sink, spindle_tool)
+    units, motions, err = run_program(text, tools, machine_units, sink, spindle_tool,
+                                      units, params)
     info = InterpreterErrorInfo(err[0], err[1]) if err else None
     return InterpretResult(units=units, motions=motions, error=info)
 
 
 def interpret(program: str | Path, tools=None, *, machine_units: str = "inch",
-              spindle_tool: int = 0) -> MotionList:
-    """Interpret a program and return its motion; raise InterpreterError on an error."""
+              spindle_tool: int = 0, units: str | None = None,
+              params: dict[int, float] | None = None) -> MotionList:
+    """Interpret a program and return its motion; raise InterpreterError on an error.
+    ``units``, ``params``: as :func:`run`."""
     text, name = _text(program)
-    units, motions, err = run_program(text, tools, machine_units, spindle_tool=spindle_tool)
+    units, motions, err = run_program(text, tools, machine_units, spindle_tool=spindle_tool,
+                                      units=units, params=params)
     if err:
         raise InterpreterError(err[0], err[1], motions, name)
     return motions

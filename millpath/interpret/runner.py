@@ -99,13 +99,18 @@ def _run_flow(text: str, machine: Machine) -> tuple[str, MotionList, tuple[int, 
     return machine.units, machine.store, (max(len(lines), 1), msg)
 
 
-def run_program(text: str, tools, machine_units: str, sink=None, spindle_tool: int = 0
+def run_program(text: str, tools, machine_units: str, sink=None, spindle_tool: int = 0,
+                units: str | None = None, params: dict[int, float] | None = None
                 ) -> tuple[str, MotionList, tuple[int, str] | None]:
     """Interpret ``text``; returns (units at the end, motions, (line, message) or None).
     With ``sink``, motion streams to it (see :class:`MotionList`); the records not yet
     handed over stay in the returned list. ``spindle_tool``: the tool already in the
-    spindle when the program starts (as after ``T.. M6``; no length offset until G43)."""
+    spindle when the program starts (as after ``T.. M6``; no length offset until G43).
+    ``units``, ``params``: the machine's default units and stored parameters
+    (:meth:`MachineState.set_up`); the list's ``reference`` is the part's frame."""
     machine = Machine(load_tools(tools), machine_units)
+    machine.set_up(units, params)
+    machine.store.reference = machine.reference()
     if spindle_tool:
         machine.load_spindle(spindle_tool)
     machine.store.sink = sink

@@ -90,6 +90,31 @@ class MachineState:
         return Frame(self.units, tuple(self.origin), tuple(self.axis_offset), self.rotation,
                      self.tlo_mm, (row[1] * k, row[2] * k, row[3] * k))
 
+    def set_up(self, units: str | None = None, params: dict[int, float] | None = None) -> None:
+        """The machine as it stands when the program starts: ``units`` the control's
+        default units ("mm" | "inch"; rs274's is mm), ``params`` stored parameters
+        (machine units: work offsets 5221.., the work system in force 5220, G92 offsets
+        5210-5213; a LinuxCNC ``.var`` file). Call before the first block."""
+        if units is not None:
+            if units not in ("mm", "inch"):
+                raise ValueError("units must be 'inch' or 'mm'")
+            self.units = units
+        for k, v in (params or {}).items():
+            self.params[k] = float(v)
+        p = self.params
+        self.origin_index = int(p[5220]) if 1 <= p[5220] <= 9 else 1
+        base = 5201 + 20 * self.origin_index
+        self.origin = [self.user_to_prog(p[base + k]) for k in range(3)]
+        self.rotation = p[base + 9]
+        if p[5210]:
+            self.axis_offset = [self.user_to_prog(p[5211 + k]) for k in range(3)]
+        self.touch_state()
+
+    def reference(self) -> Frame:
+        """The frame program coordinates have now without any tool: the part's frame when
+        called before the first block."""
+        return Frame(self.units, tuple(self.origin), tuple(self.axis_offset), self.rotation)
+
     def touch_state(self) -> None:
         key = ((self.tlo[0], self.tlo[1], self.tlo[2]), self.spindle_tool,
                self.speed * self.spindle_dir,

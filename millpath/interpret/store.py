@@ -45,6 +45,7 @@ class MotionList(Sequence):
         self.controls: dict[int, tuple] = {}
         self.sink = sink
         self.base = 0                      # motions handed to the sink so far
+        self.reference = None              # Frame of the part (the work system at start)
 
     def __len__(self) -> int:
         return self.base + len(self.buf) // RSIZE

@@ -12,9 +12,10 @@ spindle (its row of the tool table as written). A ``G43`` with another tool's ``
 ``M6`` with no ``G43`` after it, a ``G92``/``G52``/``G10 L2`` shift or rotation and a
 ``G20``/``G21`` switch in the middle of a program all move the tip accordingly.
 
-The part's frame is the work system in force when the program starts (G54 with the
-machine's stored offsets: none unless given), in the part's units: a tip there is
-``rotate_xy(controlled - reference origin, -reference rotation) / part scale``.
+The part's frame is the frame program coordinates have when the program starts (the
+work system in force, G54 unless the machine's stored parameters say otherwise, with
+its offsets and any stored G92 offset), in the part's units: a tip there is
+``(rotate_xy(tip - reference origin, -reference rotation) - reference G92) / part scale``.
 Arcs stay arcs (an XZ or YZ arc turned by an XY rotation other than a multiple of 90
 degrees is cut into chords within ``CHORD_MM`` of it, a hundredth of the proof's accuracy); cubics and NURBS, XY
 only, are carried with their control points. Feeds in units per minute are converted
@@ -60,7 +61,9 @@ class _Map:
               s_f * (ay + f.origin[1]) + f.tlo_mm[1] - f.tool_mm[1] - sr_ * ref.origin[1],
               s_f * (ao[2] + f.origin[2]) + f.tlo_mm[2] - f.tool_mm[2] - sr_ * ref.origin[2]]
         shx, shy = _rot(sh[0], sh[1], cr, sr)
-        self.shift = (shx / part_scale, shy / part_scale, sh[2] / part_scale)
+        ra = ref.axis_offset
+        self.shift = ((shx - sr_ * ra[0]) / part_scale, (shy - sr_ * ra[1]) / part_scale,
+                      (sh[2] - sr_ * ra[2]) / part_scale)
         self.identity = (self.k == 1.0 and self.s == 0.0 and self.c == 1.0
                          and self.shift == _ZERO)
         self.quarter = abs(self.s) < 1e-15 or abs(self.c) < 1e-15
@@ -107,8 +110,9 @@ def tip_motions(motions, units: str, reference: Frame | None = None) -> list[Mot
     """``motions`` (interpreted, with frames) as tool tips in the part's frame and
     ``units`` (see the module docstring): new Motions with ``frame`` None and
     ``tool_offset`` zero. Motions without a frame are taken as tips already.
-    ``reference``: the work system the part is set up in (default G54 at zero)."""
-    ref = reference or Frame()
+    ``reference``: the frame the part is set up in (default: the ``reference`` the
+    interpreter gave ``motions``, else G54 at zero)."""
+    ref = reference or getattr(motions, "reference", None) or Frame()
     part_scale = length_scale(units, "mm")
     out: list[Motion] = []
     maps: dict[Frame, _Map] = {}
