@@ -119,8 +119,10 @@ def advance_stock(job: Job, stock: Stock, remaining, tp: Toolpath):
     if any(m.kind == "comp" for m in tp.moves):
         from millpath.interpret import interpret
         from millpath.post.linuxcnc import post_with_lines
+        from millpath.simulate.tip import tip_motions
         program, move_lines = post_with_lines(tp, job.tools, title="in-process stock")
-        motions = interpret(program, job.tools, machine_units=job.units)
+        motions = tip_motions(interpret(program, job.tools, machine_units=job.units),
+                              job.units)
         keys = [(line, i) for i, line in enumerate(move_lines) if line is not None]
         lines = [l for l, _ in keys]
         src = [keys[max(bisect.bisect_right(lines, mo.line) - 1, 0)][1] for mo in motions]

@@ -68,7 +68,8 @@ def test_first_move_after_a_tool_change_starts_where_the_machine_is():
     """T1 stops on the floor beside a 10 mm wide wall (a boss from x 20 to 30, 5 mm
     high); after the change the first move crosses the boss at the floor's depth. The
     boss top's middle line then lies 3 mm (the tool's radius) inside the swept tool,
-    the deepest design point. (Taken as a drop from above at its end, it read 0.)"""
+    the deepest design point (support.occ_oracle.move_depth measures 3.0 for this
+    sweep with OpenCASCADE). Taken as a drop from above at its end, it read 0."""
     boss = BoxDesign(-5.0, [(20, -100, 30, 100, 0.0)])
     prog = ("G21 G17 G90\nT1 M6\nG43 H1\nG0 X10 Y20 Z5\nG1 Z-5 F200\n"
             "T1 M6\nG43 H1\nG1 X40 F300\nG0 Z5\nM2\n")
@@ -218,3 +219,76 @@ def test_tool_library_units(tmp_path):
     assert t.holder == [pytest.approx((25.4, 50.8))]
     back = read_tool_library(p, units="inch")[1]
     assert back.diameter == pytest.approx(0.25)
+
+
+# ------------------------------------------- rs274's motion against OpenCASCADE solids
+MOVES = ("STRAIGHT_TRAVERSE", "STRAIGHT_FEED", "STRAIGHT_PROBE", "ARC_FEED", "RIGID_TAP",
+         "DWELL")
+INCH_TABLE = {1: 2.0, 2: 2.02, 3: 1.98}           # tool lengths (inch), D 6 mm
+
+
+def _oracle_depth(oracle, ngc, tbl, design_solid) -> float:
+    """The deepest cut of the program's moves after its first, from rs274's controlled
+    points minus the length of the tool in the spindle (its CHANGE_TOOL calls), each
+    move's sweep measured against the design solid by OpenCASCADE."""
+    from support.occ_oracle import move_depth
+    ref = oracle.run_rs274(str(ngc), str(tbl))
+    assert ref.ok, ref.error
+    motions = iter(ref.motions)
+    tool, prev, worst = 0, None, 0.0
+    for name, args in ref.canon:
+        if name == "CHANGE_TOOL":
+            tool = int(float(args))
+        elif name in MOVES:
+            m = next(motions)
+            if m.kind == "dwell":
+                continue
+            k = 25.4 if m.units == "in" else 1.0
+            L = INCH_TABLE.get(tool, 0.0) * 25.4
+            tip = (m.machine_end[0] * k, m.machine_end[1] * k, m.machine_end[2] * k - L)
+            if prev is not None:
+                worst = max(worst, move_depth(design_solid, prev, tip, 3.0, 20.0))
+            prev = tip
+    return worst
+
+
+OCC_CASES = {
+    "clean": START + WALL,
+    "wrong H": "G21 G17 G90\nT1 M6\nG43 H3\nG0 X13 Y13 Z5\n" + WALL,
+    "longer tool, old G43": "G21 G17 G90\nT2 M6\nG43 H1\nG0 X13 Y13 Z5\n" + WALL,
+    "M6 without G43": "G21 G17 G90\nT3 M6\nG43 H3\nT2 M6\nG0 X13 Y13 Z5\n" + WALL,
+    "G92": START.replace("G0 X13", "G92 X1\nG0 X13") + WALL,
+    "G52": START.replace("G0 X13", "G52 X-1.5\nG0 X13") + WALL,
+    "G10 L2": START.replace("G0 X13", "G10 L2 P1 X-0.7\nG0 X13") + WALL,
+    "G10 L2 R": START.replace("G0 X13", "G10 L2 P1 R1\nG0 X13") + WALL,
+    # inch numbers rs274 prints exactly (4 decimals): the pass 0.08 mm below the floor
+    "G20 block": START.replace("X13 Y13", "X15.24 Y15.24")
+    + "G1 Z-5 F200\nG20\nG1 Z-0.2 F20\nG1 X1.9\nG21\nG0 Z5\n",
+}
+
+
+@pytest.mark.parametrize("case", list(OCC_CASES))
+def test_gouge_matches_rs274_motion_against_opencascade(case, rs274, shared_dir, tmp_path):
+    """millpath's proof of each program equals the depth OpenCASCADE measures between
+    the design solid and the flat end mill swept along rs274's motion, the tip placed
+    by the length of the tool really in the spindle (within the proof's accuracy and
+    rs274's 4 printed decimals)."""
+    from support.occ_oracle import box, cut
+    oracle = _oracle(shared_dir)
+    program = OCC_CASES[case] + "M2\n"
+    ngc, tbl = tmp_path / "p.ngc", tmp_path / "t.tbl"
+    ngc.write_text(program)
+    tbl.write_text("".join(f"T{n} P{n} D{6 / 25.4:.6f} Z{z}\n" for n, z in INCH_TABLE.items()))
+    solid = cut(box(0, 0, -10, 60, 40, 0), box(10, 10, -5, 50, 30, 1))
+    truth = _oracle_depth(oracle, ngc, tbl, solid)
+    motions = interpret(program, str(tbl), machine_units="inch")
+    tips = approach_from_above(tip_motions(motions, "mm"), STOCK.zmax)
+    shapes = {n: Tool(n, "flat", 6.0, flute_length=20, stickout=40) for n in INCH_TABLE}
+    res = simulate_motions(tips, shapes, STOCK, resolution=0.25, design=POCKET,
+                           machine=Machine(), accuracy=ACC)
+    got = res.exact.max_gouge
+    if case == "clean":
+        assert truth == 0.0 and got <= ACC
+    else:
+        assert truth > 0.3
+        assert got == pytest.approx(truth, abs=ACC + 5e-5)
