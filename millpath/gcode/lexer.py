@@ -15,6 +15,7 @@ import math
 import re
 
 from millpath.gcode.errors import GCodeError
+from millpath.model.limits import MAX_COORDINATE
 
 # modal group of each G code (code x 10), as LinuxCNC's _gees table
 G_GROUP: dict[int, int] = {}
@@ -388,6 +389,16 @@ def _binary(op: str, a: float, b: float) -> float:
 
 # rs274 without an INI has axes X Y Z A B C: U V W are bad characters
 _REAL_WORDS = set("abcdefijkpqrsxyz")
+#: words whose value is a length, an angle, a feed or a speed: at most MAX_COORDINATE in
+#: magnitude (rs274 takes any finite number; 1e20 mm is a typo, not a position)
+_BOUNDED = frozenset("xyzabcijkrqfs@^")
+
+
+def _bounded(c: str, v: float) -> float:
+    if abs(v) > MAX_COORDINATE:
+        raise GCodeError(f"{c.upper()} word {v:g} is larger than the {MAX_COORDINATE:g} "
+                         "limit")
+    return v
 
 
 def read_block(raw: str, line: int, params: list[float], named: dict[str, float]) -> Block:
@@ -418,7 +429,7 @@ def read_block(raw: str, line: int, params: list[float], named: dict[str, float]
             rd.i += 1
             if c in words:
                 raise GCodeError(f"Multiple {c} words on one line")
-            words[c] = rd.value()
+            words[c] = _bounded(c, rd.value())
             continue
         if c == "$":
             rd.i += 1
@@ -491,7 +502,7 @@ def read_block(raw: str, line: int, params: list[float], named: dict[str, float]
                 raise GCodeError("Negative f word used")
             if c == "s" and v < 0.0:
                 raise GCodeError("Negative spindle speed used")
-            words[c] = v
+            words[c] = _bounded(c, v) if c in _BOUNDED else v
         else:
             raise GCodeError(f"Bad character '{c}' used")
     if blk.m_count > 4:

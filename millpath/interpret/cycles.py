@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 
 from millpath.interpret.errors import GCodeError
+from millpath.model.limits import MAX_CYCLE_STEPS
 
 CYCLES = frozenset((730, 810, 820, 830, 840, 850, 860, 870, 880, 890))
 _SUPPORTED = frozenset((730, 810, 820, 830, 850, 890))
@@ -22,8 +23,6 @@ CYCLE_STEPS = {810: ((1, "bottom"), (0, "clear")),
                820: ((1, "bottom"), ("dwell", None), (0, "clear")),
                850: ((1, "bottom"), (1, "r"), (0, "clear")),
                890: ((1, "bottom"), ("dwell", None), (1, "clear"))}
-#: most (repeats x pecks) one cycle block may expand into (a few moves each)
-MAX_CYCLE_STEPS = 1_000_000
 _NORMAL_LETTER = {"XY": "z", "XZ": "y", "YZ": "x"}
 _PLANE_LETTERS = {"XY": ("x", "y"), "XZ": ("z", "x"), "YZ": ("y", "z")}
 

@@ -21,7 +21,9 @@ from millpath.interpret.arcs import (RADIUS_TOLERANCE, SPIRAL_TOLERANCE, arc_cen
 from millpath.gcode.lexer import Block
 from millpath.interpret.store import PACK, PLANE_CODE
 
-_NUM = r"([-+]?+(?:\d++\.?+\d*+|\.\d++))"
+# at most nine digits before the point: a larger number (over the reader's MAX_COORDINATE
+# bound) goes to the general reader, which refuses it
+_NUM = r"([-+]?+(?:\d{1,9}+(?!\d)\.?+\d*+|\.\d++))"
 # possessive quantifiers (Python 3.11) keep the regex engine from backtracking
 _FAST = re.compile(r"[ \t]*+(?:[Nn][ \t]*+\d++(?:\.\d*+)?+[ \t]*+)?+"
                    r"(?:[Gg]0*([0-3])(?![\d.])[ \t]*+)?+"

@@ -7,9 +7,11 @@ named parameters not starting with ``_`` local; ``#<_value>`` holds the value re
 Labels pair the statements (``o100 if`` ... ``o100 endif``). Subroutines in other files
 are not searched for.
 
-Work is bounded: a call nested ``MAX_CALL_DEPTH`` deep is rs274's "Too many subroutine
-levels"; a loop that jumps back ``MAX_IDLE_ITERATIONS`` times without making motion, or
-``MAX_LOOP_ITERATIONS`` times in all, is stopped as endless.
+Work is bounded (:mod:`millpath.model.limits`): a call nested ``MAX_CALL_DEPTH`` deep is
+rs274's "Too many subroutine levels"; a ``repeat`` of more than ``MAX_LOOP_ITERATIONS``
+is refused before it starts; a loop that jumps back ``MAX_IDLE_ITERATIONS`` times
+without making motion, or ``MAX_LOOP_ITERATIONS`` times in all, is stopped as endless,
+and so is a program with loops that has made ``MAX_MOTIONS`` motions.
 """
 
 from __future__ import annotations
@@ -18,13 +20,12 @@ import re
 
 from millpath.interpret.errors import GCodeError
 from millpath.gcode.lexer import Reader, normalize
+from millpath.model.limits import MAX_IDLE_ITERATIONS, MAX_LOOP_ITERATIONS, MAX_MOTIONS
 
 _OLINE = re.compile(r"^(?:n\d+(?:\.\d*)?)?o(<[^>]*>|\d+)([a-z]+)(.*)$")
 _PREFILTER = re.compile(r"[ \t]*/?[ \t]*(?:[nN][ \t]*[\d.]+[ \t]*)?[oO]")
 #: rs274 refuses the tenth nested call
 MAX_CALL_DEPTH = 9
-MAX_IDLE_ITERATIONS = 100_000
-MAX_LOOP_ITERATIONS = 5_000_000
 _KEYWORDS = ("sub", "endsub", "call", "return", "if", "elseif", "else", "endif", "while",
              "endwhile", "do", "repeat", "endrepeat", "break", "continue")
 
@@ -105,6 +106,9 @@ class Flow:
             self.moves_seen = n
         if self.iterations > MAX_LOOP_ITERATIONS:
             raise GCodeError(f"loops ran more than {MAX_LOOP_ITERATIONS} times in all: "
+                             "endless loop?")
+        if n > MAX_MOTIONS:
+            raise GCodeError(f"the program's loops made more than {MAX_MOTIONS} motions: "
                              "endless loop?")
         return target
 
@@ -229,6 +233,9 @@ class Flow:
             return self.back(self.find_back(i, label, ("while",)))
         if kw == "repeat":
             n = self.value(rest)
+            if n is not None and n > MAX_LOOP_ITERATIONS - self.iterations:
+                raise GCodeError(f"repeat {n:.15g} times: more than the "
+                                 f"{MAX_LOOP_ITERATIONS} loop iterations a program may run")
             self.repeat[label] = int(min(n or 0, 2.0 ** 62))
             if self.repeat[label] > 0:
                 return i + 1

@@ -3,7 +3,9 @@
 A program ends at M2/M30, or at a second ``%`` line when the first line is ``%``; a
 file that just stops is an error on its last line, as in rs274 ("File ended with no
 percent sign or program end"). On an error the motion list holds the motion before the
-failing block. Long programs are split into lines a chunk (about 4 MB) at a time.
+failing block. A program with o-words runs at most ``MAX_FLOW_LINES`` lines
+(:mod:`millpath.model.limits`). Long programs are split into lines a chunk (about 4 MB)
+at a time.
 """
 
 from __future__ import annotations
@@ -15,6 +17,7 @@ from millpath.interpret.fastpath import FastPath
 from millpath.gcode.lexer import MAX_LINE, read_block
 from millpath.interpret.machine import Machine
 from millpath.interpret.store import MotionList
+from millpath.model.limits import MAX_FLOW_LINES
 from millpath.interpret.tools import load_tools
 
 CHUNK = 1 << 22
@@ -81,6 +84,9 @@ def _run_flow(text: str, machine: Machine) -> tuple[str, MotionList, tuple[int, 
             executed += 1
             if not executed & 0xFFFF:
                 machine.store.flush()
+                if executed > MAX_FLOW_LINES:
+                    raise GCodeError(f"the program ran more than {MAX_FLOW_LINES} lines "
+                                     "through its loops and calls: endless loop?")
             if k in flow.ol:
                 if len(raw) > MAX_LINE:
                     raise GCodeError("Command too long")

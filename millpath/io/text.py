@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from millpath.errors import MillpathError
+from millpath.model.limits import MAX_COORDINATE
 
 
 def read_text(path: str | Path, what: str, error: type[MillpathError] = MillpathError) -> str:
@@ -27,9 +28,6 @@ def read_text(path: str | Path, what: str, error: type[MillpathError] = Millpath
 
 _WORDS = {2: "two", 3: "three"}
 
-#: largest coordinate magnitude a points file may hold (mm or inch alike: a kilometre
-#: or more is a wrong column or unit, and squares of it must not overflow)
-MAX_COORDINATE = 1e9
 
 
 def read_number_rows(path: str | Path, names: str, error: type[MillpathError] = MillpathError

@@ -16,10 +16,11 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from millpath.errors import MillpathError
+from millpath.model.limits import MAX_COORDINATE
 
 _FIELDS = "XYZABCUVWDIJQ"
 #: largest magnitude accepted for any value (lengths in machine units, tool numbers)
-MAX_VALUE = 1e9
+MAX_VALUE = MAX_COORDINATE
 
 
 @dataclass

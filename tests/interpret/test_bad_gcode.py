@@ -43,8 +43,21 @@ CASES = {
                       "loop ran 100000 times without motion: endless loop?"),
     "endless-repeat": ("G21\no100 repeat [1e300]\no100 endrepeat\nM2\n", 2,
                        "Unknown operation name starting with e"),
-    "huge-repeat": ("G21\no100 repeat [" + "9" * 200 + "]\no100 endrepeat\nM2\n", 3,
-                    "loop ran 100000 times without motion: endless loop?"),
+    "huge-repeat": ("G21\no100 repeat [" + "9" * 200 + "]\no100 endrepeat\nM2\n", 2,
+                    "repeat 1e+200 times: more than the 1000000 loop iterations a program "
+                    "may run"),
+    "moving-repeat": ("G21 F100\no1 repeat [4294967296]\nG1 X1\nG1 X0\no1 endrepeat\nM2\n", 2,
+                      "repeat 4294967296 times: more than the 1000000 loop iterations a "
+                      "program may run"),
+    "moving-while": ("G21 F100\no1 while [1]\nG1 X1\nG1 X0\no1 endwhile\nM2\n", 4,
+                     "the program ran more than 1500000 lines through its loops and calls: "
+                     "endless loop?"),
+    "huge-coordinate": ("G21\nG1 X100000000000000000000 F100\nM2\n", 2,
+                        "X word 1e+20 is larger than the 1e+09 limit"),
+    "huge-parameter-coordinate": ("G21\n#1=[10**20]\nG1 Y#1 F100\nM2\n", 3,
+                                  "Y word 1e+20 is larger than the 1e+09 limit"),
+    "huge-arc-radius": ("G21 F100\nG0 X0 Y0\nG2 X1 Y0 R100000000000000000000\nM2\n", 3,
+                        "R word 1e+20 is larger than the 1e+09 limit"),
     "tiny-peck": ("G21 F100\nG0 X0 Y0 Z1\nG83 X1 Z-1000 R1 Q0.0000000001\nM2\n", 3,
                   "canned cycle would make more than 1000000 moves "
                   "(1 repeats, 1e+13 pecks each)"),
@@ -97,18 +110,20 @@ def test_bad_tool_table_is_one_line_error(row, message, tmp_path):
     assert seconds < SECONDS
 
 
-def test_huge_coordinates_give_a_summary(tmp_path):
-    """Finite coordinates near the float limit: lengths and cycle time do not overflow
-    into a crash (rs274 accepts the program)."""
-    (tmp_path / "p.ngc").write_text("G21 F100\n#1=[" + "9" * 100 + "**2]\nG1 X#1 Y#1\n"
+def test_coordinates_up_to_the_limit_give_a_summary(tmp_path):
+    """Coordinates up to the limit (1e9, rs274 takes any finite number) give a summary
+    whose lengths and cycle time do not overflow."""
+    (tmp_path / "p.ngc").write_text("G21 F100\n#1=[999999999]\nG1 X#1 Y#1\n"
                                     "G0 X-#1\nM2\n")
     p, _ = _check(["check", "p.ngc"], tmp_path)
     assert p.returncode == 0, p.stderr
-    assert "feed length 1414213562373095" in p.stdout
+    assert "feed length 1414213560.959 mm" in p.stdout
 
 
 @pytest.mark.parametrize("name", sorted(n for n in CASES if n not in (
-    "endless-while", "huge-repeat", "tiny-peck", "many-repeats", "long-number")))
+    "endless-while", "huge-repeat", "tiny-peck", "many-repeats", "long-number",
+    "moving-repeat", "moving-while", "huge-coordinate", "huge-parameter-coordinate",
+    "huge-arc-radius")))
 def test_messages_match_rs274(name, rs274, tmp_path):
     """The same reproducers through LinuxCNC's rs274: same message, same line text
     (the cases millpath bounds where rs274 runs on for minutes are left out)."""
