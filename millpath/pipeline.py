@@ -300,6 +300,7 @@ def _run(job_path: str | Path, outdir: str | Path, prog: Progress, force: bool,
             if design is not None:
                 ex = sim.exact
                 render_deviation(sim.zmap, design, tmp / "deviation.png", units=job.units,
+                                 tolerance=_accuracy(job.units),
                                  gouge_at=sim.gouge_at, left_at=sim.left_at,
                                  gouge=ex.max_gouge if ex else None,
                                  left=ex.max_left if ex else None, grid=sim.design_grid)

@@ -16,6 +16,7 @@ from pathlib import Path
 import click
 
 from millpath.cli.programs import ProgramArgs, program_options
+from millpath.model.units import default
 
 
 @click.command()
@@ -42,6 +43,7 @@ def command(args: ProgramArgs, max_feed: float | None, as_json: bool,
         if design is not None:
             render_deviation(r.zmap, design, png.with_name(png.stem + "_deviation.png"),
                              units=units, gouge_at=r.gouge_at, left_at=r.left_at,
+                             tolerance=default("verify_accuracy", units),
                              gouge=r.exact.max_gouge if r.exact else None,
                              left=r.exact.max_left if r.exact else None,
                              grid=r.design_grid)

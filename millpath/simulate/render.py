@@ -111,7 +111,8 @@ def render_deviation(zmap: ZMap, design, path: str | Path, *, title: str = "",
     """Write the deviation of ``zmap`` from ``design`` to ``path`` (PNG).
 
     Red: the tool went below the design (gouge); blue: material left above it; white:
-    within ``tolerance`` (job units). Grey lines: contours of the design's height;
+    within ``tolerance`` (job units; pass the proof's accuracy: a deviation below it is
+    no figure, and a scale stretched to rounding noise would paint it red). Grey lines: contours of the design's height;
     circles mark the largest gouge and the most material left: where the exact check
     found them when ``gouge_at`` / ``left_at`` ((x, y), with the figures ``gouge`` /
     ``left``) are given (walls included), else the Z-map's extreme cells. ``grid``: the
@@ -174,12 +175,13 @@ def render_deviation(zmap: ZMap, design, path: str | Path, *, title: str = "",
         ax.legend(loc="upper right", fontsize=8, framealpha=0.85)
     cb = fig.colorbar(im, ax=ax, shrink=0.85)
     u = f" ({units})" if units else ""
-    cb.set_label(f"deviation{u}\nred: gouge (below design), blue: material left")
+    within = f", white: within ±{tolerance:.3g}" if tolerance > 0 else ""
+    cb.set_label(f"deviation{u}\nred: gouge (below design), blue: material left{within}")
     cb.set_ticks(ticks)
     cb.set_ticklabels([f"{t:.3g}" for t in ticks])
     if not title and (gouge is not None or left is not None):
         # the figures of the exact check; the colours stay the Z-map cells' deviation
-        title = (f"deviation from design: max gouge {gouge or 0.0:.4g}, max left "
-                 f"{left or 0.0:.4g}{u} (exact; colours: Z-map cells)")
+        title = (f"exact: max gouge {gouge or 0.0:.4g}, max left {left or 0.0:.4g}{u}\n"
+                 f"colours: deviation of the stock model's cells")
     return _save_plan_view(fig, ax, path, title or f"deviation from design: max gouge "
                                               f"{gmax:.4g}, max left {lmax:.4g}{u}")

@@ -355,3 +355,24 @@ def test_a_bar_stock_is_drawn_as_its_circles(browser, tmp_path):
     ys, xs = np.nonzero(img)
     d = np.hypot(xs - xs.mean(), ys - ys.mean())
     assert d.max() / d.min() < 1.15           # rings (a square outline gives 1.41)
+
+
+def test_page_shows_the_proofs_figures(demo_run, browser):
+    """The panel's max gouge and max left are report.json's exact figures, labelled as
+    exact; the stock model's own (cell-bound) figures appear only labelled as such."""
+    _, folder = demo_run
+    ver = json.loads((folder / "report.json").read_text())["verification"]
+    data = page_data(folder / "view.html")
+    assert data["exact"]["max_gouge"] == pytest.approx(ver["max_gouge"], abs=1e-6)
+    assert data["exact"]["max_left"] == pytest.approx(ver["max_left"], abs=1e-6)
+    page, log = open_page(browser, folder / "view.html")
+    try:
+        rows = dict(zip(page.locator("#summary th").all_inner_texts(),
+                        page.locator("#summary td").all_inner_texts()))
+    finally:
+        page.close()
+    for key in ("max gouge", "max left"):
+        value, label = rows[key].split(" ", 1)
+        want = ver[key.replace(" ", "_")]
+        assert float(value) == pytest.approx(want, rel=1e-3, abs=1e-6)
+        assert "exact" in label

@@ -74,6 +74,15 @@ def scene_data(*, program: str, motions: list[Motion], tools: dict[int, Tool], s
             "max_gouge": ds.max_gouge, "max_left": ds.max_left,
             "gouge_at": ds.gouge_at, "left_at": ds.left_at,
         }
+    exact = None
+    ex = getattr(sim, "exact", None) if sim is not None else None
+    if ex is not None:
+        def at(d):
+            return None if not d else [float(d["x"]), float(d["y"]), float(d["z"])]
+        # the proof's own figures (report.json's), measured normal to the design
+        exact = {"max_gouge": float(ex.max_gouge), "max_left": float(ex.max_left),
+                 "gouge_at": at(ex.gouge_at), "left_at": at(ex.left_at),
+                 "accuracy": float(ex.accuracy)}
     return {
         "title": title or program_name,
         "program_name": program_name,
@@ -95,6 +104,7 @@ def scene_data(*, program: str, motions: list[Motion], tools: dict[int, Tool], s
             "op": _le(packed.op, "u2"), "tool": _le(packed.tool, "u4"),
         },
         "surface": surface,
+        "exact": exact,
     }
 
 

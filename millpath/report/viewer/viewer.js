@@ -313,8 +313,14 @@ if (S) {
     overlay.renderOrder = 2;
     scene.add(overlay);
   }
-  for (const [at, colour, label, value] of [[S.gouge_at, '#c00018', 'worst gouge', S.max_gouge],
-    [S.left_at, '#0b3d91', 'worst leftover', S.max_left]]) {
+  // the worst points are the proof's (exact, on the design) when it ran, else the stock
+  // model's cells
+  const X = D.exact;
+  const marks = X ? [[X.max_gouge > X.accuracy ? X.gouge_at : null, '#c00018', 'worst gouge', X.max_gouge],
+    [X.max_left > X.accuracy ? X.left_at : null, '#0b3d91', 'worst leftover', X.max_left]]
+    : [[S.gouge_at, '#c00018', 'worst gouge', S.max_gouge],
+      [S.left_at, '#0b3d91', 'worst leftover', S.max_left]];
+  for (const [at, colour, label, value] of marks) {
     if (!at) continue;
     const g = new THREE.Group();
     const mat = new THREE.MeshBasicMaterial({ color: srgb(colour), depthTest: false });
@@ -590,10 +596,19 @@ function buildPanel() {
   const v = D.verification;
   const rows = [['program', `${D.program_name}, ${M} moves, ${units}`]];
   if (v) {
-    // the same figures as the markers (the report rounds them to 6 decimals)
-    const g = S && sDev ? S.max_gouge : v.max_gouge, l = S && sDev ? S.max_left : v.max_left;
-    if (g !== null && g !== undefined) rows.push(['max gouge', `${fmt(g)} ${units}`]);
-    if (l !== null && l !== undefined) rows.push(['max left', `${fmt(l)} ${units}`]);
+    // the proof's figures (report.json's), as the markers; the stock model's only when
+    // the exact check did not run, and then said so
+    const X = D.exact;
+    if (X) {
+      const how = `exact, normal to the design, ±${fmt(X.accuracy)}`;
+      rows.push(['max gouge', `${fmt(X.max_gouge)} ${units} (${how})`]);
+      rows.push(['max left', `${fmt(X.max_left)} ${units} (${how})`]);
+    } else {
+      const g = S && sDev ? S.max_gouge : v.max_gouge, l = S && sDev ? S.max_left : v.max_left;
+      const how = `stock model, ${fmt(v.resolution)} ${units} cells`;
+      if (g !== null && g !== undefined) rows.push(['max gouge', `${fmt(g)} ${units} (${how})`]);
+      if (l !== null && l !== undefined) rows.push(['max left', `${fmt(l)} ${units} (${how})`]);
+    }
     rows.push(['removed', `${fmt(v.removed_volume, 6)} ${units}³`]);
     rows.push(['rapids in material', String(v.rapids_through_material)]);
     rows.push(['holder contacts', String(v.holder_contacts)]);
@@ -615,7 +630,8 @@ function buildPanel() {
   $('feed-hi').textContent = `${fmt(feedHi, 5)} ${units}/min`;
   if (S && sDev) {
     $('dev-legend').hidden = false;
-    $('gouge-max').textContent = `gouge ${fmt(S.max_gouge)}`;
+    // the colours are the stock model's cells (display only); the figures the proof's
+    $('gouge-max').textContent = `stock model: gouge ${fmt(S.max_gouge)}`;
     $('left-max').textContent = `left ${fmt(S.max_left)}`;
     $('tol').value = String(D.tolerance);
     $('tol').step = String(D.tolerance / 2);
