@@ -2,7 +2,8 @@
 against small schemas, with errors naming key and file.
 
 A schema maps each allowed key to a :class:`Param`. Unknown keys, missing required
-keys, wrong types, NaN and out-of-range values raise :class:`JobError`.
+keys, wrong types, NaN and out-of-range values raise :class:`JobError`; no number may be
+larger than :data:`~millpath.model.limits.MAX_COORDINATE`.
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ from pathlib import Path
 from typing import Any, Callable
 
 from millpath.errors import JobError
+from millpath.model.limits import MAX_DIGITS, MAX_NESTING, check_coordinate
 
 REQUIRED = object()
 
@@ -65,6 +67,9 @@ def _check_number(v: Any, key: str, p: Param, file: str | None) -> float:
         raise JobError(f"{key}: expected a number, got {type(v).__name__} {v!r}", file)
     if not _finite(v, key, file):
         raise JobError(f"{key}: must be finite, got {v!r}", file)
+    bad = check_coordinate(float(v))
+    if bad:
+        raise JobError(f"{key}: {bad}", file)
     if p.positive and v <= 0:
         raise JobError(f"{key}: must be positive, got {v!r}", file)
     if p.nonneg and v < 0:
@@ -77,6 +82,10 @@ def _floats(v: Any, key: str, file: str | None) -> list[float]:
         raise JobError(f"{key}: expected a list of numbers", file)
     if not all(_finite(x, key, file) for x in v):
         raise JobError(f"{key}: numbers must be finite", file)
+    for x in v:
+        bad = check_coordinate(float(x))
+        if bad:
+            raise JobError(f"{key}: {bad}", file)
     return [float(x) for x in v]
 
 
@@ -153,10 +162,73 @@ def validate(table: Any, schema: dict[str, Param], where: str, file: str | Path 
     return out
 
 
+#: what the TOML bounds scan stops at: string and comment openings, brackets, line ends
+#: and integer literals longer than MAX_DIGITS
+_TOML_TOKEN = re.compile(r'"""|\'\'\'|["\'#\[\]{}\n]|[0-9][0-9_]{%d,}' % MAX_DIGITS)
+_TOML_BASIC = re.compile(r'(?:[^"\\\n]|\\.)*"')
+_TOML_MULTI_BASIC = re.compile(r'(?:[^"\\]|\\.|"(?!""))*"""', re.DOTALL)
+
+
+def toml_bounds(text: str) -> tuple[int, str] | None:
+    """(line, message) where ``text`` nests arrays or inline tables more than
+    :data:`~millpath.model.limits.MAX_NESTING` deep or writes an integer of more than
+    :data:`~millpath.model.limits.MAX_DIGITS` digits (Python's parser would raise
+    RecursionError or refuse the conversion); None when within bounds. Strings and
+    comments are skipped; what is not TOML is left to the parser."""
+    depth = 0
+    line = 1
+    i = 0
+    n = len(text)
+    while True:
+        m = _TOML_TOKEN.search(text, i)
+        if m is None:
+            return None
+        t = m.group()
+        i = m.end()
+        if t == "\n":
+            line += 1
+        elif t == "#":
+            j = text.find("\n", i)
+            i = n if j < 0 else j
+        elif t in ('"""', "\'\'\'"):
+            if t == "\'\'\'":
+                j = text.find(t, i)
+                end = -1 if j < 0 else j + 3
+            else:
+                mm = _TOML_MULTI_BASIC.match(text, i)
+                end = -1 if mm is None else mm.end()
+            if end < 0:
+                return None
+            line += text.count("\n", i, end)
+            i = end
+        elif t == '"':
+            mm = _TOML_BASIC.match(text, i)
+            if mm is None:
+                return None
+            i = mm.end()
+        elif t == "\'":
+            j = text.find("\'", i)
+            if j < 0 or "\n" in text[i:j]:
+                return None
+            i = j + 1
+        elif t in "[{":
+            depth += 1
+            if depth > MAX_NESTING:
+                return line, f"arrays and tables nested more than {MAX_NESTING} deep"
+        elif t in "]}":
+            depth = max(depth - 1, 0)
+        else:
+            return line, f"a number of {len(t.replace('_', ''))} digits (at most {MAX_DIGITS})"
+
+
 def parse_toml(text: str, path: Path | None) -> dict:
-    """tomllib.loads with errors as JobError naming the file and line."""
+    """tomllib.loads with errors as JobError naming the file and line; nesting and
+    number lengths beyond Python's own limits are refused first (:func:`toml_bounds`)."""
+    bad = toml_bounds(text)
+    if bad is not None:
+        raise JobError(f"invalid TOML: {bad[1]}", path, bad[0])
     try:
-        return tomllib.loads(text)
+        data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as e:
         msg = str(e)
         line = None
@@ -168,3 +240,29 @@ def parse_toml(text: str, path: Path | None) -> dict:
             line = text.count("\n") + (0 if text.endswith("\n") else 1)
             msg = msg.replace(" (at end of document)", " at end of file")
         raise JobError(f"invalid TOML: {msg}", path, line) from None
+    deep = _too_deep(data) if isinstance(data, dict) else None
+    if deep is not None:
+        raise JobError(f"invalid TOML: keys nested more than {MAX_NESTING} deep "
+                       f"({'.'.join(deep[:4])}...)", path)
+    return data
+
+
+def _too_deep(data: Any) -> list[str] | None:
+    """The key path to a value nested more than MAX_NESTING tables and arrays deep
+    (dotted keys make such tables without brackets), else None; walked without
+    recursion."""
+    stack: list[tuple[Any, int, Any]] = [(data, 0, None)]   # value, depth, (key, parent)
+    while stack:
+        v, depth, link = stack.pop()
+        if depth > MAX_NESTING:
+            path: list[str] = []
+            while link is not None:
+                path.append(link[0])
+                link = link[1]
+            return path[::-1]
+        items = v.items() if isinstance(v, dict) else enumerate(v)
+        for k, x in items:
+            if isinstance(x, (dict, list)):
+                stack.append((x, depth + 1, (str(k) if isinstance(k, str) else f"[{k}]",
+                                             link)))
+    return None

@@ -17,7 +17,8 @@ import tomli_w
 
 from millpath.errors import JobError
 from millpath.io.schema import Param, parse_toml, validate
-from millpath.io.text import MAX_COORDINATE
+from millpath.model.limits import (MAX_COORDINATE, Limits, check_length,
+                                   check_tool_diameter)
 from millpath.model.tool import TOOL_TYPES, Tool
 from millpath.model.units import length_scale
 
@@ -46,8 +47,12 @@ TOOL = {
 
 
 def tools_from_tables(tables: Any, file: str | Path | None = None,
-                      units: str = "mm") -> dict[int, Tool]:
-    """Validate a list of ``[[tools]]`` tables and build Tools keyed by number."""
+                      units: str = "mm", limits: Limits | None = None) -> dict[int, Tool]:
+    """Validate a list of ``[[tools]]`` tables and build Tools keyed by number: diameters
+    within :data:`~millpath.model.limits.TOOL_DIAMETER`, the tool's whole length
+    (stick-out and holder) and the holder's diameters within ``limits.max_extent``
+    (default: the units' own)."""
+    limits = limits or Limits.default_for(units)
     if not isinstance(tables, list):
         raise JobError("tools: expected an array of tables [[tools]]", file)
     out: dict[int, Tool] = {}
@@ -65,9 +70,21 @@ def tools_from_tables(tables: Any, file: str | Path | None = None,
         if v["number"] in out:
             raise JobError(f"{where}.number: tool {v['number']} is defined twice", file)
         d = v["diameter"]
+        bad = check_tool_diameter(d, units)
+        if bad:
+            raise JobError(f"{where}.diameter: {bad}", file)
         scale = 25.4 if units == "mm" else 1.0
         flute = v["flute_length"] or max(3.0 * d, 0.5 * scale)
         stick = v["stickout"] or max(flute + 0.2 * scale, 1.5 * flute)
+        for key, value, what in (
+                ("stickout", stick, "stick-out"),
+                ("length", v["length"] or 0.0, "tool length"),
+                ("holder", stick + sum(h[1] for h in holder), "tool and holder length"),
+                ("holder", max((h[0] for h in holder), default=0.0), "holder diameter"),
+                ("shank_diameter", v["shank_diameter"] or 0.0, "shank diameter")):
+            bad = check_length(value, units, limits.max_extent, what)
+            if bad:
+                raise JobError(f"{where}.{key}: {bad}", file)
         try:
             out[v["number"]] = Tool(
                 number=v["number"], type=v["type"], diameter=d,

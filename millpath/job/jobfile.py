@@ -32,7 +32,8 @@ from millpath.errors import JobError
 from millpath.io.toollib import tools_from_tables
 from millpath.io.schema import Param, parse_toml, validate
 from millpath.model import Machine, Stock, Tool
-from millpath.model.limits import Limits, count_needed
+from millpath.model.limits import (Limits, check_cells, check_tolerance, count_needed,
+                                   MAX_TOLERANCE)
 from millpath.plan.registry import strategy
 from millpath.job.vocabulary import renamed
 from millpath.io.text import read_text
@@ -182,9 +183,17 @@ def job_from_dict(data: dict, path: Path | None = None) -> Job:
                           max_feed=m["max_feed"] or machine.max_feed,
                           acceleration=m["acceleration"] or machine.acceleration)
         machine_units = m["units"] or ""
+    if top["fit_tolerance"] is not None:
+        bad = check_tolerance(top["fit_tolerance"], units)
+        if bad:
+            raise JobError(f"fit_tolerance: {bad}", path)
     sim = validate(top["simulation"] or {}, SIMULATION, "simulation", path, base)
+    if sim["resolution"] is not None and stock is not None:
+        bad = check_cells(stock.size[0], stock.size[1], sim["resolution"], limits.max_cells)
+        if bad:
+            raise JobError(f"simulation.resolution: {bad}", path)
     post = validate(top["post"] or {}, POST, "post", path, base)
-    tools = tools_from_tables(top["tools"], path, units)
+    tools = tools_from_tables(top["tools"], path, units, limits)
     ops = []
     if not top["operations"]:
         raise JobError("operations: a job needs at least one [[operations]] entry", path)
@@ -201,6 +210,7 @@ def job_from_dict(data: dict, path: Path | None = None) -> Job:
             raise JobError(f"{where}.tool: tool {params['tool']} is not in the job's [[tools]]",
                            path)
         _check_work(params, stock, limits, units, where, path)
+        _check_scale(params, tools, sim["resolution"], units, where, path)
         ops.append((op["type"], params))
     default_tol = default("path_tolerance", units)
     return Job(path=path, units=units, name=top["name"] or (path.stem if path else "job"),
@@ -230,3 +240,19 @@ def _check_work(params: dict[str, Any], stock: Stock | None, limits: Limits, uni
                 raise JobError(f"{where}.{key}: {span:g} {units} at {step:g} {units} a step "
                                f"needs {n:g} {what}, more than the limit of {limit} "
                                f"(raise [limits] {name} if you mean it)", path)
+
+
+def _check_scale(params: dict[str, Any], tools: dict[int, Tool], resolution: float | None,
+                 units: str, where: str, path: Path | None) -> None:
+    """Refuse a chordal tolerance coarser than machining allows, and a simulation cell
+    wider than the operation's tool (the Z-map could not see what it cuts)."""
+    tol = params.get("tolerance")
+    if isinstance(tol, float) and tol > MAX_TOLERANCE(units):
+        raise JobError(f"{where}.tolerance: {tol:g} {units} is coarser than the "
+                       f"{MAX_TOLERANCE(units):g} {units} limit", path)
+    tool = tools.get(params.get("tool")) if isinstance(params.get("tool"), int) else None
+    if resolution is not None and tool is not None and resolution > tool.diameter:
+        raise JobError(f"simulation.resolution: cells of {resolution:g} {units} are wider "
+                       f"than the {tool.diameter:g} {units} tool {tool.number} of {where}: "
+                       f"the simulation could not see what it cuts (use at most "
+                       f"{tool.diameter / 4:g})", path)

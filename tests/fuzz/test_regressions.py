@@ -52,7 +52,8 @@ def _one_line_error(p: subprocess.CompletedProcess, name: str) -> str:
 
 @pytest.mark.parametrize("box, step, words", [
     ("[0, 0, -20, 100, 100, " + "1" * 400 + "]", "1.0", "too large"),
-    ("[0, 0, -20, 100, 100, 1e23]", "1.0", "larger than the 10000 mm limit"),
+    ("[0, 0, -20, 100, 100, 1e23]", "1.0", "1e+23 is larger than the 1e+09 limit"),
+    ("[0, 0, -20, 100, 100, 1e8]", "1.0", "larger than the 10000 mm limit"),
     ("[0, 0, -20, 100, 100, 0]", "1e-9", "layers, more than the limit"),
 ])
 def test_absurd_numbers_in_a_job_are_refused_at_once(tmp_path, box, step, words):

@@ -33,12 +33,12 @@ where known.
 from __future__ import annotations
 
 import math
-import tomllib
 from pathlib import Path
 
 import numpy as np
 
 from millpath.errors import GeometryError, JobError
+from millpath.io.schema import parse_toml
 from millpath.io.text import MAX_COORDINATE
 from millpath.part.surface.mesh import Mesh, read_stl
 from millpath.part.surface.placement import place_mesh, split_placement
@@ -101,11 +101,10 @@ def _load_file(spec: str, divisions: int, base_dir: Path, file, chord_tolerance:
         return read_stl(path)
     if suffix == ".toml":
         try:
-            data = tomllib.loads(path.read_text(encoding="utf-8"))
-        except tomllib.TOMLDecodeError as e:
-            raise JobError(f"invalid TOML: {e}", path) from None
+            text = path.read_text(encoding="utf-8")
         except UnicodeDecodeError:
             raise JobError("not a UTF-8 text file", path) from None
+        data = parse_toml(text, path)
         try:
             return _bezier_mesh(data, divisions, where, path)
         except (ValueError, TypeError) as e:
