@@ -102,3 +102,67 @@ def test_toml_surface_nets_are_bounded_too(tmp_path):
     with pytest.raises(MillpathError, match="nested more than 64 deep") as e:
         load_surface("net.toml", 8, tmp_path)
     assert e.value.file == str(tmp_path / "net.toml") and e.value.line == 2
+
+
+# --- STEP: what OpenCASCADE would crash on ----------------------------------------------
+SOLID = (EXAMPLES / "solid-hole-model" / "part.stp").read_text()
+
+
+def millpath_child(args: list[str], cwd: Path, code: str = "") -> subprocess.CompletedProcess:
+    """The command in a child process (``code`` runs first: a test's patch)."""
+    prog = f"import sys\n{code}\nfrom millpath.cli.main import main\nsys.argv = " \
+           f"['millpath'] + {args!r}\nmain()\n"
+    return subprocess.run([sys.executable, "-c", prog], cwd=cwd, capture_output=True,
+                          text=True, timeout=120)
+
+
+@pytest.mark.parametrize("old, new, words", [
+    ("#1016=VECTOR('',#1188,", "#1016=VECTOR('',#1016,", "step.stp:1043: #1016: VECTOR refers to itself"),
+    ("#547=ORIENTED_EDGE('',*,*,#858,", "#547=ORIENTED_EDGE('',*,*,#547,",
+     "step.stp:574: #547: ORIENTED_EDGE refers to itself"),
+    ("#858=EDGE_CURVE('',#757,", "#858=EDGE_CURVE('',#547,",
+     "step.stp:574: #547: ORIENTED_EDGE is part of a reference cycle (#547 -> #858 -> #547)"),
+    ("#1016=VECTOR('',#1188,", "#1016=VECTOR('',"  + "(" * 3000 + "#1188" + ")" * 3000 + ",",
+     "step.stp:1043: #1016: parameters nested more than 64 deep"),
+])
+def test_step_graphs_opencascade_would_crash_on_are_refused(tmp_path, old, new, words):
+    pytest.importorskip("OCP", reason="STEP solids need millpath[step-brep]")
+    assert old in SOLID
+    (tmp_path / "step.stp").write_text(SOLID.replace(old, new))
+    p = millpath_child(["features", "step.stp"], tmp_path)
+    assert p.returncode == 1, p.stderr
+    assert p.stdout == ""
+    assert one_line(p.stderr, "step.stp").startswith(f"millpath: error: {words}")
+
+
+@pytest.mark.parametrize("parens", [2, 3000])
+def test_step_references_wrapped_in_parentheses(tmp_path, monkeypatch, parens):
+    """An AP224 file read by millpath's own reader: a reference in a list where the
+    entity needs a reference, or nested beyond the bound."""
+    text = (ROOT / "tests" / "step" / "fixtures" / "plate_three_holes.stp").read_text()
+    old = "#22=AXIS2_PLACEMENT_3D('orientation',#19,"
+    assert old in text
+    (tmp_path / "p.stp").write_text(text.replace(
+        old, "#22=AXIS2_PLACEMENT_3D('orientation'," + "(" * parens + "#19" + ")" * parens
+        + ","))
+    r = run_cli(tmp_path, monkeypatch, "features", "p.stp")
+    assert r.exit_code == 1, r.output
+    assert one_line(r.output, "p.stp:29: #22: ").endswith(
+        "a list (...) where a reference #n is expected" if parens == 2
+        else "parameters nested more than 64 deep")
+
+
+def test_a_native_crash_in_opencascade_is_one_line(tmp_path):
+    """The wall behind the graph check: with the check switched off, OpenCASCADE's
+    SIGSEGV on a self-referencing VECTOR happens in a child process."""
+    pytest.importorskip("OCP", reason="STEP solids need millpath[step-brep]")
+    (tmp_path / "step.stp").write_text(SOLID.replace("#1016=VECTOR('',#1188,",
+                                                     "#1016=VECTOR('',#1016,"))
+    off = "import millpath.part.step.p21 as p21; p21.StepFile.check_tree = lambda self: None"
+    for args in (["features", "step.stp"],
+                 ["drop", "step.stp", "--tool", "ball:6", "--xy", "xy.csv"]):
+        (tmp_path / "xy.csv").write_text("x,y\n1,1\n")
+        p = millpath_child(args, tmp_path, off)
+        assert p.returncode == 1, p.stderr
+        assert one_line(p.stderr, "step.stp") == (
+            "millpath: error: step.stp: OpenCASCADE crashed reading this file (signal 11)")

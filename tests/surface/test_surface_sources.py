@@ -216,7 +216,8 @@ def test_broken_step_file_is_a_one_line_error(tmp_path):
     p.write_text("this is not STEP\n")
     with pytest.raises(GeometryError) as e:
         load_surface("junk.stp", 10, tmp_path)
-    assert str(e.value).startswith(f"{p}: cannot read STEP") and "\n" not in str(e.value)
+    assert str(e.value).startswith(f"{p}:1: cannot read STEP: not an ISO 10303-21 file")
+    assert "\n" not in str(e.value)
 
 
 def test_step_surface_in_an_inch_job_is_planned_in_inches(tmp_path):

@@ -35,6 +35,7 @@ from pathlib import Path
 from typing import Any, Iterator
 
 from millpath.errors import MillpathError
+from millpath.model.limits import MAX_NESTING
 
 
 class StepError(MillpathError):
@@ -42,6 +43,13 @@ class StepError(MillpathError):
 
 
 # --- value types -----------------------------------------------------------------------
+#: entity names of geometry and topology (points, directions, placements, curves,
+#: surfaces, vertices, edges, loops, faces, shells, solids): their references form a tree
+_TREE = re.compile(r"POINT|DIRECTION|VECTOR|PLACEMENT|LINE|CIRCLE|ELLIPSE|PARABOLA"
+                   r"|HYPERBOLA|CURVE|SURFACE|PLANE|EDGE|VERTEX|LOOP|BOUND|FACE|SHELL|BREP"
+                   r"|SOLID|PATH|SPLINE|BEZIER")
+
+
 class Ref(int):
     """An instance reference ``#n`` (an int subclass; equal refs compare equal)."""
 
@@ -166,7 +174,24 @@ class StepFile:
 
     # --- graph --------------------------------------------------------------------------
     def __getitem__(self, ref: int) -> Instance:
+        if not isinstance(ref, int):
+            raise self.error(self.holder_of(ref), f"{_kind(ref)} where a reference #n is "
+                             "expected", StepError)
         return self.instances[int(ref)]
+
+    def holder_of(self, value: Any) -> Instance | None:
+        """The instance whose parameters hold the object ``value`` (for messages)."""
+        for inst in self.instances.values():
+            stack: list = [p for _, p in inst.records]
+            while stack:
+                v = stack.pop()
+                if v is value:
+                    return inst
+                if isinstance(v, list):
+                    stack.extend(v)
+                elif isinstance(v, Typed):
+                    stack.append(v.value)
+        return None
 
     def __len__(self) -> int:
         return len(self.instances)
@@ -217,6 +242,64 @@ class StepFile:
                 out.append(inst)
         return out
 
+    def check_tree(self) -> None:
+        """Raise :class:`StepError` naming the entity when an instance refers to itself,
+        or when geometric or topological instances (points, curves, surfaces, edges,
+        loops, faces, shells, solids) refer to each other in a cycle: they must form a
+        tree, and OpenCASCADE follows them without a guard (a native stack overflow).
+        Dangling references were refused by the parser."""
+        targets, sources = self._pairs if self._pairs is not None else self._ref_pairs()
+        for tgt, src in zip(targets, sources):
+            if tgt == src:
+                raise self.error(src, f"{self[src].type} refers to itself", StepError)
+        cycle = self._geometric_cycle(targets, sources)
+        if cycle:
+            path = " -> ".join(f"#{i}" for i in cycle + cycle[:1])
+            raise self.error(cycle[0], f"{self[cycle[0]].type} is part of a reference "
+                             f"cycle ({path}): geometry and topology must form a tree",
+                             StepError)
+
+    def _ref_pairs(self) -> tuple[list[int], list[int]]:
+        targets: list[int] = []
+        sources: list[int] = []
+        for inst in self.instances.values():
+            for r in _refs(inst):
+                targets.append(r)
+                sources.append(inst.id)
+        return targets, sources
+
+    def _geometric_cycle(self, targets: list[int], sources: list[int]) -> list[int]:
+        """Instance ids along one reference cycle through a geometric or topological
+        instance (empty when there is none): a depth-first walk without recursion, each
+        instance and reference visited once."""
+        adj: dict[int, list[int]] = {}
+        for tgt, src in zip(targets, sources):
+            if src >= 0:
+                adj.setdefault(src, []).append(tgt)
+        done: set[int] = set()
+        for root in adj:
+            if root in done:
+                continue
+            path = [root]
+            pos = {root: 0}
+            its = [iter(adj[root])]
+            while its:
+                nxt = next(its[-1], None)
+                if nxt is None:
+                    node = path.pop()
+                    del pos[node]
+                    done.add(node)
+                    its.pop()
+                elif nxt in pos:
+                    cycle = path[pos[nxt]:]
+                    if any(_TREE.search(name) for i in cycle for name in self[i].names()):
+                        return cycle
+                elif nxt not in done:
+                    pos[nxt] = len(path)
+                    path.append(nxt)
+                    its.append(iter(adj.get(nxt, ())))
+        return []
+
     def line_of(self, inst_or_offset: Instance | int) -> int:
         """1-based line number of an instance (or text offset)."""
         if isinstance(inst_or_offset, Instance):
@@ -253,6 +336,18 @@ class StepFile:
         by its kind, so ``1`` and ``1.0``, ``#1`` and ``1``, ``.T.`` and ``'T'`` differ."""
         return (canonical(self.header),
                 {i: canonical(inst.records) for i, inst in self.instances.items()})
+
+
+def _kind(v: Any) -> str:
+    """How a parameter value is named in messages."""
+    if isinstance(v, list):
+        return "a list (...)"
+    if v is None:
+        return "'$'"
+    if isinstance(v, Typed):
+        return f"a typed value {v.name}(...)"
+    text = repr(v)
+    return f"{text[:20]}..." if len(text) > 20 else text
 
 
 def canonical(v: Any) -> Any:
@@ -543,6 +638,9 @@ class _Parser:
                     cur.append(decode_string(body) if ("'" in body or "\\" in body
                                                        or "\n" in body) else body)
                 elif c == "(":
+                    if len(stack) >= MAX_NESTING:
+                        raise _Fail(i - 1, f"parameters nested more than {MAX_NESTING} "
+                                    "deep", iid)
                     stack.append(cur)
                     typed.append(name)
                     name = None
@@ -560,6 +658,9 @@ class _Parser:
                     if toks[i] != "(":
                         raise _Fail(i, f"expected '(' after {t}", iid)
                     i += 1
+                    if len(stack) >= MAX_NESTING:
+                        raise _Fail(i - 1, f"parameters nested more than {MAX_NESTING} "
+                                    "deep", iid)
                     stack.append(cur)
                     typed.append(name)
                     name = t.upper()

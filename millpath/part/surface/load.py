@@ -37,7 +37,7 @@ from pathlib import Path
 
 import numpy as np
 
-from millpath.errors import GeometryError, JobError
+from millpath.errors import GeometryError, JobError, MillpathError
 from millpath.io.schema import parse_toml
 from millpath.io.text import MAX_COORDINATE
 from millpath.part.surface.mesh import Mesh, read_stl
@@ -210,23 +210,23 @@ def read_step(path: Path, chord_tolerance: float = 0.01, units: str = "mm") -> M
     if units not in ("mm", "inch"):
         raise JobError(f"units: mm or inch expected, not {units!r}", path)
     try:
-        from OCP.IFSelect import IFSelect_RetDone
-        from OCP.STEPControl import STEPControl_Reader
+        import OCP  # noqa: F401
     except ImportError:
         raise JobError(STEP_EXTRA, path) from None
     from millpath.part.brep.mesh import face_triangles
-    from millpath.part.brep.reader import quiet_stdout
+    from millpath.part.brep.reader import transfer_step
+    from millpath.part.step.p21 import read as read_p21
+    try:
+        read_p21(path).check_tree()       # what OpenCASCADE would follow without a guard
+    except MillpathError as e:
+        raise GeometryError(f"cannot read STEP: {e.message}", path, e.line,
+                            e.entity) from None
     scale = 1.0 / 25.4 if units == "inch" else 1.0
-    reader = STEPControl_Reader()
-    with quiet_stdout() as log:
-        status = reader.ReadFile(str(path))
-        n = reader.TransferRoots() if status == IFSelect_RetDone else 0
-    if status != IFSelect_RetDone or n == 0:
-        detail = next((ln.strip(" *") for ln in log.lines if "ERR" in ln or "Fail" in ln),
-                      "")
+    shape, log = transfer_step(path)      # a native crash is an error naming the file
+    if shape is None:
+        detail = next((ln.strip(" *") for ln in log if "ERR" in ln or "Fail" in ln), "")
         raise GeometryError("cannot read STEP" + (f": {detail}" if detail else
                                                   " (no shape in the file)"), path)
-    shape = reader.OneShape()
     tris = [nodes[idx] for nodes, idx in
             face_triangles(shape, chord_tolerance / scale, 0.5, file=path)]
     if not tris:
