@@ -8,7 +8,6 @@ after an error nothing in the output folder has changed.
 
 from __future__ import annotations
 
-import bisect
 import math
 import time
 from dataclasses import dataclass, field
@@ -24,6 +23,7 @@ from millpath.job.jobfile import Job, load_job
 from millpath.model import Stock, Toolpath
 from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.registry import strategy
+from millpath.program import LineMap
 from millpath.progress import QUIET, Progress
 from millpath.model.units import default, length_scale
 
@@ -123,9 +123,7 @@ def advance_stock(job: Job, stock: Stock, remaining, tp: Toolpath):
         program, move_lines = post_with_lines(tp, job.tools, title="in-process stock")
         motions = tip_motions(interpret(program, job.tools, machine_units=job.units),
                               job.units)
-        keys = [(line, i) for i, line in enumerate(move_lines) if line is not None]
-        lines = [l for l, _ in keys]
-        src = [keys[max(bisect.bisect_right(lines, mo.line) - 1, 0)][1] for mo in motions]
+        src = LineMap.of_toolpath(tp, move_lines).moves_of(motions).tolist()
     else:
         from millpath.simulate.path import toolpath_motions
         motions, src = toolpath_motions(tp)
@@ -236,7 +234,9 @@ def _run(job_path: str | Path, outdir: str | Path, prog: Progress, force: bool,
     # (G92, G52, G10 L2 in a preamble), units switches
     motions = approach_from_above(tip_motions(motions, job.units), stock.zmax)
     times = motion_times(motions, job.machine)
-    op_secs = _seconds_per_operation(tp, move_lines, motions, times)
+    lmap = LineMap.of_toolpath(tp, move_lines)
+    motion_op = lmap.ops_of(motions)
+    op_secs = np.bincount(motion_op, weights=times, minlength=len(tp.ops)).tolist()
     sim = None
     if job.simulation.get("enabled", True):
         from millpath.simulate import simulate_motions
@@ -254,7 +254,7 @@ def _run(job_path: str | Path, outdir: str | Path, prog: Progress, force: bool,
         sim = simulate_motions(motions, job.tools, stock, resolution=res, design=design,
                                machine=job.machine, progress=prog, chord_tol=chord,
                                references=refs if exact else None,
-                               motion_op=_motion_ops(tp, move_lines, motions),
+                               motion_op=motion_op,
                                accuracy=_accuracy(job.units) if exact else None,
                                times=times)
         report.verification = sim.to_json()
@@ -376,25 +376,13 @@ def _accuracy(units: str) -> float:
     return default("verify_accuracy", units)
 
 
-def _motion_ops(tp: Toolpath, move_lines: list[int | None], motions) -> np.ndarray:
-    """Operation of each interpreted motion: that of the last planned move written at
-    or before its program line."""
-    starts = [(line, m.op) for m, line in zip(tp.moves, move_lines) if line is not None]
-    keys = [l for l, _ in starts]
-    out = np.zeros(len(motions), np.int64)
-    for i, mo in enumerate(motions):
-        k = bisect.bisect_right(keys, mo.line) - 1
-        out[i] = starts[max(k, 0)][1] if starts else 0
-    return out
-
-
 def _safety_gate(report: dict, job: Job, tp: Toolpath, move_lines, motions, sim) -> list:
     """Problems that forbid writing the program (millpath.verify.gate), worst first."""
-    from millpath.verify.gate import GateInput, find_problems, line_map, position_map
+    from millpath.verify.gate import GateInput, find_problems, position_map
     g = GateInput(op_names=[o.name for o in tp.ops],
                   op_tolerances=[o.tolerance for o in tp.ops],
                   fit_tolerance=job.fit_tolerance if job.fit != "none" else 0.0,
-                  op_of_line=line_map([m.op for m in tp.moves], move_lines),
+                  op_of_line=LineMap.of_toolpath(tp, move_lines).op_of_line,
                   position_of_line=position_map(motions),
                   holder_lines=sim.holder_lines if sim is not None else [],
                   rapid_lines=sim.rapid_lines if sim is not None else [],
@@ -415,17 +403,3 @@ def _unsafe_program(program: str, problems: list, force: bool) -> tuple[str, str
     return comment_block(problems) + program, "program.unsafe.ngc"
 
 
-def _seconds_per_operation(tp: Toolpath, move_lines: list[int | None], motions,
-                           times) -> list[float]:
-    """Cycle time of each operation from the interpreted motion: a motion belongs to the
-    operation of the last planned move written at or before its program line."""
-    starts: list[tuple[int, int]] = []
-    for m, line in zip(tp.moves, move_lines):
-        if line is not None:
-            starts.append((line, m.op))
-    keys = [l for l, _ in starts]
-    secs = [0.0] * len(tp.ops)
-    for mo, t in zip(motions, times):
-        k = bisect.bisect_right(keys, mo.line) - 1
-        secs[starts[max(k, 0)][1]] += float(t)
-    return secs

@@ -18,7 +18,6 @@ rapids. Lengths are in the job's units.
 
 from __future__ import annotations
 
-import bisect
 from dataclasses import asdict, dataclass, field
 from typing import Any, Callable, Sequence
 
@@ -206,18 +205,6 @@ def comment_block(problems: list[Problem]) -> str:
         lines.append("(- " + p.text().replace("(", "[").replace(")", "]") + ")")
     lines.append("(DO NOT RUN THIS PROGRAM UNATTENDED)")
     return "\n".join(lines) + "\n"
-
-
-def line_map(move_ops: Sequence[int], move_lines: Sequence[int | None]):
-    """A function program line -> operation index: the operation of the last planned
-    move written at or before the line."""
-    starts = sorted((l, op) for op, l in zip(move_ops, move_lines) if l is not None)
-    keys = [l for l, _ in starts]
-
-    def op_of_line(line: int) -> int | None:
-        k = bisect.bisect_right(keys, line) - 1
-        return starts[k][1] if k >= 0 else (starts[0][1] if starts else None)
-    return op_of_line
 
 
 def position_map(motions) -> Callable[[int], tuple[float, float, float] | None]:

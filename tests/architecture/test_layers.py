@@ -26,6 +26,7 @@ LAYERS = [
     ("millpath.job",),
     ("millpath.fit",),
     ("millpath.post",),
+    ("millpath.program",),
     ("millpath.interpret",),
     ("millpath.simulate",),
     ("millpath.verify",),

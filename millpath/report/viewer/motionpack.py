@@ -22,6 +22,7 @@ import numpy as np
 
 from millpath.interpret.motion import Motion
 from millpath.simulate.path import motion_points
+from millpath.program import LineMap
 
 KIND_CODES = {"traverse": 0, "feed": 1, "arc": 2, "cubic": 3, "dwell": 4, "nurbs": 5}
 MAX_POINTS = 3_000_000
@@ -90,10 +91,7 @@ def operations_from_toolpath(toolpath, move_lines: list[int | None]) -> list[Vie
     """Operations of a posted :class:`millpath.model.Toolpath`: each starts at the
     program line of its first move (``move_lines[i]``: line of move ``i``, as
     :func:`millpath.post.linuxcnc.post_with_lines` returns them)."""
-    first: dict[int, int] = {}
-    for m, line in zip(toolpath.moves, move_lines):
-        if line is not None and m.op not in first:
-            first[m.op] = line
+    first = LineMap.of_toolpath(toolpath, move_lines).first_lines()
     out = [ViewOperation(o.name or o.type, o.tool, first[i])
            for i, o in enumerate(toolpath.ops) if i in first]
     return sorted(out, key=lambda o: o.first_line)
