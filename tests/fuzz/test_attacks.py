@@ -166,3 +166,42 @@ def test_a_native_crash_in_opencascade_is_one_line(tmp_path):
         assert p.returncode == 1, p.stderr
         assert one_line(p.stderr, "step.stp") == (
             "millpath: error: step.stp: OpenCASCADE crashed reading this file (signal 11)")
+
+
+# --- DXF: curves that would be cut into billions of points -------------------------------
+def _dxf(path: Path, add) -> None:
+    import ezdxf
+    doc = ezdxf.new("R2010")
+    doc.header["$INSUNITS"] = 4
+    add(doc.modelspace())
+    doc.saveas(path)
+
+
+DXF_JOB = job().replace('polygon = [[10, 10], [60, 10], [60, 50], [10, 50]]',
+                        'dxf = "part.dxf"')
+
+
+@pytest.mark.parametrize("add, tolerance, words", [
+    (lambda m: m.add_lwpolyline([(0, 0, 0, 0, 0), (60, 0, 0, 0, 1e9), (60, 40, 0, 0, 0),
+                                 (0, 40)], format="xyseb", close=True),
+     None, "LWPOLYLINE: vertex 2 (bulge 1e+09): a radius of 1e+10 mm is larger than the "
+           "10000 mm limit"),
+    (lambda m: m.add_circle((30, 20), 1e300), None,
+     "CIRCLE: a radius of 1e+300 mm is larger than the 10000 mm limit"),
+    (lambda m: m.add_circle((30, 20), 1e6), None,
+     "CIRCLE: a radius of 1e+06 mm is larger than the 10000 mm limit"),
+    (lambda m: [m.add_circle((0, 0), 4000 + k) for k in range(3)], "0.000001",
+     "CIRCLE: needs 8.89e+05 points within 2.5e-08 mm: more than the 2000000 a drawing may "
+     "be cut into"),
+])
+def test_dxf_curves_are_measured_before_they_are_cut(tmp_path, monkeypatch, add, tolerance,
+                                                     words):
+    _dxf(tmp_path / "part.dxf", add)
+    text = DXF_JOB if tolerance is None else DXF_JOB.replace(
+        "stepdown = 1", f"stepdown = 1\ntolerance = {tolerance}")
+    (tmp_path / "job.toml").write_text(text)
+    r = run_cli(tmp_path, monkeypatch, "run", "job.toml", "-o", "out")
+    assert r.exit_code == 1, r.output
+    line = one_line(r.output, "part.dxf: entity ")
+    assert words in line
+    assert not (tmp_path / "out").exists()
