@@ -7,7 +7,10 @@ Looked at from the planned moves of each operation against the stock (job units)
 - it cuts deeper than the stock: a feed move more than a tool diameter below the stock
   bottom (a through hole's break-through is less);
 - it cuts deeper than its tool reaches: a feed move further below the stock top than
-  the tool's stick-out (the holder would be buried).
+  the tool's stick-out (the holder would be buried);
+- a 2.5D operation (pocket, profile) whose bottom (its operations' ``info["bottom"]``:
+  the key, the top and the depth below it) is more than a cut-through's
+  ``breakthrough`` (0.5 mm / 0.02 in) below the stock bottom: refused naming the key.
 """
 
 from __future__ import annotations
@@ -16,6 +19,7 @@ from pathlib import Path
 
 from millpath.errors import PlanningError
 from millpath.model import Stock, Tool, Toolpath
+from millpath.model.units import default
 
 FEEDS = ("line", "arc", "cubic", "drill")
 
@@ -24,6 +28,7 @@ def check_operation(where: str, tp: Toolpath, stock: Stock, tools: dict[int, Too
                     file: str | Path | None) -> None:
     """Raise PlanningError naming ``where`` (e.g. ``operations[2]``) when the moves of
     ``tp`` cut nothing or reach deeper than the stock or the tool."""
+    _bottoms(where, tp, stock, file)
     lowest: dict[int, float] = {}
     for m in tp.moves:
         if m.kind in FEEDS:
@@ -47,3 +52,21 @@ def check_operation(where: str, tp: Toolpath, stock: Stock, tools: dict[int, Too
             raise PlanningError(f"{where}: T{n} cuts {stock.zmax - z:g} below the stock "
                                 f"top but reaches only {tool.stickout:g} (stick-out): the "
                                 f"holder would be buried", file)
+
+
+def _bottoms(where: str, tp: Toolpath, stock: Stock, file) -> None:
+    """PlanningError naming the depth key of an operation whose bottom lies more than a
+    cut-through below the stock bottom."""
+    through = default("breakthrough", tp.units)
+    for op in tp.ops:
+        b = op.info.get("bottom")
+        if not b:
+            continue
+        z = b["top"] - b["depth"]
+        if z < stock.zmin - through - 1e-9:
+            most = b["top"] - stock.zmin + through
+            raise PlanningError(f"{where}.{b['key']}: {b['depth']:g} below z {b['top']:g} "
+                                f"reaches z {z:g}, {stock.zmin - z:g} below the stock "
+                                f"bottom z {stock.zmin:g}: the depth is beyond the stock "
+                                f"(a cut through it goes at most {through:g} below: "
+                                f"{b['key']} {most:g} or less)", file)

@@ -121,8 +121,9 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     tp = Toolpath(ctx.units)
     strategy = params["strategy"]
     label = f"pocket {strategy}" + (" rest" if rest else "")
-    op = Operation("pocket", label, tool.number, spindle=params["spindle"],
+    op = Operation("pocket", label, tool.number, spindle=params["spindle"], tolerance=tol,
                    info={"strategy": strategy, "rest": rest,
+                         "bottom": {"key": "depth", "top": top, "depth": params["depth"]},
                          "engagement_target": params["engagement"] if strategy == "adaptive"
                          else None})
     tp.begin(op)
@@ -187,7 +188,7 @@ def _finish(tp, ctx, params, regions, tool, top, floor, safe, upper, clearance, 
     """Walls at every level and the floor, to size (the allowance left by clearing)."""
     R = tool.radius
     op = Operation("pocket", "pocket finish" + (" rest" if rest else ""), tool.number,
-                   spindle=params["spindle"], info={"strategy": "finish", "rest": rest})
+                   spindle=params["spindle"], tolerance=tol, info={"strategy": "finish", "rest": rest})
     tp.begin(op)
     w = PathWriter(tp, safe_z=safe, clear_z=upper + clearance, feed=feed, plunge_feed=plunge,
                    ramp_angle=params["ramp_angle"])
