@@ -9,7 +9,6 @@ contact point ``cx,cy,cz`` (with ``--contact``).
 from __future__ import annotations
 
 import io
-import math
 from pathlib import Path
 
 import click
@@ -17,6 +16,8 @@ import numpy as np
 
 from millpath.errors import MillpathError
 from millpath.io.text import read_number_rows
+from millpath.model.limits import (MAX_DIVISIONS, MAX_EXTENT, MAX_TOLERANCE,
+                                   MIN_CHORD_TOLERANCE, TOOL_DIAMETER, check_coordinate)
 
 _HELP_HOLDER = (
     "Holder cylinders DIAMETER:LENGTH[,DIAMETER:LENGTH...] stacked upward from the holder "
@@ -41,9 +42,10 @@ def parse_holder(spec: str, tool_length: float) -> tuple[tuple[float, float, flo
         except ValueError:
             raise MillpathError(f"bad holder cylinder {part.strip()!r}: expected "
                                 "DIAMETER:LENGTH", entity="--holder") from None
-        if not (d > 0 and length > 0 and math.isfinite(d) and math.isfinite(length)):
+        if not (0 < d <= MAX_EXTENT.mm and 0 < length <= MAX_EXTENT.mm):
             raise MillpathError(f"bad holder cylinder {part.strip()!r}: diameter and length "
-                                "must be positive", entity="--holder")
+                                f"must be above 0 and at most {MAX_EXTENT.mm:g}",
+                                entity="--holder")
         out.append((d / 2.0, z, z + length))
         z += length
     return tuple(out)
@@ -103,25 +105,35 @@ def command(surface: Path, tool_spec: str, points: Path, tool_length: float | No
         cutter = Cutter.parse(tool_spec)
     except ValueError as e:
         raise MillpathError(str(e), entity="--tool") from None
-    if divisions < 1:
-        raise MillpathError(f"must be at least 1, got {divisions}", entity="--divisions")
+    # the surface's units are known once it is read: bounds loose enough for either
+    lo, hi = TOOL_DIAMETER[0].inch, TOOL_DIAMETER[1].mm
+    if not (lo <= 2.0 * cutter.radius <= hi):
+        raise MillpathError(f"a diameter of {2.0 * cutter.radius:g} is outside {lo:g} .. "
+                            f"{hi:g} (surface units)", entity="--tool")
+    if not (1 <= divisions <= MAX_DIVISIONS):
+        raise MillpathError(f"must be 1 .. {MAX_DIVISIONS}, got {divisions}",
+                            entity="--divisions")
+    if not (MIN_CHORD_TOLERANCE <= chord_tolerance <= MAX_TOLERANCE.mm):
+        raise MillpathError(f"must be {MIN_CHORD_TOLERANCE:g} .. {MAX_TOLERANCE.mm:g} "
+                            f"(surface units), got {chord_tolerance:g}",
+                            entity="--chord-tolerance")
     cylinders: tuple[tuple[float, float, float], ...] = ()
     if holder is not None:
         if tool_length is None:
             raise MillpathError("give --tool-length (tip to holder face) with --holder",
                                 entity="--holder")
-        if not (tool_length > 0 and math.isfinite(tool_length)):
-            raise MillpathError(f"must be positive, got {tool_length:g}",
-                                entity="--tool-length")
+        if not (0 < tool_length <= MAX_EXTENT.mm):
+            raise MillpathError(f"must be above 0 and at most {MAX_EXTENT.mm:g} (surface "
+                                f"units), got {tool_length:g}", entity="--tool-length")
         cylinders = parse_holder(holder, tool_length)
     elif tool_length is not None:
         raise MillpathError("places the holder face; give --holder too",
                             entity="--tool-length")
-    if not (holder_clearance >= 0 and math.isfinite(holder_clearance)):
-        raise MillpathError(f"must be zero or positive, got {holder_clearance:g}",
-                            entity="--holder-clearance")
-    if z_floor is not None and not math.isfinite(z_floor):
-        raise MillpathError(f"must be a finite number, got {z_floor}", entity="--floor")
+    if not (0 <= holder_clearance <= MAX_EXTENT.mm):
+        raise MillpathError(f"must be 0 .. {MAX_EXTENT.mm:g} (surface units), got "
+                            f"{holder_clearance:g}", entity="--holder-clearance")
+    if z_floor is not None and check_coordinate(z_floor):
+        raise MillpathError(check_coordinate(z_floor), entity="--floor")
     xy = read_points(points)
     mesh = load_surface(str(surface), divisions, Path("."), chord_tolerance=chord_tolerance)
     floor = float(mesh.bounds[0][2]) if z_floor is None else z_floor

@@ -27,8 +27,17 @@ def command(program: Path, tolerance: float, mode: str, min_radius: float,
             output: Path | None) -> None:
     """Rewrite runs of G1 moves in PROGRAM as G2/G3 arcs (and G5 cubics) within
     --tolerance; every other line stays as written."""
-    from millpath.fit import fit_program
+    from millpath.fit import MAX_RADIUS_MM, fit_program
     from millpath.fit.program import FitStats
+    from millpath.model.limits import MAX_TOLERANCE
+    # the program's units are known once it is read: bounds loose enough for either
+    if not (0 < tolerance <= MAX_TOLERANCE.mm):
+        raise MillpathError(f"--tolerance {tolerance:g}: the fit tolerance must be above 0 "
+                            f"and at most {MAX_TOLERANCE.mm:g} (program units)", program)
+    if not (0 <= min_radius <= MAX_RADIUS_MM):
+        raise MillpathError(f"--min-radius {min_radius:g}: the min radius must be 0 .. "
+                            f"{MAX_RADIUS_MM:g} (program units; larger arcs are written as "
+                            f"lines)", program)
     stats = FitStats()
     try:
         text = program.read_text()

@@ -50,6 +50,12 @@ MAX_FLOW_LINES = 1_500_000
 #: (repeats x pecks) one canned-cycle block may expand into (a few moves each)
 MAX_CYCLE_STEPS = 1_000_000
 
+# --- surfaces ----------------------------------------------------------------------------
+#: cells per direction a Bezier net or measured grid is meshed into (two triangles each)
+MAX_DIVISIONS = 1000
+#: finest chordal tolerance a STEP surface is meshed within (its units)
+MIN_CHORD_TOLERANCE = 0.001
+
 # --- drawings ----------------------------------------------------------------------------
 #: points the curves of one drawing may be cut into at the chordal tolerance
 MAX_CURVE_POINTS = 2_000_000
@@ -58,7 +64,7 @@ MAX_CURVE_POINTS = 2_000_000
 #: a tool's cutting diameter: from a micro end mill to a large face mill
 TOOL_DIAMETER = (PerUnits(0.01, 0.0004), PerUnits(1000.0, 40.0))
 #: largest chordal or fitting tolerance: coarser is not machining
-MAX_TOLERANCE = PerUnits(5.0, 0.2)
+MAX_TOLERANCE = PerUnits(1.0, 0.04)
 #: largest stock side, per unit system: a 10 m machine table
 MAX_EXTENT = PerUnits(10_000.0, 400.0)
 

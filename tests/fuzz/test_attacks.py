@@ -205,3 +205,39 @@ def test_dxf_curves_are_measured_before_they_are_cut(tmp_path, monkeypatch, add,
     line = one_line(r.output, "part.dxf: entity ")
     assert words in line
     assert not (tmp_path / "out").exists()
+
+
+# --- command-line options ----------------------------------------------------------------
+PROGRAM = "G21 F100\nG1 X0 Y0\nG1 X1 Y0.1\nG1 X2 Y0.3\nG1 X3 Y0.6\nG1 X4 Y1\nM2\n"
+
+
+@pytest.mark.parametrize("args, words", [
+    (["-t", "1e308"], "p.ngc: --tolerance 1e+308: the fit tolerance must be above 0 and at "
+                      "most 1 (program units)"),
+    (["-t", "0.01", "--min-radius", "1e308"],
+     "p.ngc: --min-radius 1e+308: the min radius must be 0 .. 1000 (program units"),
+])
+def test_fit_options_are_bounded(tmp_path, monkeypatch, args, words):
+    (tmp_path / "p.ngc").write_text(PROGRAM)
+    r = run_cli(tmp_path, monkeypatch, "fit", "p.ngc", *args, "-o", "out.ngc")
+    assert r.exit_code == 1, r.output
+    assert one_line(r.output, words)
+    assert not (tmp_path / "out.ngc").exists()
+
+
+@pytest.mark.parametrize("args, words", [
+    (["--tool", "ball:1e308"], "--tool: a diameter of 1e+308 is outside 0.0004 .. 1000"),
+    (["--tool", "ball:6", "--tool-length", "1e308", "--holder", "20:40"],
+     "--tool-length: must be above 0 and at most 10000 (surface units), got 1e+308"),
+    (["--tool", "ball:6", "--tool-length", "50", "--holder", "20:1e308"],
+     "--holder: bad holder cylinder '20:1e308'"),
+    (["--tool", "ball:6", "--divisions", "100000"], "--divisions: must be 1 .. 1000"),
+    (["--tool", "ball:6", "--floor", "1e300"], "--floor: 1e+300 is larger than the 1e+09"),
+])
+def test_drop_options_are_bounded(tmp_path, monkeypatch, args, words):
+    (tmp_path / "g.csv").write_text("x,y,z\n0,0,0\n10,0,0\n0,10,0\n10,10,1\n")
+    (tmp_path / "p.csv").write_text("x,y\n1,1\n5,5\n")
+    r = run_cli(tmp_path, monkeypatch, "drop", "g.csv", "--xy", "p.csv", *args, "-o", "o.csv")
+    assert r.exit_code == 1, r.output
+    assert one_line(r.output, words)
+    assert not (tmp_path / "o.csv").exists()
