@@ -48,6 +48,8 @@ def write_text(path: str | Path, text: str) -> None:
 
 
 def write_bytes(path: str | Path, data: bytes) -> None:
+    """Write ``data`` to ``path`` through a temporary file and a rename; an error (a full
+    disk) leaves no file and names ``path``."""
     p = Path(path)
     p.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", suffix=".tmp", dir=p.parent)
@@ -56,10 +58,21 @@ def write_bytes(path: str | Path, data: bytes) -> None:
             fh.write(data)
         os.chmod(tmp, 0o666 & ~_umask())      # as open() would create it, not mkstemp's 0600
         os.replace(tmp, p)
-    except BaseException:
+    except BaseException as e:
         if os.path.exists(tmp):
             os.unlink(tmp)
+        if isinstance(e, OSError):
+            raise _named(e, tmp, p) from None
         raise
+
+
+def _named(e: OSError, was: str | Path, name: str | Path) -> OSError:
+    """``e`` naming ``name`` where it named ``was`` (a temporary file or the staging
+    folder) or nothing (a write to a full disk names no file)."""
+    old = e.filename
+    new = str(name) if old is None or str(old) == str(was) else \
+        str(old).replace(str(was), str(name), 1)
+    return OSError(e.errno, e.strerror or str(e), new)
 
 
 def _umask() -> int:
@@ -217,6 +230,8 @@ def staged_dir(final: str | Path) -> Iterator[Path]:
                 _switch(tmp, final)
             else:
                 _switch_files(tmp, final)
+        except OSError as e:             # a full disk: name the output, not the staging
+            raise _named(e, tmp, final) from None
         finally:
             if tmp.exists():
                 shutil.rmtree(tmp, ignore_errors=True)

@@ -241,3 +241,48 @@ def test_drop_options_are_bounded(tmp_path, monkeypatch, args, words):
     assert r.exit_code == 1, r.output
     assert one_line(r.output, words)
     assert not (tmp_path / "o.csv").exists()
+
+
+# --- a full disk -------------------------------------------------------------------------
+@pytest.fixture
+def full_disk(monkeypatch):
+    """Every file written through millpath.io.atomic fails as on a full disk."""
+    import errno
+    import os
+
+    import millpath.io.atomic as atomic
+    real = os.fdopen
+
+    class Full:
+        def __init__(self, fh):
+            self.fh = fh
+
+        def __enter__(self):
+            return self
+
+        def __exit__(self, *exc):
+            self.fh.close()
+
+        def write(self, data):
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    monkeypatch.setattr(atomic.os, "fdopen", lambda fd, mode: Full(real(fd, mode)))
+
+
+def test_a_full_disk_names_the_file(tmp_path, monkeypatch, full_disk):
+    (tmp_path / "p.ngc").write_text(PROGRAM)
+    r = run_cli(tmp_path, monkeypatch, "fit", "p.ngc", "-t", "0.01", "-o", "out.ngc")
+    assert r.exit_code == 1, r.output
+    assert one_line(r.output, "out.ngc: No space left on device")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["p.ngc"]
+
+
+def test_a_full_disk_names_the_output_folder_not_the_staging(tmp_path, full_disk):
+    from millpath.io.atomic import staged_dir, write_text
+    out = tmp_path / "out"
+    with pytest.raises(OSError) as e:
+        with staged_dir(out) as tmp:
+            write_text(tmp / "program.ngc", "M2\n")
+    assert e.value.filename == str(out / "program.ngc")
+    assert e.value.strerror == "No space left on device"
+    assert not out.exists() and [p.name for p in tmp_path.iterdir()] == [".out.lock"]
