@@ -58,7 +58,9 @@ def join_pieces(pieces: list[Piece], join_tolerance: float, file=None) -> list[L
             continue
         gap = float(np.hypot(*(pts[-1] - pts[0])))
         if p.closed or (len(pts) > 2 and gap <= join_tolerance):
-            if gap <= join_tolerance:
+            # a closed entity repeats its first point or not (a circle's chords within
+            # the join tolerance are edges, not a gap)
+            if gap <= (eps if p.closed else join_tolerance):
                 pts = pts[:-1]
             if len(pts) >= 3:
                 loops.append(Loop(pts, [p.handle]))

@@ -158,7 +158,7 @@ def _piece(e, tol: float, budget: _Budget) -> Piece | None:
                      bool(e.is_closed))
     if t in ("SPLINE", "ELLIPSE"):
         if t == "ELLIPSE":
-            budget.size(math.hypot(*e.dxf.major_axis[:2]), "a half axis of ")
+            budget.size(math.hypot(e.dxf.major_axis.x, e.dxf.major_axis.y), "a half axis of ")
         else:
             cps = [(float(p[0]), float(p[1])) for p in e.control_points] or [(0.0, 0.0)]
             budget.size(float(np.ptp(np.array(cps), axis=0).max()), "a span of ")

@@ -137,6 +137,21 @@ def shift_region(region: Region, distance: float) -> Region:
     if distance == 0:
         return region
     moved = region.polygon.buffer(distance, join_style="mitre", mitre_limit=5.0)
-    if not isinstance(moved, Polygon) or moved.is_empty or not moved.is_valid:
+    if (not isinstance(moved, Polygon) or moved.is_empty or not moved.is_valid
+            or len(moved.interiors) != len(region.polygon.interiors)):
         return region
-    return Region(orient(moved, 1.0), region.name, list(region.island_names))
+    # the buffer may list the islands in another order: keep each name with its island
+    # (growing the region shrinks its islands: the new one lies in the old, and back)
+    old = [Polygon(r) for r in region.polygon.interiors]
+    order = []
+    for ring in moved.interiors:
+        n = Polygon(ring)
+        k = next((i for i, o in enumerate(old) if i not in order and (
+            o.contains(n.representative_point()) if distance > 0
+            else n.contains(o.representative_point()))), None)
+        if k is None:
+            return region
+        order.append(k)
+    holes = [moved.interiors[j].coords for j in sorted(range(len(order)), key=order.__getitem__)]
+    return Region(orient(Polygon(moved.exterior.coords, holes), 1.0), region.name,
+                  list(region.island_names))

@@ -1,27 +1,40 @@
-"""Operation ``profile``: cut along drawn contours, outside or inside (issue 21).
+"""Operation ``profile``: cut along the contours of a drawing, each on its air side.
 
 Keys (job units; feeds in units per minute; Z absolute, tool tip):
 
-- geometry: ``dxf`` (+ ``layer``, ``join_tolerance``) or ``polygon`` (+ ``islands``,
-  ignored); the outer contour of each region is profiled. ``tolerance``: chordal
-  tolerance (default 0.01 mm / 0.0005 in).
-- ``side``: ``outside`` (the tool outside the contour) or ``inside``.
+- geometry: ``dxf`` (+ ``layer``, ``join_tolerance``) or ``polygon`` (+ ``islands``);
+  ``tolerance``: the operation's tolerance (default 0.01 mm / 0.0005 in): drawn curves
+  are followed within a 20th of it, and the proof refuses a gouge deeper than it.
+- ``side``: ``outside`` (default): the drawing's regions are the part: each outline is
+  cut with the tool outside it, each hole, slot or bore inside it; ``inside``: the
+  regions are openings: outlines from inside, islands from outside (see
+  :mod:`.contours`).
+- which contours: ``contours`` (all, outer, inner), ``kinds`` (circle, slot, other),
+  ``min_size``/``max_size`` (width), ``contour_layer`` (see :mod:`.contours`).
 - ``compensation``: ``cam`` (the tool-centre path: the contour offset by the tool
-  radius, round joins) or ``control`` (the contour itself between ``G41``/``G42
-  D<tool>`` and ``G40``; the control offsets it by the tool table's diameter).
+  radius, round joins within a 20th of the tolerance) or ``control`` (the contour
+  itself between ``G41``/``G42 D<tool>`` and ``G40``; the control offsets it by the
+  tool table's diameter).
 - ``direction``: ``climb`` (default: tool on the left, G41, with a clockwise spindle)
   or ``conventional`` (right, G42).
 - ``lead_radius`` (default the tool diameter; must exceed the tool radius): tangent
   quarter-arc lead-in and lead-out on the tool side, each with a straight entry/exit of
-  ``lead_radius`` (see :mod:`.leads`).
-- ``top`` (default stock top), ``depth`` below it, ``stepdown``: levels.
-- ``tabs = N`` holding tabs ``tab_width`` long (default the tool diameter, measured
-  along the contour) and ``tab_height`` above the bottom (default 0: no tabs), spread
-  evenly; on levels below the tab top the tool climbs over them (straight up, then down
-  along the path at no more than 45 degrees).
+  ``lead_radius`` (see :mod:`.leads`), entered by a helix beside the entry. A contour
+  with no room for them (a hole little wider than the tool) is entered by descending
+  along its own path at ``ramp_angle`` (CAM compensation, no tabs; else an error).
+- ``top`` (default stock top), ``depth`` below it, ``stepdown``: levels; a bottom more
+  than 0.5 mm / 0.02 in below the stock's is refused (:mod:`millpath.plan.sense`).
+- ``tabs = N`` holding tabs on each outline (outer contour) ``tab_width`` long (default
+  the tool diameter, measured along the contour) and ``tab_height`` above the bottom
+  (default 0: no tabs), spread evenly; on levels below the tab top the tool climbs
+  over them (straight up, then down along the path at no more than 45 degrees).
 - ``rest``: levels whose path meets no material left by earlier operations are skipped.
 - ``feed``, ``plunge_feed`` (default feed / 2), ``spindle``, ``safe_z``, ``ramp_angle``
-  (helix descent at the entry point, degrees, default 3).
+  (helix and ramp descent, degrees, default 3).
+
+Contours are cut holes first (nearest first), then outlines, each level by level. The
+design (:mod:`.design`) is the part the drawing shows, extruded from the bottom to the
+stock top.
 """
 
 from __future__ import annotations
@@ -29,16 +42,22 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from shapely.geometry import LineString, Polygon
+import shapely
+from shapely.geometry import LineString, Point, Polygon
 from shapely.geometry.polygon import orient
 
 from millpath.errors import JobError, PlanningError
 from millpath.io.schema import Param
 from millpath.model import Operation, Toolpath
+from millpath.part.drawing import read_dxf
 from millpath.plan.base import PlanContext, PlanResult
+from millpath.plan.profile.contours import (SELECT_PARAMS, material, order, profile_contours,
+                                            select)
+from millpath.plan.profile.design import ProfileDesign, slot_band
 from millpath.plan.profile.leads import leads, start_on_longest
 from millpath.plan.twod.field import MaterialField, Raster, densify, stock_heights
-from millpath.plan.twod.geometry import GEOMETRY_PARAMS, default_tolerance, load_regions
+from millpath.plan.twod.geometry import (CURVE_FRACTION, GEOMETRY_PARAMS, default_tolerance,
+                                         load_regions)
 from millpath.plan.levels import levels
 from millpath.plan.twod.heights import MOTION_PARAMS, end_mill, operation_heights, plunge_feed
 from millpath.plan.twod.offsets import offset, polygons
@@ -47,7 +66,11 @@ from millpath.plan.twod.writer import PathWriter
 PARAMS = {
     **GEOMETRY_PARAMS,
     "tool": Param("int", positive=True, doc="flat or bull end mill"),
-    "side": Param("str", choices=("outside", "inside"), doc="tool outside or inside the contour"),
+    "side": Param("str", "outside", choices=("outside", "inside"),
+          doc="'outside': the drawing's regions are the part (outlines cut from outside, "
+              "holes and slots from inside); 'inside': they are openings (outlines from "
+              "inside, islands from outside)"),
+    **SELECT_PARAMS,
     "compensation": Param("str", "cam", choices=("cam", "control"),
           doc="'cam': the tool-centre path; 'control': the contour between G41/G42 and G40"),
     "direction": Param("str", "climb", choices=("climb", "conventional"),
@@ -59,7 +82,7 @@ PARAMS = {
     "depth": Param("float", positive=True, unit="length", doc="depth below top"),
     "stepdown": Param("float", positive=True, unit="length", doc="depth per level"),
     "tabs": Param("int", 0, nonneg=True, unit="count",
-          doc="holding tabs spread evenly along each contour"),
+          doc="holding tabs spread evenly along each outline (outer contour)"),
     "tab_height": Param("float", 0.0, nonneg=True, unit="length",
           doc="tab height above the bottom (0: no tabs)"),
     "tab_width": Param("float", None, positive=True, unit="length",
@@ -68,7 +91,7 @@ PARAMS = {
           doc="skip levels whose path meets no material left by earlier operations"),
     **MOTION_PARAMS,
     "ramp_angle": Param("float", 3.0, positive=True, unit="deg",
-          doc="helix descent angle at the entry point"),
+          doc="descent angle of the helix (or the ramp along the path) at each entry"),
 }
 
 
@@ -118,7 +141,9 @@ def _collinear(a, b, c) -> bool:
 
 def plan(ctx: PlanContext, params: dict) -> PlanResult:
     file = ctx.job_file
+    where = params["dxf"] or file
     tool = end_mill(ctx, params, "a profile")
+    tol = params["tolerance"] or default_tolerance(ctx.units)
     regions = load_regions(params, ctx.units, file, ctx.parts)
     R = tool.radius
     rho = params["lead_radius"] or tool.diameter
@@ -127,47 +152,109 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     heights = operation_heights(ctx, params)
     top, upper, safe, clearance = (heights.top, heights.upper, heights.safe_z,
                                    heights.clearance)
-    stock_top = ctx.stock.zmax if ctx.stock is not None else None
+    stock_top = ctx.stock.zmax if ctx.stock is not None else top
     bottom = top - params["depth"]
     tab_h = params["tab_height"]
     if params["tabs"] and not 0 < tab_h < params["depth"]:
         raise JobError(f"tab_height: must be between 0 and the depth {params['depth']:g} "
                        f"when tabs are asked for, got {tab_h:g}", file)
-    feed = params["feed"]
-    plunge = plunge_feed(params)
-    side = 1 if params["direction"] == "climb" else -1
-    outside = params["side"] == "outside"
-    control = params["compensation"] == "control"
-    tol = params["tolerance"] or default_tolerance(ctx.units)
+    side_outside = params["side"] == "outside"
+    every = profile_contours(regions, side_outside, tol)
+    layer_loops = None
+    if params["contour_layer"] is not None:
+        if params["dxf"] is None:
+            raise JobError("contour_layer: needs a dxf drawing", file)
+        layer_loops = [orient(Polygon(lp.points), 1.0) for lp in read_dxf(
+            params["dxf"], ctx.units, 0.5 * CURVE_FRACTION * tol, layer=params["contour_layer"],
+            join_tolerance=params["join_tolerance"] or 10.0 * tol)]
+    chosen = order(select(every, {**params, "tolerance": tol}, layer_loops, file))
+    reach = 2 * (rho + tool.diameter) + tol
+    lo = np.min([r.polygon.bounds[:2] for r in regions], axis=0) - reach
+    hi = np.max([r.polygon.bounds[2:] for r in regions], axis=0) + reach
+    if ctx.stock is not None:
+        lo = np.minimum(lo, [ctx.stock.xmin - reach, ctx.stock.ymin - reach])
+        hi = np.maximum(hi, [ctx.stock.xmax + reach, ctx.stock.ymax + reach])
+    solid = material(regions, side_outside, (*lo, *hi))
+    shapely.prepare(solid)
 
     tp = Toolpath(ctx.units)
     op = Operation("profile", f"profile {params['side']} ({params['compensation']})",
-                   tool.number, spindle=params["spindle"],
-                   info={"side": params["side"], "compensation": params["compensation"]})
+                   tool.number, spindle=params["spindle"], tolerance=tol,
+                   info={"side": params["side"], "compensation": params["compensation"],
+                         "bottom": {"key": "depth", "top": top, "depth": params["depth"]}})
     tp.begin(op)
-    w = PathWriter(tp, safe_z=safe, clear_z=upper + clearance, feed=feed, plunge_feed=plunge,
-                   ramp_angle=params["ramp_angle"])
-    skipped = 0
-    for reg in regions:
-        contour = Polygon(reg.polygon.exterior)
+    w = PathWriter(tp, safe_z=safe, clear_z=upper + clearance, feed=params["feed"],
+                   plunge_feed=plunge_feed(params), ramp_angle=params["ramp_angle"])
+    cut = _Cut(ctx, params, tool, tol, rho, w, tp, solid, top, bottom, upper, clearance,
+               stock_top, where)
+    report = []
+    for c in chosen:
+        entry = cut.contour(c)
+        report.append({**c.to_json(), "entry": entry})
+    w.retract()
+    op.info["levels_skipped"] = cut.skipped
+    op.info["contours"] = len(chosen)
+    band = slot_band(chosen, max(2 * R - tool.corner_radius - tol, tol))
+    walls = [np.asarray(orient(c.polygon, -1.0 if c.tool_outside else 1.0).exterior.coords)
+             for c in chosen]
+    zmin = ctx.stock.zmin if ctx.stock is not None else -math.inf
+    through = bottom <= zmin + 1e-9
+    design = ProfileDesign(solid, walls, band, bottom, stock_top, through,
+                           with_floor=bottom >= zmin - 1e-9)
+    return PlanResult(tp, design=design,
+                      report={"profile": {"side": params["side"], "contours": report,
+                                          "of": len(every), "through": through}})
+
+
+class _Cut:
+    """Cuts one contour after another with the operation's settings (see :func:`plan`)."""
+
+    def __init__(self, ctx, params, tool, tol, rho, w, tp, solid, top, bottom, upper,
+                 clearance, stock_top, where):
+        self.ctx, self.params, self.tool, self.tol, self.rho = ctx, params, tool, tol, rho
+        self.w, self.tp, self.solid, self.where = w, tp, solid, where
+        self.top, self.bottom, self.upper, self.clearance = top, bottom, upper, clearance
+        self.stock_top = stock_top
+        self.skipped = 0
+        R = tool.radius
+        # round joins of the tool-centre path within tolerance / 20 of the true offset
+        step = 2 * math.acos(max(1.0 - CURVE_FRACTION * tol / R, -1.0))
+        self.quad_segs = max(8, int(math.ceil(0.5 * math.pi / max(step, 1e-6))))
+
+    def contour(self, c) -> str:
+        """Plan every level of contour ``c``; the entry used: "lead" (helix beside the
+        lead-in, tangent lead arcs) or "ramp" (down along the path, where no lead fits)."""
+        p, tool, tp, w = self.params, self.tool, self.tp, self.w
+        R, tol, rho = tool.radius, self.tol, self.rho
+        outside = c.tool_outside
+        contour = c.polygon
+        side = 1 if p["direction"] == "climb" else -1
+        control = p["compensation"] == "control"
+        what = f"the contour {c.describe(tol)}"
         # traversal with the tool on the left (climb): outside clockwise, inside ccw
         ring = np.asarray(orient(contour, -1.0 if outside else 1.0).exterior.coords)[:-1, :2]
         if side < 0:
             ring = ring[::-1]
         ring = start_on_longest(ring)
         t = ring[1] - ring[0]
-        centre = offset(contour, R if outside else -R)
+        centre = offset(contour, R if outside else -R, self.quad_segs)
         cpolys = polygons(centre)
         if not cpolys:
-            raise PlanningError(f"tool {tool.number} (diameter {tool.diameter:g}) does not fit "
-                                f"inside the contour {reg.name}", params["dxf"] or file)
+            raise PlanningError(f"tool {tool.number} (diameter {tool.diameter:g}) does not "
+                                f"fit inside {what}", self.where)
         if len(cpolys) > 1:
-            raise PlanningError(f"tool {tool.number} (diameter {tool.diameter:g}) does not fit "
-                                f"through a neck of the contour {reg.name}",
-                                params["dxf"] or file)
+            raise PlanningError(f"tool {tool.number} (diameter {tool.diameter:g}) does not "
+                                f"fit through a neck of {what}", self.where)
         cring = np.asarray(orient(cpolys[0], -1.0 if outside else 1.0).exterior.coords)[:-1, :2]
         if side < 0:
             cring = cring[::-1]
+        hit = _meets(LineString(np.vstack([cring, cring[:1]])), R - 2 * CURVE_FRACTION * tol,
+                     self.solid)
+        if hit is not None:
+            raise PlanningError(f"tool {tool.number} (diameter {tool.diameter:g}) cutting "
+                                f"{what} would cut into the part at ({hit[0]:.3f}, "
+                                f"{hit[1]:.3f}): another contour is nearer than the tool "
+                                f"diameter", self.where)
         P0c = ring[0] + R * side * np.array([-t[1], t[0]]) / np.hypot(*t)
         closed_c = np.vstack([cring, cring[:1]])
         at = LineString(closed_c).project(LineString([P0c, P0c]).centroid)
@@ -176,30 +263,43 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         cring = np.vstack([P0c, np.roll(cring, -k, axis=0)])
         if np.hypot(*(cring[1] - cring[0])) < 1e-9:
             cring = cring[1:]
-        tries = [rho] if params["lead_radius"] else [rho * f for f in (1.0, 0.8, 0.65, 0.55)]
+        tries = [rho] if p["lead_radius"] else [rho * f for f in (1.0, 0.8, 0.65, 0.55)]
+        Lc = Lp = None
         for rho_k in tries:
             Lc = leads(ring[0], t, side, rho_k, rho_k, offset=R)     # tool-centre leads
             Lp = leads(ring[0], t, side, rho_k, rho_k, offset=0.0)   # programmed leads
-            if _leads_fit(Lc, cring[0], R, contour, outside):
+            if _leads_fit(Lc, cring[0], R, self.solid, tol):
                 break
         else:
+            Lc = Lp = None
+        tabs_here = p["tabs"] and c.outer
+        if Lc is None and (control or tabs_here):
             raise PlanningError(f"no room for the lead-in and lead-out of radius "
                                 f"{tries[-1]:g} or more at ({ring[0][0]:.3f}, "
-                                f"{ring[0][1]:.3f}) of the contour {reg.name}",
-                                params["dxf"] or file)
+                                f"{ring[0][1]:.3f}) of {what}"
+                                + (" (tabs need them)" if tabs_here and not control else ""),
+                                self.where)
         path_c = np.vstack([cring, cring[:1]])
         L = float(np.hypot(*np.diff(path_c, axis=0).T).sum())
-        width = params["tab_width"] or tool.diameter
-        tabs = _tab_intervals(L, params["tabs"], width + tool.diameter)
-        z_tab = bottom + tab_h
+        width = p["tab_width"] or tool.diameter
+        tabs = _tab_intervals(L, p["tabs"] if tabs_here else 0, width + tool.diameter)
+        z_tab = self.bottom + p["tab_height"]
+        feed = p["feed"]
         z_prev = None
-        for z in levels(top, bottom, params["stepdown"]):
-            if params["rest"] and ctx.remaining is not None and _nothing_left(
-                    ctx, path_c, R, z, tol, stock_top if stock_top is not None else top):
-                skipped += 1
+        for z in levels(self.top, self.bottom, p["stepdown"]):
+            if p["rest"] and self.ctx.remaining is not None and _nothing_left(
+                    self.ctx, path_c, R, z, tol, self.stock_top):
+                self.skipped += 1
                 z_prev = z
                 continue
-            z_from = upper + clearance if z_prev is None else z_prev + clearance
+            z_from = self.upper + self.clearance if z_prev is None else z_prev + self.clearance
+            z_prev = z
+            if Lc is None:
+                # no room for leads (a small hole): down along the path, then a lap
+                w.ramp_closed(cring, z_from, z)
+                w.polyline(np.vstack([cring[1:], cring[:1]]), z)
+                w.retract()
+                continue
             # descend by a helix beside S (in the waste), then onto S
             w.helix(Lc.S[0] - 0.5 * R, Lc.S[1], 0.5 * R, z_from, z)
             if control:
@@ -216,33 +316,38 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
                     pts = _with_tabs(loop, z, z_tab, _scale(tabs, L, _length(loop)), tol * 10)
                 else:
                     pts = _with_tabs(loop, z, z_tab, tabs, tol * 10)
-                for p in pts[1:]:
-                    tp.line(p[0], p[1], p[2], feed)
+                for q in pts[1:]:
+                    tp.line(q[0], q[1], q[2], feed)
             else:
-                for p in loop[1:]:
-                    tp.line(p[0], p[1], z, feed)
+                for q in loop[1:]:
+                    tp.line(q[0], q[1], z, feed)
             tp.arc((B[0], B[1], z), (C[0], C[1], z), not Lc.ccw, feed)
             tp.line(E[0], E[1], z, feed)
             if control:
                 tp.compensation("off")
             w.pos = (float(E[0]), float(E[1]), z)
             w.retract()
-            z_prev = z
-    w.retract()
-    op.info["levels_skipped"] = skipped
-    return PlanResult(tp)
+        return "ramp" if Lc is None else "lead"
 
 
-def _leads_fit(Lc, start, R: float, contour: Polygon, outside: bool) -> bool:
-    """True if the leads' tool-centre path, and the helix beside S, keep the tool in the
-    waste (outside the contour for an outside profile, inside it for an inside one)."""
+def _meets(path: LineString, r: float, solid) -> tuple[float, float] | None:
+    """A point where the tool of radius ``r`` along ``path`` meets ``solid``, or None."""
+    swept = path.buffer(r)
+    if not swept.intersects(solid):
+        return None
+    p = swept.intersection(solid).representative_point()
+    return p.x, p.y
+
+
+def _leads_fit(Lc, start, R: float, solid, tol: float) -> bool:
+    """True if the leads' tool-centre path, and the helix beside S, keep the tool out of
+    the part's material ``solid``."""
     hr = 0.5 * R
-    lead = LineString(np.vstack([[Lc.S - [2 * hr, 0]], [Lc.S], _arc(Lc.A, start, Lc.C, Lc.ccw),
+    lead = LineString(np.vstack([[Lc.S], _arc(Lc.A, start, Lc.C, Lc.ccw),
                                  _arc(start, Lc.B, Lc.C, Lc.ccw), [Lc.E]]))
-    swept = lead.buffer(R - 1e-4)
-    if outside:
-        return not swept.intersects(contour.buffer(-1e-4))
-    return contour.buffer(1e-4).contains(swept)
+    helix = Point(Lc.S[0] - hr, Lc.S[1]).buffer(hr + R - 2 * CURVE_FRACTION * tol)
+    return _meets(lead, R - 2 * CURVE_FRACTION * tol, solid) is None and \
+        not helix.intersects(solid)
 
 
 def _arc(a, b, c, ccw: bool, n: int = 16) -> np.ndarray:

@@ -36,8 +36,10 @@ GEOMETRY_PARAMS = {
                             doc="largest gap closed between entity ends (default 10 x tolerance)", unit="length"),
     "polygon": Param("points", None, doc="outer contour [[x, y], ...]"),
     "islands": Param("list", None, doc="islands [[[x, y], ...], ...] inside the polygon"),
-    "tolerance": Param("float", None, positive=True,
-                       doc="chordal tolerance (default 0.01 mm / 0.0005 in)", unit="length"),
+    "tolerance": Param("float", None, positive=True, unit="length",
+                       doc="the operation's tolerance: drawn curves followed within a 20th "
+                           "of it; the deepest gouge its proof allows (default 0.01 mm / "
+                           "0.0005 in)"),
 }
 
 
