@@ -5,8 +5,10 @@ applies to. :func:`verify_exact` checks every chord of the motion (see
 :mod:`millpath.simulate.gouge`) against the references of its operation and measures
 the material left along the normal at points of each reference
 (:mod:`millpath.simulate.leftover`). ``accuracy`` (program units) bounds the gouge
-figure; the material left is exact (to ``accuracy``) at sample points ``spacing``
-apart. Designs that are only height fields are meshed by
+figure: curves are cut into chords whose bound on the curve's distance is added to
+their depths (:func:`millpath.simulate.path.cover_points`), so a figure is not under
+the motion's for that; the material left is exact (to ``accuracy``) at sample points
+``spacing`` apart. Designs that are only height fields are meshed by
 :func:`millpath.geometry.heightmesh.height_field_mesh` (walls placed exactly on a 50 * ``accuracy`` grid).
 """
 
@@ -114,26 +116,30 @@ LEFT_DEV = 200.0            # and, for the material-left rays, within LEFT_DEV *
 @dataclass
 class _Chords:
     """The cutting chords of one block of motions: start, end, motion number (in the
-    whole program), tool slot, operation."""
+    whole program), tool slot, operation, deviation bound (how far the motion strays
+    from the chord, see :func:`millpath.simulate.path.cover_points`)."""
 
     S: np.ndarray
     E: np.ndarray
     motion: np.ndarray
     slot: np.ndarray
     op: np.ndarray
+    dev: np.ndarray
 
 
 def _chords(motions: list[Motion], first: int, mop: np.ndarray, lut: np.ndarray,
             chord: float) -> _Chords:
-    """Chords within ``chord`` of ``motions`` (tool 0 left out); their motion numbers
-    are ``first + k``."""
-    segs = motion_segments(motions, chord)
+    """Chords within ``chord`` of ``motions`` (tool 0 left out), curves cut so that a
+    depth plus the chord's bound is never under the curve's; their motion numbers are
+    ``first + k``."""
+    segs = motion_segments(motions, chord, cover=True)
     keep = segs.tool != 0
     mo = segs.motion[keep] + first
     return _Chords(np.ascontiguousarray(segs.start[keep], float),
                    np.ascontiguousarray(segs.end[keep], float), mo,
                    lut[segs.tool[keep]] if keep.any() else np.zeros(0, np.int64),
-                   mop[mo] if len(mo) else np.zeros(0, np.int64))
+                   mop[mo] if len(mo) else np.zeros(0, np.int64),
+                   np.ascontiguousarray(segs.dev[keep], float))
 
 
 def _blocks(motions: list[Motion], mop: np.ndarray, lut: np.ndarray, chord: float,
@@ -229,21 +235,26 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
         only = (ch, grp, cidx) if nblocks == 1 else None
         gslot = ch.slot[grp.start[:-1]]
         gop = ch.op[grp.start[:-1]]
+        gdev = (np.maximum.reduceat(ch.dev, grp.start[:-1]) if len(ch.dev)
+                else np.zeros(0))           # each group's largest chord bound
         single = grp.count == 1
         for (ref, tri, idx, fc), st in zip(refs, states):
             gsel = np.ones(len(gop), bool) if ref.ops is None else np.isin(gop, ref.ops)
             flag = gsel & single
             test = np.flatnonzero(gsel & ~single)
             if len(test):
+                # (a depth from accuracy / 2 - bound: C of that depth lies within twice
+                # the bound of C of accuracy / 2)
                 flag[test] = near_chords(grp.S[test], grp.E[test], gslot[test], shapes, tri,
-                                         idx, accuracy, grp.dev[test] + 1e-9, fc)
+                                         idx, accuracy,
+                                         grp.dev[test] + 2.0 * gdev[test] + 1e-9, fc)
             cs = grp.chords(flag)
             if len(cs):
                 # the flagged groups, renumbered over the chords cs
                 runs = (np.concatenate([[0], np.cumsum(grp.count[flag])]), grp.S[flag],
                         grp.E[flag], grp.dev[flag] + 1e-9)
                 res = gouge_chords(ch.S[cs], ch.E[cs], ch.slot[cs], shapes, tri, idx,
-                                   accuracy, fc, runs)
+                                   accuracy, fc, runs, ch.dev[cs])
                 g = np.maximum(res.gouge, 0.0)
                 np.maximum.at(motion_g, ch.motion[cs], g)
                 c = int(np.argmax(g))
@@ -251,7 +262,7 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
                     # where: located once, for the worst chord of all (below)
                     best_g = float(g[c])
                     worst = (ch.S[cs[c]:cs[c] + 1].copy(), ch.E[cs[c]:cs[c] + 1].copy(),
-                             ch.slot[cs[c]:cs[c] + 1].copy(), tri,
+                             ch.slot[cs[c]:cs[c] + 1].copy(), float(ch.dev[cs[c]]), tri, idx,
                              GougeResult(*(None if v is None else v[c:c + 1].copy()
                                            for v in (res.gouge, res.triangle, res.shape,
                                                      res.rim, res.point))),
@@ -260,8 +271,8 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
             # the design first
             _shorten(st, np.arange(len(st.pts)), ch, cidx, shapes, accuracy)
     if worst is not None:
-        S, E, slot, tri, res, w, o = worst
-        _, X = locate(S, E, slot, shapes, tri, res, 0, accuracy)
+        S, E, slot, dv, tri, idx, res, w, o = worst
+        _, X = locate(S, E, slot, shapes, tri, res, 0, accuracy, idx, dv)
         g_at = {"x": float(X[0]), "y": float(X[1]), "z": float(X[2]),
                 "line": int(motions[w].line), "operation": o}
     # the full ray only where nothing cut within ``near``: a second pass over the chords

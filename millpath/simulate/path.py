@@ -171,22 +171,55 @@ def _arc_chords(r: float, sweep: float, chord_tol: float) -> int:
 def motion_points(mo: Motion, chord_tol: float) -> np.ndarray:
     """Points (n, 3) from start to end whose chords stay within ``chord_tol`` of the
     motion (lines: the two end points)."""
+    return _points(mo, chord_tol, False)[0]
+
+
+def _arc_points(mo: Motion, chord_tol: float, cover: bool):
+    """An arc's chord points (vertices on the arc; ``cover``: the inner ones moved out
+    by half the sagitta) and each chord's deviation bound (see :func:`cover_points`)."""
+    s = np.asarray(mo.start, float)
+    e = np.asarray(mo.end, float)
+    r, t0, sweep, dn = arc_params(mo)
+    a1, a2, an = PLANE_AXES[mo.plane]
+    n = _arc_chords(r, sweep, chord_tol)
+    t = np.linspace(0.0, 1.0, n + 1)
+    c = mo.center
+    assert c is not None
+    th = abs(sweep) / n                         # each chord's angle
+    sag = r * (1.0 - math.cos(th / 2.0))        # an inscribed chord's sagitta
+    rad = np.full(n + 1, r + (sag / 2.0 if cover else 0.0))
+    rad[0] = rad[-1] = r                        # the motion's own ends
+    out = np.empty((n + 1, 3))
+    out[:, a1] = c[a1] + rad * np.cos(t0 + sweep * t)
+    out[:, a2] = c[a2] + rad * np.sin(t0 + sweep * t)
+    out[:, an] = s[an] + dn * t
+    out[0] = s
+    out[-1] = e
+    if not cover:
+        return out, None
+    # every arc point lies on the ray from the centre through a point of its chord, at
+    # |r - rho| from it, rho between the chord's nearest approach to the centre and its
+    # farther end (in plane); along the normal the chord's point is off by the normal
+    # travel times the gap between the chord's and the arc's parameters on that ray
+    A = np.stack([out[:-1, a1] - c[a1], out[:-1, a2] - c[a2]], axis=1)
+    B = np.stack([out[1:, a1] - c[a1], out[1:, a2] - c[a2]], axis=1)
+    ra, rb = np.hypot(A[:, 0], A[:, 1]), np.hypot(B[:, 0], B[:, 1])
+    d = B - A
+    ll = np.maximum((d * d).sum(axis=1), 1e-300)
+    f = np.clip(-(A * d).sum(axis=1) / ll, 0.0, 1.0)     # the foot of the centre
+    near = np.hypot(A[:, 0] + f * d[:, 0], A[:, 1] + f * d[:, 1])
+    inplane = np.maximum(np.maximum(ra, rb) - r, r - near)
+    along = abs(dn) / n * (th * th / 16.0 + np.abs(ra - rb) / (2.0 * max(r, 1e-300)))
+    # (and the coordinates' rounding)
+    return out, np.maximum(inplane, 0.0) + along + 1e-12 * max(r, 1.0)
+
+
+def _points(mo: Motion, chord_tol: float, cover: bool):
+    """(points, per-chord deviation bound or None) of a motion, see :func:`cover_points`."""
     s = np.asarray(mo.start, float)
     e = np.asarray(mo.end, float)
     if mo.kind == "arc":
-        r, t0, sweep, dn = arc_params(mo)
-        a1, a2, an = PLANE_AXES[mo.plane]
-        n = _arc_chords(r, sweep, chord_tol)
-        t = np.linspace(0.0, 1.0, n + 1)
-        c = mo.center
-        assert c is not None
-        out = np.empty((n + 1, 3))
-        out[:, a1] = c[a1] + r * np.cos(t0 + sweep * t)
-        out[:, a2] = c[a2] + r * np.sin(t0 + sweep * t)
-        out[:, an] = s[an] + dn * t
-        out[0] = s
-        out[-1] = e
-        return out
+        return _arc_points(mo, chord_tol, cover)
     if mo.kind == "cubic" and mo.controls is not None:
         p0, p3 = s[:2], e[:2]
         p1, p2 = np.asarray(mo.controls[0], float), np.asarray(mo.controls[1], float)
@@ -201,7 +234,9 @@ def motion_points(mo: Motion, chord_tol: float) -> np.ndarray:
         out[:, 2] = s[2] + (e[2] - s[2]) * t[:, 0]
         out[0] = s
         out[-1] = e
-        return out
+        # each point of the curve within m2 / (8 n^2) of the chord's point at the same
+        # parameter (Z is linear in it on both)
+        return out, (np.full(n, m2 / (8.0 * n * n)) if cover else None)
     if mo.kind == "nurbs" and mo.controls is not None:
         xy = mo.controls.sample(chord_tol)
         out = np.empty((len(xy), 3))
@@ -209,8 +244,26 @@ def motion_points(mo: Motion, chord_tol: float) -> np.ndarray:
         out[:, 2] = s[2]
         out[0] = s
         out[-1] = e
-        return out
-    return np.vstack([s, e])
+        # (an estimate: the sampling measures the curve at each chord's middle)
+        return out, (np.full(len(out) - 1, chord_tol) if cover else None)
+    return np.vstack([s, e]), (np.zeros(1) if cover else None)
+
+
+def cover_points(mo: Motion, chord_tol: float) -> tuple[np.ndarray, np.ndarray]:
+    """Points (n + 1, 3) of a motion for the exact check and, per chord, a bound
+    (program units) on how far a point of the motion between the chord's ends lies
+    from the chord: the tool swept along the motion lies within that of the tool swept
+    along the chords, so a depth measured against a chord plus its bound is never
+    under the motion's. Arcs: inner points moved out from the centre by half the
+    sagitta ``s`` of chords within ``chord_tol`` of the arc (the chords then cross it:
+    bounds about ``s / 2``, ``3 s / 4`` for the first and last); cubics: chords within
+    ``chord_tol / 2`` (bound: the curve's second derivative's, exact); NURBS: within
+    ``chord_tol / 2`` at each chord's middle (bound: that, an estimate); lines: 0."""
+    if mo.kind == "arc":
+        return _arc_points(mo, chord_tol, True)
+    if is_curve(mo):
+        return _points(mo, chord_tol / 2.0, True)
+    return _points(mo, chord_tol, True)
 
 
 def chord_count(mo: Motion, chord_tol: float) -> int:
@@ -257,7 +310,8 @@ class Segments:
     """Straight chords of a motion list, in order.
 
     ``start``/``end`` (n, 3) tool tip positions, ``motion`` (n,) index of the source
-    motion, ``rapid`` (n,) bool, ``tool`` (n,) tool number.
+    motion, ``rapid`` (n,) bool, ``tool`` (n,) tool number; ``dev`` (n,) each chord's
+    deviation bound when made with ``cover`` (see :func:`cover_points`), else None.
     """
 
     start: np.ndarray
@@ -265,13 +319,15 @@ class Segments:
     motion: np.ndarray
     rapid: np.ndarray
     tool: np.ndarray
+    dev: np.ndarray | None = None
 
     def __len__(self) -> int:
         return len(self.motion)
 
 
-def motion_segments(motions: list[Motion], chord_tol: float) -> Segments:
-    """Cut motion into chords within ``chord_tol`` (program units) of the true path."""
+def motion_segments(motions: list[Motion], chord_tol: float, cover: bool = False) -> Segments:
+    """Cut motion into chords within ``chord_tol`` (program units) of the true path;
+    ``cover``: as :func:`cover_points` cuts them, with each chord's deviation bound."""
     starts: list = []
     ends: list = []
     idx: list = []
@@ -280,6 +336,14 @@ def motion_segments(motions: list[Motion], chord_tol: float) -> Segments:
     big_s: list[np.ndarray] = []
     big_e: list[np.ndarray] = []
     big_i: list[np.ndarray] = []
+    big_d: list[np.ndarray] = []
+
+    def flush() -> None:
+        big_s.append(np.asarray(starts, float).reshape(-1, 3))
+        big_e.append(np.asarray(ends, float).reshape(-1, 3))
+        big_i.append(np.array([idx, rap, tools], dtype=np.int64).reshape(3, -1))
+        big_d.append(np.zeros(len(idx)))
+
     for k, mo in enumerate(motions):
         kind = mo.kind
         if kind == "dwell":
@@ -293,26 +357,26 @@ def motion_segments(motions: list[Motion], chord_tol: float) -> Segments:
             rap.append(kind == "traverse")
             tools.append(mo.tool)
         else:
-            pts = motion_points(mo, chord_tol)
+            pts, dev = cover_points(mo, chord_tol) if cover else (motion_points(mo, chord_tol),
+                                                                  None)
             if starts:      # flush the pending straight moves to keep order
-                big_s.append(np.asarray(starts, float).reshape(-1, 3))
-                big_e.append(np.asarray(ends, float).reshape(-1, 3))
-                big_i.append(np.array([idx, rap, tools], dtype=np.int64).reshape(3, -1))
+                flush()
                 starts, ends, idx, rap, tools = [], [], [], [], []
             n = len(pts) - 1
             big_s.append(pts[:-1])
             big_e.append(pts[1:])
             big_i.append(np.array([[k] * n, [0] * n, [mo.tool] * n], dtype=np.int64))
+            big_d.append(dev if dev is not None else np.zeros(n))
     if starts:
-        big_s.append(np.asarray(starts, float).reshape(-1, 3))
-        big_e.append(np.asarray(ends, float).reshape(-1, 3))
-        big_i.append(np.array([idx, rap, tools], dtype=np.int64).reshape(3, -1))
+        flush()
     if not big_s:
         z = np.zeros((0, 3))
         e = np.zeros(0, np.int64)
-        return Segments(z, z.copy(), e, e.astype(bool), e.copy())
+        return Segments(z, z.copy(), e, e.astype(bool), e.copy(),
+                        np.zeros(0) if cover else None)
     S = np.ascontiguousarray(np.vstack(big_s))
     E = np.ascontiguousarray(np.vstack(big_e))
     I = np.hstack(big_i)
     return Segments(S, E, np.ascontiguousarray(I[0]), I[1].astype(bool),
-                    np.ascontiguousarray(I[2]))
+                    np.ascontiguousarray(I[2]),
+                    np.ascontiguousarray(np.concatenate(big_d)) if cover else None)
