@@ -3,9 +3,10 @@
 Each module ``millpath.cli.<name>`` listed in ``COMMANDS`` defines a click command
 named ``command``. One error boundary for every command:
 
-- a failure caused by the input (:class:`MillpathError`, or an ``OSError`` reading or
-  writing a file the user named) prints one line ``millpath: error: FILE[:LINE]: message``
-  and exits 1;
+- a failure caused by the input (:class:`MillpathError`, an ``OSError`` reading or
+  writing a file the user named, or a command's option or argument click cannot take)
+  prints one line ``millpath: error: FILE[:LINE]: message`` (``--option: message``) and
+  exits 1;
 - any other exception is a bug in millpath: one line ``millpath: internal error: ...``
   saying so, exit 2;
 - ``--debug`` shows the traceback instead, and every library warning.
@@ -18,6 +19,7 @@ matplotlib, ...) carry no news for the user and are silenced unless ``--debug``.
 from __future__ import annotations
 
 import importlib
+import re
 import sys
 import logging
 import warnings
@@ -62,6 +64,8 @@ class _Group(click.Group):
                 warnings.showwarning = _show_warning
             try:
                 return super().invoke(ctx)
+            except click.UsageError as e:
+                _fail(debug, f"error: {_usage(e)}", EXIT_INPUT)
             except (click.exceptions.Exit, click.exceptions.Abort, click.ClickException):
                 raise
             except MillpathError as e:
@@ -74,6 +78,14 @@ class _Group(click.Group):
                 text = " ".join(str(e).split()) or "no message"
                 _fail(debug, f"internal error: {type(e).__name__}: {text} (this is a bug in "
                       f"millpath; run with --debug for the traceback)", EXIT_BUG)
+
+
+def _usage(e: click.UsageError) -> str:
+    """A command-line mistake as one line naming the option first, as errors name
+    their file: ``--tool-length: 'abc' is not a valid float.``"""
+    text = " ".join(e.format_message().split())
+    m = re.match(r"Invalid value for '([^']+)': (.*)", text)
+    return f"{m.group(1)}: {m.group(2)}" if m else text
 
 
 def _fail(debug: bool, message: str, status: int) -> None:

@@ -154,6 +154,9 @@ def job_from_dict(data: dict, path: Path | None = None) -> Job:
     limits = Limits.default_for(units)
     if top["limits"] is not None:
         lim = validate(top["limits"], LIMITS, "limits", path)
+        bad = Limits.raised(lim)
+        if bad:
+            raise JobError(f"limits.{bad[0]}: {bad[1]}", path)
         limits = Limits(**{k: lim[k] if lim[k] is not None else getattr(limits, k)
                            for k in Limits.keys()})
     stock = None

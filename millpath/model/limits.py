@@ -80,7 +80,7 @@ class Limits:
 
     max_extent: float = field(default=MAX_EXTENT.mm, metadata={
         "unit": "length", "doc": "largest stock side; also the largest tool length",
-        "per_units": MAX_EXTENT})
+        "per_units": MAX_EXTENT, "max": 1e6})
     max_layers: int = field(default=2_000, metadata={
         "unit": "count", "doc": "depth passes of one operation: stock height / stepdown"})
     max_passes: int = field(default=20_000, metadata={
@@ -94,6 +94,17 @@ class Limits:
     @classmethod
     def default_for(cls, units: str) -> "Limits":
         return cls(max_extent=MAX_EXTENT(units))
+
+    @classmethod
+    def raised(cls, values: dict) -> tuple[str, str] | None:
+        """(key, message) of a bound raised beyond what millpath can hold (a length of
+        a million units would overflow the tool table's numbers), else None."""
+        for f in fields(cls):
+            top = f.metadata.get("max")
+            v = values.get(f.name)
+            if top is not None and v is not None and v > top:
+                return f.name, f"at most {top:g}, got {v:g}"
+        return None
 
     @classmethod
     def keys(cls) -> tuple[str, ...]:

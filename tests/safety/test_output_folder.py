@@ -80,6 +80,48 @@ def test_sigkill_at_random_moments_never_leaves_a_mixed_folder(tmp_path):
     assert left == [".out.lock"], left
 
 
+#: a run that stops at the folder swap and says so: at the exchange (renameat2), or
+#: without renameat2 between moving the old output away and moving the new one in
+_PAUSE = {
+    "exchange": "atomic._exchange = pause\n",
+    "between-renames": ("atomic._exchange = lambda a, b: False\nreal = os.rename\n"
+                        "def rename(a, b):\n    real(a, b)\n"
+                        "    if '.backup-' in str(b):\n        pause()\n"
+                        "os.rename = rename\n"),
+}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("where", sorted(_PAUSE))
+def test_sigkill_during_the_folder_swap(tmp_path, where):
+    """A kill that lands in the switch itself (none of the random kills above did): the
+    previous output stays whole (or, between the two renames, whole in its backup), and
+    the next run restores it or replaces it, leaving no staging or backup folder."""
+    a, b = _jobs(tmp_path)
+    out = tmp_path / "out"
+    assert subprocess.run(_cmd(a, out), capture_output=True).returncode == 0
+    code = ("import os, sys, time\nimport millpath.io.atomic as atomic\n"
+            "def pause(*args):\n    print('swap', flush=True)\n    time.sleep(300)\n"
+            + _PAUSE[where] + "from millpath.cli.main import main\n"
+            f"sys.argv = {['millpath', *_cmd(b, out)[3:]]!r}\nmain()\n")
+    p = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
+    try:
+        assert p.stdout.readline().strip() == "swap"
+    finally:
+        p.kill()
+        p.wait()
+    backups = list(tmp_path.glob(".out.backup-*"))
+    if where == "exchange":
+        assert _check_whole(out) == "run-a" and not backups
+    else:
+        assert not out.exists() and len(backups) == 1 and _check_whole(backups[0]) == "run-a"
+    assert list(tmp_path.glob(".out.staging-*"))          # the new output, never switched
+    assert subprocess.run(_cmd(b, out), capture_output=True).returncode == 0
+    assert _check_whole(out) == "run-b"
+    left = [p.name for p in tmp_path.iterdir() if p.name.startswith(".out.")]
+    assert left == [".out.lock"], left
+
+
 @pytest.mark.slow
 def test_two_runs_into_one_folder_do_not_mix(tmp_path):
     a, b = _jobs(tmp_path)

@@ -150,6 +150,10 @@ def _transfer_child(path: Path, out: str, log: str) -> int:
     """In the child: 0 with the shape written to ``out``, 1 when the file cannot be
     read, 2 when nothing transferred, 3 on an exception (its message last in ``log``);
     OpenCASCADE's printed lines go to ``log``."""
+    import faulthandler
+    import resource
+    faulthandler.disable()                    # a crash is reported by the parent
+    resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
     lines: list[str] = []
     try:
         from OCP.BinTools import BinTools
