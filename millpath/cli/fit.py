@@ -1,4 +1,5 @@
-"""``millpath fit PROGRAM.ngc --tolerance T``: arcs and cubics for an existing program."""
+"""``millpath fit PROGRAM.ngc --tolerance T``: arcs and cubics for an existing program,
+read back by the interpreter before it is written (:mod:`millpath.fit.readback`)."""
 
 from __future__ import annotations
 
@@ -26,7 +27,8 @@ from millpath.io.atomic import write_text
 def command(program: Path, tolerance: float, mode: str, min_radius: float,
             output: Path | None) -> None:
     """Rewrite runs of G1 moves in PROGRAM as G2/G3 arcs (and G5 cubics) within
-    --tolerance; every other line stays as written."""
+    --tolerance; every other line stays as written. The output is read back by the
+    interpreter and compared with PROGRAM's motion before it is written."""
     from millpath.fit import MAX_RADIUS_MM, fit_program
     from millpath.fit.program import FitStats
     from millpath.model.limits import MAX_TOLERANCE
@@ -53,11 +55,15 @@ def command(program: Path, tolerance: float, mode: str, min_radius: float,
     target = output if output is not None else program.with_name(program.stem + "-fit.ngc")
     if target.resolve() == program.resolve():
         raise MillpathError("the output would overwrite the input program; give -o", program)
+    from millpath.fit.readback import read_back
+    back = read_back(text, out, tolerance, file=program)   # nothing unproven is written
     write_text(target, out)
     before = sum(1 for l in text.splitlines() if l.strip())
     after = sum(1 for l in out.splitlines() if l.strip())
     click.echo(f"{target}: {before} -> {after} blocks, {len(text.encode())} -> "
-               f"{len(out.encode())} bytes ({dt:.2f} s)")
+               f"{len(out.encode())} bytes ({dt:.2f} s); read back: {back.motions} "
+               f"motions, {back.compared} fitted, within {back.deviation:.4g} of the "
+               f"program")
     if stats.rewritten == 0:
         click.echo(why_unchanged(stats, tolerance))
 

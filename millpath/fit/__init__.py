@@ -4,7 +4,9 @@ Two entry points:
 
 - :func:`fit_toolpath` rewrites a :class:`~millpath.model.Toolpath` (``millpath run``
   calls it between planning and posting when the job sets ``fit``);
-- :func:`fit_program` rewrites an existing RS274NGC program (``millpath fit``).
+- :func:`fit_program` rewrites an existing RS274NGC program (``millpath fit``, which
+  reads the result back with the interpreter before writing it:
+  :func:`millpath.fit.readback.read_back`).
 
 Only runs of consecutive linear feed moves of one operation at one feed are rewritten;
 rapids, drilling cycles, arcs already present, and everything under cutter radius

@@ -16,9 +16,10 @@ the axes are given again, so no run starts from a guessed point.
 Written numbers use the program's own decimals where it writes more than the post
 would (4 in mm, 5 in inch), up to 6; programs that never say G20 or G21 are read with
 inch settings (5 decimals, LinuxCNC's inch arc-radius limit, the smaller one). After a
-rewritten run the plane comes back on a block of its own (``G17``), and ``G1`` as a
-prefix of the first later block that relies on the motion mode (a block of its own
-before an expression or O-word block). Runs whose blocks do not move (zero length after
+rewritten run the plane comes back on a block of its own (``G17``), and ``G1`` in the
+first later block that relies on the motion mode, after its block delete and line
+number (``N150 G1 X...``), or on a block of its own before an expression or O-word
+block. Runs whose blocks do not move (zero length after
 rounding) disappear, but their ``F`` word stays.
 """
 
@@ -38,6 +39,8 @@ from millpath.fit.segment import PLANE_NAMES, PLANES
 from millpath.model.units import default
 
 _OWORD = re.compile(r"(?:/)?(?:n[\d.]*)?o")     # normalized text of an O-word line
+# what must stay first on a line: block delete and the line number (N word)
+_LEAD = re.compile(r"\s*(?:/\s*)?(?:[nN](?:\s*[0-9.])+)?\s*")
 _PLANE_CODE = {"XY": "G17", "XZ": "G18", "YZ": "G19"}
 _IJK = "IJK"
 # G codes that change neither the position nor how a G1 run is read
@@ -54,6 +57,15 @@ def _fmt(v: float, d: int) -> str:
     if "." in t:
         t = t.rstrip("0").rstrip(".")
     return "0" if t in ("-0", "", "-") else t
+
+
+def with_code(code: str, raw: str) -> str:
+    """Line ``raw`` with the word ``code`` (e.g. "G1") after its block delete and line
+    number, which RS274NGC wants first on the line: "N150 X1" -> "N150 G1 X1"."""
+    body = raw.strip()
+    lead = _LEAD.match(body).group(0)
+    rest = body[len(lead):]
+    return f"{lead.rstrip()} {code} {rest}".strip() if lead.strip() else f"{code} {rest}"
 
 
 def _decimals(s: str) -> int:
@@ -338,7 +350,7 @@ class _Emitter:
             self.lines.append(block.raw)
         else:
             prefix = " ".join(self._head("G1"))
-            self.lines.append((prefix + " " + block.raw.strip()) if prefix else block.raw)
+            self.lines.append(with_code(prefix, block.raw) if prefix else block.raw)
         for k in range(3):
             self.pos[k] = _fmt(end[k], self.d)
 
@@ -460,7 +472,7 @@ def fit_program(text: str, tolerance: float, mode: str = "arcs", *,
                 fs.rewritten += len(run)
             if em is None:
                 if out_motion is not None and not run[0].g:
-                    out.append("G1 " + run[0].raw.strip())
+                    out.append(with_code("G1", run[0].raw))
                     out.extend(rb.raw for rb in run[1:])
                 else:
                     out.extend(rb.raw for rb in run)
@@ -484,7 +496,7 @@ def fit_program(text: str, tolerance: float, mode: str = "arcs", *,
                 out.append("G1")
                 out_motion = None
             elif any(a in b.words for a in "XYZABCUVW"):
-                out.append("G1 " + b.raw.strip())
+                out.append(with_code("G1", b.raw))
                 out_motion = None
                 _apply(st, b)
                 i += 1
