@@ -76,8 +76,8 @@ class Contour:
         return (f"{self.name} (a {self.kind} {_about(self.width, tol):g} wide round "
                 f"({self.centre[0]:.3f}, {self.centre[1]:.3f}))")
 
-    def to_json(self) -> dict:
-        return {"name": self.name, "kind": self.kind, "width": round(self.width, 6),
+    def to_json(self, tol: float) -> dict:
+        return {"name": self.name, "kind": self.kind, "width": _about(self.width, tol),
                 "centre": [round(self.centre[0], 6), round(self.centre[1], 6)],
                 "role": "outer" if self.outer else "inner",
                 "side": "outside" if self.tool_outside else "inside"}

@@ -190,7 +190,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     report = []
     for c in chosen:
         entry = cut.contour(c)
-        report.append({**c.to_json(), "entry": entry})
+        report.append({**c.to_json(tol), "entry": entry})
     w.retract()
     op.info["levels_skipped"] = cut.skipped
     op.info["contours"] = len(chosen)
