@@ -29,7 +29,8 @@ from numba import njit, prange
 from millpath.geometry.convex import (BALL, BULL, CYL, DRILL, FLAT, depth, may_meet, meets,
                                       shape_rings, support_swept, underside)
 from millpath.geometry.distance import (ball_core, core_point_dist2, core_triangle_dist2,
-                                        point_triangle_dist2, segment_segment_dist2)
+                                        point_triangle_dist2, ray_triangle,
+                                        segment_segment_dist2)
 from millpath.geometry.index import (BoxIndex, box_candidates, bucket_range, first_bucket,
                                      push)
 from millpath.geometry.inside import in_material
@@ -452,7 +453,191 @@ def _chord_gouge(c, j, P0, P1, s, kind, R, rc, k, zb, L, tri, tn, tc, tr, txy, i
             out_t[c] = t
             out_s[c] = j
             out_r[c] = 0
+    if not is_ball and nrf > 0 and rhof == 0.0 and best >= e0:
+        # a sharp rim or point found near the design: its depth where two faces meet
+        # (a ridge of a faceted surface) lies between their deepest points, looked for
+        # at the points where the depth is largest on a straight chord
+        g = _rim_search(P0, P1, nrf, rrf, rhf, best, tri, tn, ix, cand, nc, sbuf, sp, wa)
+        if g > best:
+            best = g
+            out_s[c] = j
+            out_r[c] = 1
+            for a in range(3):
+                out_x[c, a] = sp[a]
     out_g[c] = best
+
+
+@njit(cache=True, error_model="numpy")
+def _depth_at(q, cap, tri, ix, sbuf):
+    """Distance of tool point ``q`` from the design's surface, at most ``cap``, when it
+    is in the material; else -1."""
+    if not in_material(q, tri, ix[2], ix[3], ix[8], ix[9], ix[10], ix[11], ix[12]):
+        return -1.0
+    return math.sqrt(surface_dist2(q, cap, tri, ix, sbuf))
+
+
+@njit(cache=True, error_model="numpy")
+def _line_point(A, D, u, h, q):
+    q[0] = A[0] + u * D[0]
+    q[1] = A[1] + u * D[1]
+    q[2] = A[2] + u * D[2] + h
+
+
+@njit(cache=True, error_model="numpy")
+def _ring_point(E, r, h, ph, q):
+    q[0] = E[0] + r * math.cos(ph)
+    q[1] = E[1] + r * math.sin(ph)
+    q[2] = E[2] + h
+
+
+@njit(cache=True, error_model="numpy")
+def _golden(ring, A, D, r, h, a, b, cap, tri, ix, sbuf, q):
+    """(depth, parameter) of the deepest point in [a, b] (golden-section search, 30
+    steps) of the line ``A + u D`` raised by ``h`` (``ring`` False) or of the ring of
+    radius ``r`` at height ``h`` about ``A`` at angle u (``ring`` True)."""
+    gr = 0.5 * (math.sqrt(5.0) - 1.0)
+    m1 = b - gr * (b - a)
+    m2 = a + gr * (b - a)
+    if ring:
+        _ring_point(A, r, h, m1, q)
+    else:
+        _line_point(A, D, m1, h, q)
+    d1 = _depth_at(q, cap, tri, ix, sbuf)
+    if ring:
+        _ring_point(A, r, h, m2, q)
+    else:
+        _line_point(A, D, m2, h, q)
+    d2 = _depth_at(q, cap, tri, ix, sbuf)
+    bd, bu = (d1, m1) if d1 >= d2 else (d2, m2)
+    for _ in range(30):
+        if d1 >= d2:
+            b = m2
+            m2 = m1
+            d2 = d1
+            m1 = b - gr * (b - a)
+            if ring:
+                _ring_point(A, r, h, m1, q)
+            else:
+                _line_point(A, D, m1, h, q)
+            d1 = _depth_at(q, cap, tri, ix, sbuf)
+            if d1 > bd:
+                bd, bu = d1, m1
+        else:
+            a = m1
+            m1 = m2
+            d1 = d2
+            m2 = a + gr * (b - a)
+            if ring:
+                _ring_point(A, r, h, m2, q)
+            else:
+                _line_point(A, D, m2, h, q)
+            d2 = _depth_at(q, cap, tri, ix, sbuf)
+            if d2 > bd:
+                bd, bu = d2, m2
+    return bd, bu
+
+
+@njit(cache=True, error_model="numpy")
+def _search_cuts(ring, A, D, r, h, cuts, nk, lo, hi, cap, tri, ix, sbuf, q):
+    """Best (depth, parameter) over [lo, hi] cut at ``cuts[:nk]`` (where the line or
+    ring crosses the design: in between it is wholly in or out of the material): each
+    piece whose middle is in the material searched by :func:`_golden`."""
+    cs = np.sort(cuts[:nk])
+    bd = -1.0
+    bu = lo
+    prev = lo
+    for k in range(nk + 1):
+        nxt = hi if k == nk else cs[k]
+        if nxt <= prev:
+            continue
+        mid = 0.5 * (prev + nxt)
+        if ring:
+            _ring_point(A, r, h, mid, q)
+        else:
+            _line_point(A, D, mid, h, q)
+        if _depth_at(q, cap, tri, ix, sbuf) >= 0.0:
+            d, u = _golden(ring, A, D, r, h, prev, nxt, cap, tri, ix, sbuf, q)
+            if d > bd:
+                bd = d
+                bu = u
+        prev = nxt
+    return bd, bu
+
+
+@njit(cache=True, error_model="numpy")
+def _rim_search(P0, P1, nr, rr, rh, best, tri, tn, ix, cand, nc, sbuf, out, q):
+    """The deepest point in the material (distance from the design's surface) of the
+    rings ``rr``/``rh`` (all but the top one) of a sharp tool swept along P0 -> P1
+    where it can be deepest: with the chord's direction horizontal, the two ring
+    points abeam of it (a depth largest inside the chord has its surface normal
+    across the chord), all along the chord; and every ring point at the chord's ends.
+    Each line or ring is cut where it crosses a triangle of ``cand[:nc]`` and each of
+    its pieces in the material searched (the distance from the surface is unimodal
+    there near a convex contact). Returns the depth (-1: none found) with its point
+    in ``out``; ``q``: scratch (3,)."""
+    D = P1 - P0
+    dh = math.sqrt(D[0] * D[0] + D[1] * D[1])
+    cap = 4.0 * best + 1e-9
+    cuts = np.empty(2 * nc + 2)
+    A = np.empty(3)
+    top = -1.0
+    for i in range(nr - 1):
+        r = rr[i]
+        # along the chord, abeam (either side; a point on the axis: once)
+        nside = 0 if dh == 0.0 else (2 if r > 0.0 else 1)
+        for side in range(nside):
+            sg = 1.0 if side == 0 else -1.0
+            A[0] = P0[0] - sg * D[1] / dh * r
+            A[1] = P0[1] + sg * D[0] / dh * r
+            A[2] = P0[2]
+            nk = 0
+            for p in range(nc):
+                t = cand[p]
+                u = ray_triangle(A[0], A[1], A[2] + rh[i], D[0], D[1], D[2], tri[t], 1e-300,
+                                 1e-9)
+                if 0.0 < u < 1.0:
+                    cuts[nk] = u
+                    nk += 1
+            d, u = _search_cuts(False, A, D, 0.0, rh[i], cuts, nk, 0.0, 1.0, cap, tri, ix,
+                                sbuf, q)
+            if d > top:
+                top = d
+                _line_point(A, D, u, rh[i], out)
+        if r == 0.0:
+            continue
+        # round the ring at each end: cut where it crosses the triangles' planes
+        # within them
+        for e in range(2):
+            E = P0 if e == 0 else P1
+            nk = 0
+            for p in range(nc):
+                t = cand[p]
+                nx, ny, nz = tn[t, 0], tn[t, 1], tn[t, 2]
+                ab = r * math.sqrt(nx * nx + ny * ny)
+                if ab == 0.0:
+                    continue
+                cc = (nx * tri[t, 0, 0] + ny * tri[t, 0, 1] + nz * tri[t, 0, 2]
+                      - (nx * E[0] + ny * E[1] + nz * (E[2] + rh[i])))
+                if abs(cc) > ab:
+                    continue
+                base = math.atan2(ny, nx)
+                off = math.acos(min(max(cc / ab, -1.0), 1.0))
+                for sg in (-1.0, 1.0):
+                    ph = base + sg * off
+                    _ring_point(E, r, rh[i], ph, q)
+                    if in_triangle(tri[t], q):
+                        cuts[nk] = ph
+                        nk += 1
+            # the ring from its first cut round (any start will do)
+            start = cuts[0] if nk > 0 else 0.0
+            for k in range(nk):
+                cuts[k] = start + (cuts[k] - start) % (2.0 * math.pi)
+            d, u = _search_cuts(True, E, D, r, rh[i], cuts, nk, start,
+                                start + 2.0 * math.pi, cap, tri, ix, sbuf, q)
+            if d > top:
+                top = d
+                _ring_point(E, r, rh[i], u, out)
+    return top
 
 
 @njit(cache=True, error_model="numpy", parallel=True)
@@ -726,7 +911,8 @@ def locate(S, E, slot, shapes: ToolShapes, triangles, res: GougeResult, c: int,
         foot = X + float(np.dot(T[0] - X, n)) * n
         if index is None:
             return np.asarray(S[c], float), foot
-        r = float(np.linalg.norm(foot - X)) * (1 + 1e-9) + 1e-12
+        # (the design's surface is the depth away from the tool's point)
+        r = (float(res.gouge[c]) - dev) * (1 + 1e-9) + 1e-9
         return np.asarray(S[c], float), _nearest_on(X, r, triangles, index.arrays())
     g = float(res.gouge[c]) - dev
     P, X = _locate(triangles[res.triangle[c]], np.asarray(S[c], float),

@@ -219,6 +219,57 @@ def test_rim_over_a_sphere_mid_move(depth, lat):
     assert np.linalg.norm(X - rs * n) < 0.02
 
 
+def _polyhedron_rim_truth(tri, P0, P1, R):
+    """The deepest point of a flat end mill's rim swept along P0 -> P1 in a convex
+    polyhedron: max over the rim of the least distance to the faces' planes (the
+    distance from the surface inside a convex solid), by a grid over (position,
+    angle) zoomed five times round its best."""
+    n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    n /= np.linalg.norm(n, axis=1)[:, None]
+    pd = np.einsum("ij,ij->i", n, tri[:, 0])
+    P0, P1 = np.asarray(P0, float), np.asarray(P1, float)
+
+    def depth(u, ph):
+        U, PH = np.meshgrid(u, ph, indexing="ij")
+        q = (P0 + U[..., None] * (P1 - P0)
+             + R * np.stack([np.cos(PH), np.sin(PH), np.zeros_like(PH)], -1))
+        return (pd[None, :] - q.reshape(-1, 3) @ n.T).min(axis=1).reshape(U.shape)
+
+    u, ph = np.linspace(0.0, 1.0, 401), np.linspace(-math.pi, math.pi, 721)
+    for _ in range(6):
+        F = depth(u, ph)
+        i, j = np.unravel_index(np.argmax(F), F.shape)
+        best, bu, bp = F[i, j], u[i], ph[j]
+        du, dp = 2 * (u[1] - u[0]), 2 * (ph[1] - ph[0])
+        u = np.clip(np.linspace(bu - du, bu + du, 41), 0.0, 1.0)
+        ph = np.linspace(bp - dp, bp + dp, 41)
+    return float(best)
+
+
+@pytest.mark.parametrize("step", [10.0, 5.0])
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_rim_over_a_faceted_sphere_mid_move(step, seed):
+    """A flat end mill's rim dipping into a coarsely faceted sphere (a convex
+    polyhedron) in the middle of a move nearly tangent to it: the truth is where the
+    rim crosses a ridge between facets, between their own deepest rim points."""
+    rng = np.random.default_rng(seed)
+    rs, R = 10.0, TOOLS["flat"].radius
+    tri = _sphere(rs, step)
+    lat, az = math.radians(rng.uniform(25, 65)), math.radians(rng.uniform(0, 360))
+    depth, tilt = rng.uniform(0.005, 0.05), math.radians(rng.uniform(-10, 10))
+    n = np.array([math.sin(lat) * math.cos(az), math.sin(lat) * math.sin(az), math.cos(lat)])
+    h = np.array([n[0], n[1], 0.0]) / math.hypot(n[0], n[1])
+    tip = n * (rs - depth) + R * h
+    m = math.cos(tilt) * np.array([-h[1], h[0], 0.0]) + math.sin(tilt) * h
+    P0, P1 = tip - 4 * m, tip + 4 * m
+    truth = _polyhedron_rim_truth(tri, P0, P1, R)
+    assert truth > ACC
+    res = verify_exact([Motion("feed", 4, tuple(P0), tuple(P1), 500, tool=1)],
+                       {1: TOOLS["flat"]}, Stock(-20, -20, -20, 20, 20, 20),
+                       [Reference(tri, "facets")], accuracy=ACC)
+    assert truth - 1e-6 <= res.max_gouge <= truth + ACC
+
+
 # --- where: the contact point, not a triangle's corner ----------------------------------
 
 @pytest.mark.parametrize("kind", ["ball", "bull"])
