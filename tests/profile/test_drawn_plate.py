@@ -24,7 +24,7 @@ from millpath.model import Machine, Stock, Tool
 from millpath.pipeline import plan_job, run_job
 from millpath.plan.base import PlanContext
 from millpath.plan.profile import operation as profile
-from millpath.plan.profile.contours import classify
+from millpath.plan.twod.contours import classify
 from support import plates
 
 TOL = 0.01                 # the operation's default tolerance, mm
@@ -214,3 +214,55 @@ def test_side_inside_cuts_an_opening_and_its_islands(tmp_path):
     ring = plates.signed_distance(plates.plate()[7], np.array([[60.0 + 9.5 + 1.0, 40.0]]))
     assert ring[0] == pytest.approx(1.0, abs=1e-3)
     assert res.design.height(np.array([60.0 + 9.5 + 1.0]), np.array([40.0]))[0] == -np.inf
+
+
+POCKET = """units = "mm"
+name = "counterbores"
+fit = "none"
+[stock]
+box = [-10, -10, -10, 130, 90, 0]
+[[tools]]
+number = 1
+type = "flat"
+diameter = 6.0
+flute_length = 15.0
+stickout = 25.0
+[[operations]]
+type = "pocket"
+tool = 1
+dxf = "plate.dxf"
+{keys}
+depth = 3.0
+stepdown = 3.0
+feed = 800.0
+"""
+
+
+def test_pocket_clears_inside_the_chosen_contours(tmp_path):
+    """Counterbores in the bore and the 10 mm holes (circles 10 wide or more): each
+    cleared inside its drawn circle, walls on the air side, proven against them."""
+    plates.write(plates.plate(), tmp_path / "plate.dxf")
+    job = tmp_path / "job.toml"
+    job.write_text(POCKET.format(keys='kinds = ["circle"]\nmin_size = 10.0'))
+    res = run_job(job, tmp_path / "out", pictures=False)
+    assert res.report["safety"]["status"] == "ok"
+    ver = res.report["verification"]
+    assert ver["max_gouge"] <= TOL
+    circles = [c for c in plates.plate() if c.kind == "circle" and c.width >= 10]
+    assert len(circles) == 3
+    j = load_job(job)
+    design = plan_job(j)[1][0].design
+    tri = design.mesh(j.stock.box)
+    n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    wall = tri[np.abs(n[:, 2]) <= 1e-9 * np.linalg.norm(n, axis=1)]
+    w = wall.reshape(-1, 3)[:, :2]
+    sd = np.column_stack([plates.signed_distance(c, w) for c in circles])
+    near = np.argmin(np.abs(sd), axis=1)
+    d = -sd[np.arange(len(w)), near]                 # inside each circle: the air
+    assert d.min() >= -EPS and d.max() <= TOL / 20 + EPS, (d.min(), d.max())
+    assert set(near) == {0, 1, 2}
+    # the tool stays inside the circles, a radius in
+    p = _samples(interpret(res.program, j.tools, machine_units="mm"))
+    p = p[p[:, 2] < -1e-6]
+    sdp = np.column_stack([plates.signed_distance(c, p[:, :2]) for c in circles])
+    assert (-sdp >= 3.0 - TOL).any(axis=1).all()

@@ -3,7 +3,12 @@
 Keys (job units; feeds in units per minute; Z absolute, tool tip):
 
 - geometry: ``dxf`` (+ ``layer``, ``join_tolerance``) or ``polygon`` + ``islands``;
-  ``tolerance``: chordal tolerance of arcs and splines (default 0.01 mm / 0.0005 in).
+  ``tolerance``: the operation's tolerance (default 0.01 mm / 0.0005 in): drawn curves
+  are followed within a 20th of it, and the proof refuses a gouge deeper than it.
+- which contours: every region of the drawing (an outline less its islands), or inside
+  the contours ``contours`` (all, outer, inner), ``kinds`` (circle, slot, other),
+  ``min_size``/``max_size`` (width) and ``contour_layer`` choose, each less the
+  contours drawn inside it (see :mod:`millpath.plan.twod.contours`).
 - ``tool``: flat or bull end mill; ``top`` (default: the stock top), ``depth`` below
   it, ``stepdown`` per level.
 - ``strategy``: ``offset`` (rings from the inside out), ``zigzag`` (lines at
@@ -37,6 +42,8 @@ from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.pocket.design import PocketDesign
 from millpath.plan.pocket.emit import Emitter
 from millpath.plan.pocket.passes import Cut, offset_cuts, order_nearest, zigzag_cuts
+from millpath.plan.twod.contours import (SELECT_PARAMS, layer_polygons, pocket_regions,
+                                         selecting)
 from millpath.plan.twod.field import MaterialField, Raster, stock_heights
 from millpath.plan.twod.geometry import GEOMETRY_PARAMS, default_tolerance, load_regions
 from millpath.plan.levels import levels
@@ -51,6 +58,7 @@ def _fraction(v) -> str | None:
 
 PARAMS = {
     **GEOMETRY_PARAMS,
+    **SELECT_PARAMS,
     "tool": Param("int", positive=True, doc="flat or bull end mill"),
     "top": Param("float", None, doc="Z of the pocket top (default: stock top)", unit="length"),
     "depth": Param("float", positive=True, doc="below top", unit="length"),
@@ -99,7 +107,12 @@ def check_fit(region, free, tool, file) -> None:
 def plan(ctx: PlanContext, params: dict) -> PlanResult:
     file = ctx.job_file
     tool = end_mill(ctx, params, "a pocket")
+    tol = params["tolerance"] or default_tolerance(ctx.units)
     regions = load_regions(params, ctx.units, file, ctx.parts)
+    if selecting(params):       # inside the chosen contours (holes: their air inside)
+        grown = load_regions({**params, "side": "outside"}, ctx.units, file, ctx.parts)
+        regions = pocket_regions(regions, grown, {**params, "tolerance": tol},
+                                 tol, layer_polygons(params, ctx.units, tol, file), file)
     R, D = tool.radius, tool.diameter
     allow = params["allowance"]
     heights = operation_heights(ctx, params)
@@ -110,7 +123,6 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     stepover = params["stepover"] or 0.4 * D
     if stepover > D:
         raise JobError(f"stepover: {stepover:g} is more than the tool diameter", file)
-    tol = params["tolerance"] or default_tolerance(ctx.units)
     feed = params["feed"]
     plunge = plunge_feed(params)
     climb = params["direction"] == "climb"

@@ -1,7 +1,7 @@
 """The part a profile operation makes: the drawing extruded (for the simulator a height
 field, for the grid-free proof its triangles).
 
-The part's material (XY, :func:`millpath.plan.profile.contours.material`) stands from
+The part's material (XY, :func:`millpath.plan.twod.contours.material`) stands from
 the stock bottom to the stock ``top``. On every contour the operation cuts, a vertical
 wall faces the air from ``floor`` (the operation's bottom, at least the stock bottom)
 up to the top, and beside it the slot the tool cuts: a floor ``band`` wide (the tool's

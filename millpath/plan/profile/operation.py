@@ -8,9 +8,9 @@ Keys (job units; feeds in units per minute; Z absolute, tool tip):
 - ``side``: ``outside`` (default): the drawing's regions are the part: each outline is
   cut with the tool outside it, each hole, slot or bore inside it; ``inside``: the
   regions are openings: outlines from inside, islands from outside (see
-  :mod:`.contours`).
+  :mod:`millpath.plan.twod.contours`).
 - which contours: ``contours`` (all, outer, inner), ``kinds`` (circle, slot, other),
-  ``min_size``/``max_size`` (width), ``contour_layer`` (see :mod:`.contours`).
+  ``min_size``/``max_size`` (width), ``contour_layer`` (see :mod:`millpath.plan.twod.contours`).
 - ``compensation``: ``cam`` (the tool-centre path: the contour offset by the tool
   radius, round joins within a 20th of the tolerance) or ``control`` (the contour
   itself between ``G41``/``G42 D<tool>`` and ``G40``; the control offsets it by the
@@ -43,16 +43,15 @@ import math
 
 import numpy as np
 import shapely
-from shapely.geometry import LineString, Point, Polygon
+from shapely.geometry import LineString, Point
 from shapely.geometry.polygon import orient
 
 from millpath.errors import JobError, PlanningError
 from millpath.io.schema import Param
 from millpath.model import Operation, Toolpath
-from millpath.part.drawing import read_dxf
 from millpath.plan.base import PlanContext, PlanResult
-from millpath.plan.profile.contours import (SELECT_PARAMS, material, order, profile_contours,
-                                            select)
+from millpath.plan.twod.contours import (SELECT_PARAMS, layer_polygons, material, order,
+                                            profile_contours, select)
 from millpath.plan.profile.design import ProfileDesign, slot_band
 from millpath.plan.profile.leads import leads, start_on_longest
 from millpath.plan.twod.field import MaterialField, Raster, densify, stock_heights
@@ -160,14 +159,8 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
                        f"when tabs are asked for, got {tab_h:g}", file)
     side_outside = params["side"] == "outside"
     every = profile_contours(regions, side_outside, tol)
-    layer_loops = None
-    if params["contour_layer"] is not None:
-        if params["dxf"] is None:
-            raise JobError("contour_layer: needs a dxf drawing", file)
-        layer_loops = [orient(Polygon(lp.points), 1.0) for lp in read_dxf(
-            params["dxf"], ctx.units, 0.5 * CURVE_FRACTION * tol, layer=params["contour_layer"],
-            join_tolerance=params["join_tolerance"] or 10.0 * tol)]
-    chosen = order(select(every, {**params, "tolerance": tol}, layer_loops, file))
+    chosen = order(select(every, {**params, "tolerance": tol},
+                          layer_polygons(params, ctx.units, tol, file), file))
     reach = 2 * (rho + tool.diameter) + tol
     lo = np.min([r.polygon.bounds[:2] for r in regions], axis=0) - reach
     hi = np.max([r.polygon.bounds[2:] for r in regions], axis=0) + reach

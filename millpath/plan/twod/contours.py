@@ -7,6 +7,9 @@ cut with the tool outside it, every hole, slot or bore with the tool inside it. 
 inside, the islands in them from outside. Either way the tool is on the air side of
 every contour.
 
+A pocket clears inside the chosen contours (:func:`pocket_regions`); by default every
+region of the drawing, an outline less its islands.
+
 Contours are chosen by role (``contours``: the outlines or the holes/islands), by kind
 (``kinds``: circle, slot, other; recognised within the operation's tolerance), by
 width (``min_size``, ``max_size``: a circle's diameter, a slot's width, else twice
@@ -124,19 +127,55 @@ def classify(poly: Polygon, tol: float) -> tuple[str, float, tuple[float, float]
     return "other", 2 * mic.length, (x, y)
 
 
+def _rings(reg):
+    """(ring, outer, name) of a region: its outline, then its islands."""
+    p = orient(reg.polygon, 1.0)
+    names = list(reg.island_names) + [f"{reg.name} island {k}"
+                                     for k in range(len(reg.island_names), len(p.interiors))]
+    return [(p.exterior, True, reg.name)] + [(r, False, n) for r, n in zip(p.interiors, names)]
+
+
+def _contour(ring, outer: bool, tool_outside: bool, name: str, tol: float) -> Contour:
+    poly = orient(Polygon(ring.coords), 1.0)
+    kind, width, centre = classify(poly, tol)
+    return Contour(poly, outer, tool_outside, name, kind, width, centre)
+
+
 def profile_contours(regions, side_outside: bool, tol: float) -> list["Contour"]:
     """Every contour of ``regions``: outlines first, each with its holes after it."""
-    out = []
+    return [_contour(ring, outer, outer == side_outside, name, tol)
+            for reg in regions for ring, outer, name in _rings(reg)]
+
+
+def pocket_regions(regions, grown, params: dict, tol: float, layer_loops, file=None):
+    """The areas a pocket clears inside the chosen contours, as regions: inside an
+    outline its region (the outline less its islands, ``regions``: loaded with the air
+    inside the outlines); inside a hole, slot or bore the hole less the regions drawn in
+    it (``grown``: loaded with the air inside the holes, so each wall stays on its air
+    side)."""
+    from millpath.part.drawing import Region
+    cands: list[tuple[Contour, object, list[str]]] = []
     for reg in regions:
-        p = orient(reg.polygon, 1.0)
-        rings = [(p.exterior, True, reg.name)]
-        names = list(reg.island_names) + [f"{reg.name} island {k}"
-                                         for k in range(len(reg.island_names), len(p.interiors))]
-        rings += [(ring, False, n) for ring, n in zip(p.interiors, names)]
-        for ring, outer, name in rings:
-            poly = orient(Polygon(ring.coords), 1.0)
-            kind, width, centre = classify(poly, tol)
-            out.append(Contour(poly, outer, outer == side_outside, name, kind, width, centre))
+        ring, _, name = _rings(reg)[0]
+        cands.append((_contour(ring, True, False, name, tol), reg.polygon,
+                      list(reg.island_names)))
+    for reg in grown:
+        for ring, outer, name in _rings(reg)[1:]:
+            c = _contour(ring, False, False, name, tol)
+            inside = [r for r in grown if r is not reg
+                      and c.polygon.contains(r.polygon.representative_point())]
+            area = c.polygon.difference(unary_union([Polygon(r.polygon.exterior)
+                                                     for r in inside]))
+            cands.append((c, area, [r.name for r in inside]))
+    chosen = {id(c) for c in select([c for c, _, _ in cands], params, layer_loops, file)}
+    out = []
+    for c, area, islands in cands:
+        if id(c) not in chosen:
+            continue
+        for k, poly in enumerate(getattr(area, "geoms", [area])):
+            if isinstance(poly, Polygon) and not poly.is_empty:
+                out.append(Region(orient(poly, 1.0), c.name if k == 0 else f"{c.name} ({k})",
+                                  islands))
     return out
 
 
@@ -163,6 +202,27 @@ def select(contours: list[Contour], params: dict, layer_loops, file=None) -> lis
         raise JobError("contours, kinds, min_size, max_size, contour_layer: no contour of "
                        f"the drawing is chosen (it has {len(contours)}: {seen}{more})", file)
     return out
+
+
+def layer_polygons(params: dict, units: str, tol: float, file=None) -> list[Polygon] | None:
+    """The closed contours drawn on ``contour_layer`` (None when it is not given), read
+    as the part is (chords within a 40th of the tolerance), for :func:`select`."""
+    if params["contour_layer"] is None:
+        return None
+    if params["dxf"] is None:
+        raise JobError("contour_layer: needs a dxf drawing", file)
+    from millpath.part.drawing import read_dxf
+    from millpath.plan.twod.geometry import CURVE_FRACTION
+    return [orient(Polygon(lp.points), 1.0) for lp in read_dxf(
+        params["dxf"], units, 0.5 * CURVE_FRACTION * tol, layer=params["contour_layer"],
+        join_tolerance=params["join_tolerance"] or 10.0 * tol)]
+
+
+def selecting(params: dict) -> bool:
+    """Whether any key of :data:`SELECT_PARAMS` narrows the choice of contours."""
+    return (params["contours"] != "all" or bool(params["kinds"])
+            or params["min_size"] is not None or params["max_size"] is not None
+            or params["contour_layer"] is not None)
 
 
 def _same(a: Polygon, b: Polygon, tol: float) -> bool:
