@@ -33,6 +33,7 @@ import argparse
 import json
 import math
 import multiprocessing as mp
+import os
 import resource
 import sys
 import tempfile
@@ -57,14 +58,18 @@ class Reader:
     suffix: str = ".txt"
     seeds: tuple = ()                 # one case of each known class of bad input
     slow: bool = False                # seconds a case: fewer cases in the suite's sample
+    warm: tuple = ()                  # valid inputs, read once by each new worker
 
 
 READERS: dict[str, Reader] = {}
 
 
 def register(name: str, strategy: st.SearchStrategy, read: Callable[[Path], object],
-             suffix: str = ".txt", seeds: tuple = (), slow: bool = False) -> None:
-    READERS[name] = Reader(name, strategy, read, suffix, tuple(seeds), slow)
+             suffix: str = ".txt", seeds: tuple = (), slow: bool = False,
+             warm: tuple = ()) -> None:
+    """``warm``: valid inputs each new worker reads before its first case (imports and
+    compiled code are not counted in a case's time)."""
+    READERS[name] = Reader(name, strategy, read, suffix, tuple(seeds), slow, tuple(warm))
 
 
 class CommandFailed(Exception):
@@ -157,7 +162,8 @@ def read_gcode(path: Path) -> object:
     return command("check", path, "--tools", tbl, names=(path.name,))
 
 
-register("gcode", GCODE, read_gcode, ".ngc", GCODE_SEEDS)
+GOOD_PROGRAM = "G21 F100\nT1 M6 G43\nG0 X0 Y0 Z5\nG1 Z-1\nG1 X10 Y5\nG2 X20 Y5 R5\nM2\n"
+register("gcode", GCODE, read_gcode, ".ngc", GCODE_SEEDS, warm=(GOOD_PROGRAM,))
 
 
 def read_simulate(path: Path) -> object:
@@ -167,7 +173,7 @@ def read_simulate(path: Path) -> object:
                    "--machine-units", "mm", names=(path.name,))
 
 
-register("simulate", GCODE, read_simulate, ".ngc", GCODE_SEEDS[:3])
+register("simulate", GCODE, read_simulate, ".ngc", GCODE_SEEDS[:3], warm=(GOOD_PROGRAM,))
 
 
 FIT_PROGRAM = ("G21 G90 G17\nG0 X10 Y0 Z2\nG1 Z-1 F200\n"
@@ -187,7 +193,8 @@ def read_fit(path: Path) -> object:
                    names=(path.name, "fitted.ngc"))
 
 
-register("fit", st.one_of(_mutated(FIT_PROGRAM), GCODE), read_fit, ".ngc", GCODE_SEEDS[:3])
+register("fit", st.one_of(_mutated(FIT_PROGRAM), GCODE), read_fit, ".ngc", GCODE_SEEDS[:3],
+         warm=(FIT_PROGRAM,))
 
 
 # --- tool tables ----------------------------------------------------------------------
@@ -210,7 +217,8 @@ def read_tooltable(path: Path) -> object:
 
 
 register("tooltable", TOOLTABLE, read_tooltable, ".tbl",
-         ("T1 P1 Z-1e308 D1\n", "T1 P1 Z1 D1e400\n", "T1e300 P1 D1\n"))
+         ("T1 P1 Z-1e308 D1\n", "T1 P1 Z1 D1e400\n", "T1e300 P1 D1\n"),
+         warm=("T1 P1 D6 Z50\nT2 P2 D3 Z40\n",))
 
 
 # --- jobs -------------------------------------------------------------------------------
@@ -241,7 +249,7 @@ def read_job(path: Path) -> object:
 
 
 register("job", _mutated(PLATE_JOB), read_job, ".toml",
-         _job_seeds(PLATE_JOB, "[reference]"))
+         _job_seeds(PLATE_JOB, "[reference]"), warm=(PLATE_JOB,))
 
 #: a small job a whole run plans, posts, proves and writes in about a second
 RUN_JOB = """units = "mm"
@@ -282,8 +290,10 @@ def read_run(path: Path) -> object:
         shutil.rmtree(out, ignore_errors=True)
 
 
-register("run", _mutated(RUN_JOB), read_run, ".toml", _job_seeds(RUN_JOB, "[reference]"),
-         slow=True)
+register("run", _mutated(RUN_JOB), read_run, ".toml",
+         _job_seeds(RUN_JOB, "[reference]")
+         + (RUN_JOB.replace("resolution = 0.5", "resolution = 1e-300"),),
+         slow=True, warm=(RUN_JOB,))
 
 
 # --- points, grids, nets, meshes (millpath drop) -------------------------------------------
@@ -303,7 +313,7 @@ def read_points(path: Path) -> object:
 
 
 register("points", _mutated(POINTS_TEXT), read_points, ".csv",
-         ("x,y\n1e300,0\n", "x,y\n" + "9" * 400 + ",1\n"))
+         ("x,y\n1e300,0\n", "x,y\n" + "9" * 400 + ",1\n"), warm=(POINTS_TEXT,))
 
 
 def read_grid(path: Path) -> object:
@@ -313,7 +323,7 @@ def read_grid(path: Path) -> object:
 
 
 register("grid", _mutated(GRID_TEXT), read_grid, ".csv",
-         ("x,y,z\n0,0,0\n1e300,0,0\n0,1,0\n1,1,1\n",))
+         ("x,y,z\n0,0,0\n1e300,0,0\n0,1,0\n1,1,1\n",), warm=(GRID_TEXT,))
 
 BEZIER_TEXT = "box = [0, 0, 100, 80]\nheights = [[0, -1, 0], [-1, -5, -1], [0, -1, 0]]\n"
 
@@ -326,7 +336,7 @@ def read_bezier(path: Path) -> object:
 
 register("bezier", _mutated(BEZIER_TEXT), read_bezier, ".toml",
          ("box = [0, 0, 1, 1]\nheights = " + "[" * 3000 + "]" * 3000 + "\n",
-          "box = [0, 0, 1, 1]\nheights = [[" + "1" * 5000 + "]]\n"))
+          "box = [0, 0, 1, 1]\nheights = [[" + "1" * 5000 + "]]\n"), warm=(BEZIER_TEXT,))
 
 
 def read_toollib(path: Path) -> object:
@@ -338,7 +348,7 @@ TOOLLIB_TEXT = ('[[tools]]\nnumber = 1\ntype = "ball"\ndiameter = 6\nstickout = 
                 'holder = [[20, 40]]\n')
 register("toollib", _mutated(TOOLLIB_TEXT), read_toollib, ".toml",
          (TOOLLIB_TEXT.replace("[[20, 40]]", "[[20, 1e9]]"),
-          TOOLLIB_TEXT.replace("diameter = 6", "diameter = 1e-12")))
+          TOOLLIB_TEXT.replace("diameter = 6", "diameter = 1e-12")), warm=(TOOLLIB_TEXT,))
 
 
 def _stl_case(data: tuple) -> bytes:
@@ -371,7 +381,7 @@ def read_stl_file(path: Path) -> object:
 
 register("stl", STL, read_stl_file, ".stl",
          (STL_TEXT.replace("vertex 10 0 0", "vertex 1e300 0 0", 1),
-          _stl_case((2, 2**32 - 1, None, [1.0]))))
+          _stl_case((2, 2**32 - 1, None, [1.0]))), warm=(STL_TEXT,))
 
 
 # --- STEP -------------------------------------------------------------------------------
@@ -397,8 +407,8 @@ def _step_seeds(text: str, old: str, ref: str) -> tuple[str, ...]:
 
 
 AP224_SEEDS = _step_seeds(STEP_TEXT, "#22=AXIS2_PLACEMENT_3D('orientation',#19,", "#19")
-register("p21", _mutated(STEP_TEXT), read_p21, ".stp", AP224_SEEDS)
-register("ap224", _mutated(STEP_TEXT), read_ap224, ".stp", AP224_SEEDS)
+register("p21", _mutated(STEP_TEXT), read_p21, ".stp", AP224_SEEDS, warm=(STEP_TEXT,))
+register("ap224", _mutated(STEP_TEXT), read_ap224, ".stp", AP224_SEEDS, warm=(STEP_TEXT,))
 
 SOLID_TEXT = (EXAMPLES / "solid-hole-model" / "part.stp").read_text()
 
@@ -413,7 +423,7 @@ register("solid", _mutated(SOLID_TEXT), read_solid, ".stp",
          _step_seeds(SOLID_TEXT, "#1016=VECTOR('',#1188,", "#1188")
          + _step_seeds(SOLID_TEXT, "#547=ORIENTED_EDGE('',*,*,#858,", "#858")[2:]
          + (SOLID_TEXT.replace("#858=EDGE_CURVE('',#757,", "#858=EDGE_CURVE('',#547,"),),
-         slow=True)
+         slow=True, warm=(SOLID_TEXT,))
 
 
 # --- DXF --------------------------------------------------------------------------------
@@ -454,10 +464,13 @@ def _dxf_seeds() -> tuple[str, ...]:
             _dxf_text(lambda m: m.add_circle((30, 20), 1e300)),
             _dxf_text(lambda m: m.add_circle((30, 20), 1e6)),
             _dxf_text(lambda m: m.add_ellipse((0, 0), (1e300, 0), 0.5)),
-            _dxf_text(lambda m: m.add_spline([(0, 0), (1e300, 1), (0, 2)])))
+            _dxf_text(lambda m: m.add_spline([(0, 0), (1e300, 1), (0, 2)])),
+            # a header value ezdxf reads into an entity without a layer
+            _dxf_text().replace("$OBSLTYPE\n280\n0\n", "$OBSLTYPE\n280\n1e-300\n"))
 
 
-register("dxf", _mutated(_dxf_text()), read_dxf_file, ".dxf", _dxf_seeds())
+register("dxf", _mutated(_dxf_text()), read_dxf_file, ".dxf", _dxf_seeds(),
+         warm=(_dxf_text(),))
 
 
 # --- command-line options ------------------------------------------------------------------
@@ -503,6 +516,7 @@ def read_options(path: Path) -> object:
     _beside(path, "points.csv", POINTS_TEXT)
     _beside(path, "part.stp", STEP_TEXT)
     args = json.loads(path.read_text())
+    os.chdir(d)                             # the inputs are named as a user in d would
     opts = tuple(a for a in args if a.startswith("-"))
     out = command(*args, names=opts + ("prog.ngc", "tools.tbl", "fit.ngc", "surface.csv",
                                        "points.csv", "part.stp", "view.html", "fitted.ngc",
@@ -512,16 +526,24 @@ def read_options(path: Path) -> object:
     return out
 
 
-register("options", OPTION_ARGS.map(json.dumps), read_options, ".json", OPTION_SEEDS)
+register("options", OPTION_ARGS.map(json.dumps), read_options, ".json", OPTION_SEEDS,
+         warm=tuple(json.dumps([c, *OPTIONS[c][0]]) for c in sorted(OPTIONS)))
 
 
 # --- worker process -----------------------------------------------------------------------
+def _write(path: Path, data: str | bytes) -> None:
+    if isinstance(data, bytes):
+        path.write_bytes(data)
+    else:
+        path.write_text(data, encoding="utf-8", errors="surrogatepass")
+
+
 def _peak() -> int:
     """Peak resident memory of this process (bytes)."""
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
 
 
-def _worker(conn, name: str, memory: int, folder: str) -> None:
+def _worker(conn, name: str, memory: int, folder: str, warm: bool) -> None:
     import logging
     cap = max(3 * memory, 3 << 30)
     resource.setrlimit(resource.RLIMIT_AS, (cap, cap))
@@ -529,14 +551,18 @@ def _worker(conn, name: str, memory: int, folder: str) -> None:
     from millpath.errors import MillpathError
     reader = READERS[name]
     path = Path(folder) / f"case{reader.suffix}"
+    for data in reader.warm if warm else ():
+        _write(path, data)
+        try:
+            reader.read(path)
+        except Exception:                                     # noqa: BLE001 - warming
+            pass
+    conn.send("ready")
     while True:
         data = conn.recv()
         if data is None:
             return
-        if isinstance(data, bytes):
-            path.write_bytes(data)
-        else:
-            path.write_text(data, encoding="utf-8", errors="surrogatepass")
+        _write(path, data)
         try:
             reader.read(path)
             result = ("ok", "")
@@ -578,17 +604,20 @@ class _Done(BaseException):
 class Pool:
     """One worker process at a time, restarted after a hang or a death."""
 
-    def __init__(self, name: str, memory: int, folder: str):
-        self.name, self.memory, self.folder = name, memory, folder
+    def __init__(self, name: str, memory: int, folder: str, warm: bool = True):
+        self.name, self.memory, self.folder, self.warm = name, memory, folder, warm
         self.ctx = mp.get_context("fork")
         self.start()
 
     def start(self) -> None:
         self.conn, child = self.ctx.Pipe()
         self.proc = self.ctx.Process(target=_worker,
-                                     args=(child, self.name, self.memory, self.folder),
+                                     args=(child, self.name, self.memory, self.folder,
+                                           self.warm),
                                      daemon=True)
         self.proc.start()
+        if not self.conn.poll(600) or self.conn.recv() != "ready":
+            raise RuntimeError(f"the {self.name} worker did not start")
 
     def restart(self) -> None:
         self.proc.kill()
@@ -629,13 +658,14 @@ def _site(tb: str) -> str:
 
 
 def fuzz(name: str, seconds: float | None = None, seed: int = 0, memory: int = 1 << 30,
-         hang: float = 20.0, cases: int | None = None) -> Tally:
-    """The reader's seeds, then drawn cases for ``seconds`` or until ``cases`` were run."""
+         hang: float = 20.0, cases: int | None = None, warm: bool = True) -> Tally:
+    """The reader's seeds, then drawn cases for ``seconds`` or until ``cases`` were run;
+    ``warm``: each new worker first reads the reader's valid inputs, uncounted."""
     reader = READERS[name]
     tally = Tally()
     deadline = time.monotonic() + seconds if seconds is not None else None
     with tempfile.TemporaryDirectory(prefix=f"fuzz-{name}-") as folder:
-        pool = Pool(name, memory, folder)
+        pool = Pool(name, memory, folder, warm)
 
         def record(data) -> None:
             kind, info, took = pool.run(data, hang)

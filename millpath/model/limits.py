@@ -50,6 +50,15 @@ MAX_FLOW_LINES = 1_500_000
 #: (repeats x pecks) one canned-cycle block may expand into (a few moves each)
 MAX_CYCLE_STEPS = 1_000_000
 
+# --- planning ----------------------------------------------------------------------------
+#: pass lines of one surface-finish zigzag, and waterline levels of one surface
+MAX_PASS_LINES = 5000
+MAX_LEVELS = 3000
+#: drop-cutter raster nodes of one surface-rough (about 1 GB)
+MAX_ROUGH_RASTER = 10_000_000
+#: cells of one grid-pocket grid
+MAX_GRID_CELLS = 4_000_000
+
 # --- surfaces ----------------------------------------------------------------------------
 #: cells per direction a Bezier net or measured grid is meshed into (two triangles each)
 MAX_DIVISIONS = 1000
@@ -123,7 +132,7 @@ def count_needed(span: float, step: float) -> float:
     measured without building anything); ``inf`` for a step that is not positive."""
     if not (step > 0) or not math.isfinite(step):
         return math.inf
-    return math.ceil(max(span, 0.0) / step - 1e-9)
+    return float(math.ceil(max(span, 0.0) / step - 1e-9))
 
 
 def check_coordinate(value: float) -> str | None:

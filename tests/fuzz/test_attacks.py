@@ -84,6 +84,8 @@ def run_cli(tmp_path: Path, monkeypatch, *args: str):
      "a diameter of 1e-12 mm is outside 0.01 .. 1000 mm (wrong units?)"),
     (job(resolution="8"), "job.toml: simulation.resolution:",
      "cells of 8 mm are wider than the 6 mm tool 1 of operations[0]"),
+    (job(resolution="1e-300"), "job.toml: simulation.resolution:",
+     "1e-300 makes inf cells over the stock"),
 ])
 def test_job_values_are_refused_where_written(tmp_path, monkeypatch, text, where, words):
     (tmp_path / "job.toml").write_text(text)
@@ -179,6 +181,24 @@ def _dxf(path: Path, add) -> None:
 
 DXF_JOB = job().replace('polygon = [[10, 10], [60, 10], [60, 50], [10, 50]]',
                         'dxf = "part.dxf"')
+
+
+def test_a_damaged_dxf_entity_without_a_layer_is_read(tmp_path):
+    """A header value ezdxf reads into a model-space entity that has no layer."""
+    import io
+
+    import ezdxf
+    from millpath.part.drawing.dxf import read_dxf
+    doc = ezdxf.new("R2010")
+    doc.modelspace().add_circle((30, 20), 6)
+    out = io.StringIO()
+    doc.write(out)
+    text = out.getvalue()
+    assert "$OBSLTYPE\n280\n0\n" in text
+    (tmp_path / "d.dxf").write_text(text.replace("$OBSLTYPE\n280\n0\n",
+                                                 "$OBSLTYPE\n280\n1e-300\n"))
+    loops = read_dxf(tmp_path / "d.dxf", "mm", 0.01)
+    assert len(loops) == 1
 
 
 @pytest.mark.parametrize("add, tolerance, words", [

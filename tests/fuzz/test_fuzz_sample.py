@@ -43,7 +43,8 @@ def test_fuzz_sample(name, small_limits):
     reader = fz.READERS[name]
     if name == "solid":
         pytest.importorskip("OCP", reason="STEP solids need millpath[step-brep]")
-    t = fz.fuzz(name, seed=0, cases=2 if reader.slow else 12, memory=1 << 30, hang=60.0)
+    t = fz.fuzz(name, seed=0, cases=2 if reader.slow else 12, memory=1 << 30, hang=60.0,
+                warm=False)
     assert t.cases == len(reader.seeds) + (2 if reader.slow else 12)
     problems = [f"{site}\n{data}\n{tb[-1500:]}" for site, (tb, data) in t.crashes.items()]
     problems += [f"hang: {d}" for d in t.hangs] + [f"over 1 GB: {d}" for d in t.memory]

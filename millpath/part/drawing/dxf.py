@@ -124,7 +124,7 @@ def _ocs_xy(e, pts: np.ndarray) -> np.ndarray:
 
 def _piece(e, tol: float, budget: _Budget) -> Piece | None:
     t = e.dxftype()
-    h = str(e.dxf.handle)
+    h = _handle(e)
     if t == "LINE":
         s, f = e.dxf.start, e.dxf.end
         budget.take(2, "")
@@ -174,17 +174,34 @@ def _piece(e, tol: float, budget: _Budget) -> Piece | None:
     return None
 
 
+def _layer(e) -> str:
+    """An entity's layer ("0" for an entity that has none, as a damaged file can hold)."""
+    return _attribute(e, "layer", "0")
+
+
+def _handle(e) -> str:
+    return _attribute(e, "handle", "?")
+
+
+def _attribute(e, name: str, default: str) -> str:
+    from ezdxf.lldxf.const import DXFAttributeError
+    try:
+        return str(e.dxf.get(name, default))
+    except DXFAttributeError:          # not an attribute of this kind of entity
+        return default
+
+
 def _entities(msp, layer: str | None):
     for e in msp:
         if e.dxftype() == "INSERT":
-            if layer is not None and e.dxf.layer.lower() != layer.lower():
+            if layer is not None and _layer(e).lower() != layer.lower():
                 continue
             try:
                 yield from e.virtual_entities()
             except Exception:           # ezdxf raises various errors on odd blocks
                 continue
             continue
-        if layer is not None and e.dxf.layer.lower() != layer.lower():
+        if layer is not None and _layer(e).lower() != layer.lower():
             continue
         yield e
 
@@ -223,14 +240,14 @@ def read_dxf(path: str | Path, units: str, tolerance: float, *, layer: str | Non
     pieces: list[Piece] = []
     layers = set()
     for e in _entities(doc.modelspace(), layer):
-        layers.add(e.dxf.layer)
+        layers.add(_layer(e))
         if e.dxftype() not in SUPPORTED:
             continue
         try:
             p = _piece(e, tol_d, budget)
         except (ValueError, ZeroDivisionError, AttributeError, OverflowError) as ex:
             raise GeometryError(f"{e.dxftype()}: {ex}", path,
-                                entity=f"entity {e.dxf.handle}") from None
+                                entity=f"entity {_handle(e)}") from None
         if p is None:
             continue
         if not np.isfinite(p.points).all():
@@ -244,7 +261,7 @@ def read_dxf(path: str | Path, units: str, tolerance: float, *, layer: str | Non
         pieces.append(p)
     if not pieces:
         where = f" on layer {layer!r}" if layer is not None else ""
-        known = sorted({str(e.dxf.layer) for e in doc.modelspace()})
+        known = sorted({_layer(e) for e in doc.modelspace()})
         raise GeometryError(f"no LINE, ARC, CIRCLE, LWPOLYLINE, POLYLINE or SPLINE{where} "
                             f"(layers in the file: {', '.join(known) or 'none'})", path)
     jt = join_tolerance if join_tolerance is not None else 10.0 * tolerance

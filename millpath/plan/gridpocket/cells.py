@@ -20,6 +20,7 @@ from shapely.geometry import LineString, MultiPolygon, Polygon
 from shapely.validation import explain_validity
 
 from millpath.errors import GeometryError, PlanningError
+from millpath.model.limits import MAX_GRID_CELLS
 
 
 def polygon_problem(points) -> str | None:
@@ -145,7 +146,7 @@ def build_grid(poly: Polygon, tool_radius: float, dx: float, dy: float, file=Non
         ymin = cy + math.floor((ymin - cy) / dy + 1e-9) * dy
     nx = max(1, int(math.ceil((xmax - xmin) / dx - 1e-9)))
     ny = max(1, int(math.ceil((ymax - ymin) / dy - 1e-9)))
-    if nx * ny > 4_000_000:
+    if nx * ny > MAX_GRID_CELLS:
         raise PlanningError(f"grid: {nx} x {ny} cells is too many; use larger cells", file)
     i, j = np.meshgrid(np.arange(nx), np.arange(ny), indexing="ij")
     x = xmin + (i + 0.5) * dx

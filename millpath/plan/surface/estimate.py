@@ -31,6 +31,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from millpath.model.limits import MAX_ROUGH_RASTER
 from millpath.plan.surface.dropcutter import PARALLEL_MIN
 from millpath.plan.surface.sampler import Sampler
 from millpath.plan.surface.steep_shallow import HOLD_MAX_SLOPE
@@ -254,7 +255,7 @@ def estimate_finish(sampler: Sampler, region, *, strategy: str, scallop: float,
 
 
 #: the most raster nodes a ``surface-rough`` plans (beyond: refused; about 1 GB)
-ROUGH_MAX_RASTER = 10_000_000
+ROUGH_MAX_RASTER = MAX_ROUGH_RASTER
 
 
 @dataclass

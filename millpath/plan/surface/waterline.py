@@ -46,6 +46,7 @@ import numpy as np
 
 from millpath.errors import PlanningError
 from millpath.geometry.rows import unique_rows
+from millpath.model.limits import MAX_LEVELS
 from millpath.plan.surface.dropcutter import drop
 from millpath.plan.surface.sampler import Sampler
 from millpath.plan.surface.steps import flat_side_step, side_step
@@ -198,7 +199,7 @@ class WaterlineSettings:
     min_slope: float = 45.0
     climb: bool = True
     holder_clearance: float = 0.0
-    max_levels: int = 3000
+    max_levels: int = MAX_LEVELS
     z_range: tuple[float, float] | None = None
     on_level: Callable[[int, float], None] | None = None   # progress: levels so far, z
 

@@ -35,6 +35,7 @@ from typing import Callable
 import numpy as np
 
 from millpath.errors import PlanningError
+from millpath.model.limits import MAX_PASS_LINES
 from millpath.plan.surface.polyline import chord_offsets, collinear_keep
 from millpath.plan.surface.sampler import Sampler
 from millpath.plan.surface.steps import curvature_radius, feed_step, flat_side_step, side_step
@@ -68,7 +69,7 @@ class ZigzagSettings:
     material_tolerance: float | None = None
     station: float | None = None
     max_step: float | None = None
-    max_passes: int = 5000
+    max_passes: int = MAX_PASS_LINES
     trim_edges: bool = False
     keep: Callable[[np.ndarray], np.ndarray] | None = None
     hold: Callable[[np.ndarray], np.ndarray] | None = None
