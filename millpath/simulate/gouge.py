@@ -309,7 +309,9 @@ def _gouge_groups(S, E, slot, cdev, gs, gS, gE, gdev, kind, R, rc, k, zb, L, nsh
             nrf, rhof = shape_rings(kind[s, j], Rj, rc[s, j], k[s, j], zb[s, j], L[s, j], 0.0,
                                     rrf, rhf)
             # not wholly below the (grown) tool over their own XY box
-            rim = not is_ball and nrf > 0
+            # (a sharp edge: flat rim, drill point, cylinder; a bull's is rounded, its
+            # depth (a) is that of its deepest point until past its corner radius)
+            rim = not is_ball and nrf > 0 and rhof == 0.0
             nc, buf = under_candidates(ix, txy, ctop, tn[:, 2], gS[g], gE[g], kind[s, j], Rj,
                                        rc[s, j], k[s, j], zb[s, j], L[s, j], dv, eg, rim, buf,
                                        bb)
@@ -373,9 +375,9 @@ def _chord_gouge(c, j, P0, P1, s, kind, R, rc, k, zb, L, tri, tn, tc, tr, txy, i
             top = ix[1][t, 2]
             # wholly below the tool's underside raised by lo: no point of t is lo deep
             # in the tool; nor, when it faces up, lower than lo nz, is the foot of a
-            # point of the tool lo deep along its normal (see under_candidates)
+            # sharp edge's point lo deep along its normal (see under_candidates)
             low = top < us + lo
-            if low and (nrf == 0 or nz < 0.0 or top < us + lo * nz):
+            if low and (nrf == 0 or rhof > 0.0 or nz < 0.0 or top < us + lo * nz):
                 continue
         xy2 = 0.0
         if not is_ball:
