@@ -66,17 +66,16 @@ def test_the_tool_really_in_the_spindle_sets_the_depth(head, depth):
 
 def test_first_move_after_a_tool_change_starts_where_the_machine_is():
     """T1 stops on the floor beside a 10 mm wide wall (a boss from x 20 to 30, 5 mm
-    high); after the change the first move crosses the boss at the floor's depth. The
-    boss top's middle line then lies 3 mm (the tool's radius) inside the swept tool,
-    the deepest design point (support.occ_oracle.move_depth measures 3.0 for this
-    sweep with OpenCASCADE). Taken as a drop from above at its end, it read 0."""
+    high); after the change the first move crosses the boss at the floor's depth: the
+    tool's underside passes 5 mm below the boss top and 5 mm in from its sides.
+    Taken as a drop from above at its end, it read 0."""
     boss = BoxDesign(-5.0, [(20, -100, 30, 100, 0.0)])
     prog = ("G21 G17 G90\nT1 M6\nG43 H1\nG0 X10 Y20 Z5\nG1 Z-5 F200\n"
             "T1 M6\nG43 H1\nG1 X40 F300\nG0 Z5\nM2\n")
-    assert _gouge(prog, boss) == pytest.approx(3.0, abs=ACC)
+    assert _gouge(prog, boss) == pytest.approx(5.0, abs=ACC)
     # the same motion without the tool change: the same figure
     plain = "G21 G17 G90\nT1 M6\nG43 H1\nG0 X10 Y20 Z5\nG1 Z-5 F200\nG1 X40 F300\nG0 Z5\nM2\n"
-    assert _gouge(plain, boss) == pytest.approx(3.0, abs=ACC)
+    assert _gouge(plain, boss) == pytest.approx(5.0, abs=ACC)
 
 
 @pytest.mark.parametrize("frame", ["G92 X1", "G52 X-1", "G10 L2 P1 X-1", "G10 L20 P1 X1"])
@@ -229,7 +228,8 @@ INCH_TABLE = {1: 2.0, 2: 2.02, 3: 1.98}           # tool lengths (inch), D 6 mm
 
 def _oracle_depth(oracle, ngc, tbl, design_solid) -> float:
     """The deepest cut of the program's moves after its first, from rs274's controlled
-    points minus the length of the tool in the spindle (its CHANGE_TOOL calls), each
+    points minus the length of the tool in the spindle (its CHANGE_TOOL calls; a move
+    after a change starts from the last controlled point with the new tool), each
     move's sweep measured against the design solid by OpenCASCADE."""
     from support.occ_oracle import move_depth
     ref = oracle.run_rs274(str(ngc), str(tbl))
@@ -244,11 +244,12 @@ def _oracle_depth(oracle, ngc, tbl, design_solid) -> float:
             if m.kind == "dwell":
                 continue
             k = 25.4 if m.units == "in" else 1.0
-            L = INCH_TABLE.get(tool, 0.0) * 25.4
-            tip = (m.machine_end[0] * k, m.machine_end[1] * k, m.machine_end[2] * k - L)
-            if prev is not None:
-                worst = max(worst, move_depth(design_solid, prev, tip, 3.0, 20.0))
-            prev = tip
+            L = INCH_TABLE.get(tool, 0.0) * 25.4     # the tool in the spindle now
+            ctrl = (m.machine_end[0] * k, m.machine_end[1] * k, m.machine_end[2] * k)
+            if prev is not None:                  # a tool change happens in place
+                worst = max(worst, move_depth(design_solid, (prev[0], prev[1], prev[2] - L),
+                                              (ctrl[0], ctrl[1], ctrl[2] - L), 3.0, 20.0))
+            prev = ctrl
     return worst
 
 
@@ -273,13 +274,14 @@ def test_gouge_matches_rs274_motion_against_opencascade(case, rs274, shared_dir,
     the design solid and the flat end mill swept along rs274's motion, the tip placed
     by the length of the tool really in the spindle (within the proof's accuracy and
     rs274's 4 printed decimals)."""
-    from support.occ_oracle import box, cut
+    from support.occ_oracle import BoxCut
     oracle = _oracle(shared_dir)
     program = OCC_CASES[case] + "M2\n"
     ngc, tbl = tmp_path / "p.ngc", tmp_path / "t.tbl"
     ngc.write_text(program)
     tbl.write_text("".join(f"T{n} P{n} D{6 / 25.4:.6f} Z{z}\n" for n, z in INCH_TABLE.items()))
-    solid = cut(box(0, 0, -10, 60, 40, 0), box(10, 10, -5, 50, 30, 1))
+    # the part goes on below the stock's bottom: no surface there
+    solid = BoxCut((0, 0, -1000, 60, 40, 0), [(10, 10, -5, 50, 30, 1)])
     truth = _oracle_depth(oracle, ngc, tbl, solid)
     motions = interpret(program, str(tbl), machine_units="inch")
     tips = approach_from_above(tip_motions(motions, "mm"), STOCK.zmax)
@@ -292,3 +294,28 @@ def test_gouge_matches_rs274_motion_against_opencascade(case, rs274, shared_dir,
     else:
         assert truth > 0.3
         assert got == pytest.approx(truth, abs=ACC + 5e-5)
+
+
+def test_first_move_after_a_tool_change_against_opencascade(rs274, shared_dir, tmp_path):
+    """The boss crossed right after a tool change in place: the new tool is 0.508 mm
+    longer and its G43 leaves the tip where the change put it, 5.508 mm down; its
+    deepest point is 5.026 mm from the boss (the foot of its wall). OpenCASCADE's depth
+    of rs274's motion and millpath's proof agree."""
+    from support.occ_oracle import BoxCut
+    oracle = _oracle(shared_dir)
+    program = ("G21 G17 G90\nT1 M6\nG43 H1\nG0 X10 Y20 Z5\nG1 Z-5 F200\n"
+               "T2 M6\nG43 H2\nG1 X40 F300\nG0 Z5\nM2\n")
+    ngc, tbl = tmp_path / "p.ngc", tmp_path / "t.tbl"
+    ngc.write_text(program)
+    tbl.write_text("".join(f"T{n} P{n} D{6 / 25.4:.6f} Z{z}\n" for n, z in INCH_TABLE.items()))
+    solid = BoxCut((0, 0, -1000, 60, 40, 0),
+                   [(-1, -1, -5, 20, 41, 1), (30, -1, -5, 61, 41, 1)])
+    truth = _oracle_depth(oracle, ngc, tbl, solid)
+    motions = interpret(program, str(tbl), machine_units="inch")
+    tips = approach_from_above(tip_motions(motions, "mm"), STOCK.zmax)
+    shapes = {n: Tool(n, "flat", 6.0, flute_length=20, stickout=40) for n in INCH_TABLE}
+    boss = BoxDesign(-5.0, [(20, -100, 30, 100, 0.0)])
+    res = simulate_motions(tips, shapes, STOCK, resolution=0.25, design=boss,
+                           machine=Machine(), accuracy=ACC)
+    assert truth == pytest.approx((5 ** 2 + 0.508 ** 2) ** 0.5, abs=1e-4)
+    assert res.exact.max_gouge == pytest.approx(truth, abs=ACC + 5e-5)
