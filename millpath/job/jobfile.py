@@ -196,6 +196,8 @@ def job_from_dict(data: dict, path: Path | None = None) -> Job:
         if bad:
             raise JobError(f"simulation.resolution: {bad}", path)
     post = validate(top["post"] or {}, POST, "post", path, base)
+    for key in ("preamble", "postamble"):
+        _check_gcode(post[key], f"post.{key}", path)
     tools = tools_from_tables(top["tools"], path, units, limits)
     ops = []
     if not top["operations"]:
@@ -259,3 +261,28 @@ def _check_scale(params: dict[str, Any], tools: dict[int, Tool], resolution: flo
                        f"than the {tool.diameter:g} {units} tool {tool.number} of {where}: "
                        f"the simulation could not see what it cuts (use at most "
                        f"{tool.diameter / 4:g})", path)
+
+
+def _check_gcode(text: str, key: str, path: Path | None) -> None:
+    """Read the G-code lines a job writes into its program (``[post]`` preamble and
+    postamble) as the interpreter will, so that a bad word is named where the user wrote
+    it, not at a line of the generated program. O-word lines are left to the run."""
+    from millpath.gcode.errors import GCodeError
+    from millpath.gcode.lexer import MAX_LINE, MAX_PARAM, read_block
+    params = [0.0] * MAX_PARAM
+    named: dict[str, float] = {}
+    for k, raw in enumerate(text.splitlines(), 1):
+        s = raw.strip()
+        if not s or s.lstrip("/").lstrip().lower().startswith("o"):
+            continue
+        try:
+            if len(s) > MAX_LINE:
+                raise GCodeError("Command too long")
+            blk = read_block(s, k, params, named)
+        except GCodeError as e:
+            raise JobError(f"{key}: line {k}: {e.message}", path) from None
+        for idx, val in blk.settings:
+            if isinstance(idx, str):
+                named[idx] = val
+            else:
+                params[idx] = val

@@ -29,7 +29,7 @@ from millpath.model.units import PerUnits, default
 # --- numbers as written ------------------------------------------------------------------
 #: largest magnitude of any number written in a text input (G-code words, tool tables,
 #: points, grid, mesh and DXF coordinates), in that file's units: no machine is a
-#: million kilometres long; a larger number is a typo, a wrong column or a unit mix-up
+#: thousand kilometres long; a larger number is a typo, a wrong column or a unit mix-up
 MAX_COORDINATE = 1e9
 #: deepest nesting of brackets a parser reads (TOML arrays and inline tables, Part 21
 #: parameter lists): real files nest a few levels; Python's recursion stops near 1000

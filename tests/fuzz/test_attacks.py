@@ -86,6 +86,8 @@ def run_cli(tmp_path: Path, monkeypatch, *args: str):
      "cells of 8 mm are wider than the 6 mm tool 1 of operations[0]"),
     (job(resolution="1e-300"), "job.toml: simulation.resolution:",
      "1e-300 makes inf cells over the stock"),
+    (job(reference='[post]\npreamble = "G92 X0\\nG0 X100000000000000000000"'),
+     "job.toml: post.preamble:", "line 2: X word 1e+20 is larger than the 1e+09 limit"),
 ])
 def test_job_values_are_refused_where_written(tmp_path, monkeypatch, text, where, words):
     (tmp_path / "job.toml").write_text(text)
