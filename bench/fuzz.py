@@ -406,7 +406,9 @@ def _step_seeds(text: str, old: str, ref: str) -> tuple[str, ...]:
             text.replace(old, old.replace(ref, old.split("=")[0])))
 
 
-AP224_SEEDS = _step_seeds(STEP_TEXT, "#22=AXIS2_PLACEMENT_3D('orientation',#19,", "#19")
+AP224_SEEDS = (_step_seeds(STEP_TEXT, "#22=AXIS2_PLACEMENT_3D('orientation',#19,", "#19")
+               + (STEP_TEXT.replace("#1=DIMENSIONAL_EXPONENTS(1.0,",
+                                    "#1=DIMENSIONAL_EXPONENTS(1" + "0" * 400 + ","),))
 register("p21", _mutated(STEP_TEXT), read_p21, ".stp", AP224_SEEDS, warm=(STEP_TEXT,))
 register("ap224", _mutated(STEP_TEXT), read_ap224, ".stp", AP224_SEEDS, warm=(STEP_TEXT,))
 

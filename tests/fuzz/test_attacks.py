@@ -308,3 +308,17 @@ def test_a_full_disk_names_the_output_folder_not_the_staging(tmp_path, full_disk
     assert e.value.filename == str(out / "program.ngc")
     assert e.value.strerror == "No space left on device"
     assert not out.exists() and [p.name for p in tmp_path.iterdir()] == [".out.lock"]
+
+
+def test_step_integers_beyond_64_bits_are_refused(tmp_path, monkeypatch):
+    """Found by bench/fuzz.py: a 401-digit integer passed the reader and overflowed a
+    float in the AP224 layer (an internal error)."""
+    text = (ROOT / "tests" / "step" / "fixtures" / "plate_three_holes.stp").read_text()
+    old = "#1=DIMENSIONAL_EXPONENTS(1.0,"
+    assert old in text
+    (tmp_path / "p.stp").write_text(text.replace(old, "#1=DIMENSIONAL_EXPONENTS(1"
+                                                 + "0" * 400 + ","))
+    r = run_cli(tmp_path, monkeypatch, "features", "p.stp")
+    assert r.exit_code == 1, r.output
+    assert one_line(r.output, "p.stp:8: #1: integer " + "1" + "0" * 29 + "... "
+                              "out of range (a 64-bit integer)")

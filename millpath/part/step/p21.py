@@ -387,6 +387,9 @@ _TOKEN = re.compile(r"""
 """, re.VERBOSE | re.DOTALL)
 
 _INT = re.compile(r"[+-]?[0-9]+\Z")
+#: Part 21 integers are machine integers: beyond 64 bits a literal is not a number a
+#: reader can use (and not one a float can hold past 309 digits)
+_INT_RANGE = 2 ** 63
 _REAL = re.compile(r"[+-]?[0-9]+\.[0-9]*(?:[eE][+-]?[0-9]+)?\Z")
 
 _ESC = re.compile(r"\\X2\\((?:[0-9A-Fa-f]{4})*)\\X0\\|\\X4\\((?:[0-9A-Fa-f]{8})*)\\X0\\"
@@ -628,9 +631,14 @@ class _Parser:
                     sources.append(src)
                 elif c in "0123456789+-" or (c == "." and len(t) > 1 and t[1].isdigit()):
                     try:
-                        cur.append(float(t) if "." in t else int(t))
+                        v = float(t) if "." in t else int(t)
                     except ValueError:
-                        raise _Fail(i - 1, f"bad number {t!r}", iid) from None
+                        raise _Fail(i - 1, f"bad number {t[:30]!r}", iid) from None
+                    if type(v) is int and not -_INT_RANGE <= v < _INT_RANGE:
+                        shown = t if len(t) <= 30 else t[:30] + "..."
+                        raise _Fail(i - 1, f"integer {shown} out of range (a 64-bit "
+                                    "integer)", iid)
+                    cur.append(v)
                 elif c == "'":
                     if len(t) < 2:
                         raise _Fail(i - 1, "unterminated string", iid)
