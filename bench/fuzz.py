@@ -505,7 +505,9 @@ OPTION_SEEDS = tuple(json.dumps(a) for a in (
     ["drop", "surface.csv", "--xy", "points.csv", "--tool", "ball:6", "--tool-length",
      "1e308", "--holder", "20:40"],
     ["simulate", "prog.ngc", "--tools", "tools.tbl", "--stock", "-5,-5,-2,25,25,0",
-     "--resolution", "0.0001"]))
+     "--resolution", "0.0001"],
+    ["view", "prog.ngc", "--tools", "tools.tbl", "--stock", "-5,-5,-2,25,25,0", "-o",
+     "view.html", "--tolerance", "1e399"]))
 
 
 def read_options(path: Path) -> object:

@@ -15,6 +15,7 @@ import click
 
 from millpath.cli.programs import ProgramArgs, program_options
 from millpath.errors import MillpathError
+from millpath.model.limits import MAX_TOLERANCE
 
 
 @click.command()
@@ -30,8 +31,9 @@ def command(args: ProgramArgs, tolerance: float | None, output: Path) -> None:
     from millpath.report.viewer import write_view
     from millpath.simulate.approach import approach_from_above
 
-    if tolerance is not None and not tolerance >= 0:
-        raise MillpathError(f"--tolerance must be a length >= 0, not {tolerance}")
+    if tolerance is not None and not 0 <= tolerance <= MAX_TOLERANCE.mm:
+        raise MillpathError(f"--tolerance must be a length of 0 .. {MAX_TOLERANCE.mm:g} "
+                            f"(program units), not {tolerance:g}")
     program = args.program
     sp = args.simulate(progress=sys.stderr.isatty())
     motions = approach_from_above(sp.motions, sp.stock.zmax)

@@ -322,3 +322,15 @@ def test_step_integers_beyond_64_bits_are_refused(tmp_path, monkeypatch):
     assert r.exit_code == 1, r.output
     assert one_line(r.output, "p.stp:8: #1: integer " + "1" + "0" * 29 + "... "
                               "out of range (a 64-bit integer)")
+
+
+def test_view_tolerance_is_bounded(tmp_path, monkeypatch):
+    """Found by bench/fuzz.py: --tolerance 1e399 (infinite) reached the page's JSON."""
+    (tmp_path / "p.ngc").write_text("G21 F100\nT1 M6 G43\nG0 X0 Y0 Z5\nG1 Z-1\nG1 X20\nM2\n")
+    (tmp_path / "t.tbl").write_text("T1 P1 D6 Z50\n")
+    r = run_cli(tmp_path, monkeypatch, "view", "p.ngc", "--tools", "t.tbl", "--stock",
+                "-5,-5,-2,25,25,0", "--tolerance", "1e399", "-o", "v.html")
+    assert r.exit_code == 1, r.output
+    assert one_line(r.output, "--tolerance must be a length of 0 .. 1 (program units), "
+                              "not inf")
+    assert not (tmp_path / "v.html").exists()
