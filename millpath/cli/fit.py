@@ -55,7 +55,7 @@ def command(program: Path, tolerance: float, mode: str, min_radius: float,
     target = output if output is not None else program.with_name(program.stem + "-fit.ngc")
     if target.resolve() == program.resolve():
         raise MillpathError("the output would overwrite the input program; give -o", program)
-    from millpath.fit.readback import read_back
+    from millpath.verify.readback import read_back
     back = read_back(text, out, tolerance, file=program)   # nothing unproven is written
     write_text(target, out)
     before = sum(1 for l in text.splitlines() if l.strip())

@@ -9,7 +9,10 @@ extra turns), ``G5`` cubic Bezier splines in XY, canned drilling cycles
 (``G81 G82 G83 G73 G85 G89`` with ``G98``/``G99``) closed by ``G80``, cutter radius
 compensation ``G41``/``G42 Dn`` and ``G40``, and ``M2``.
 
-After each tool change the tool first rises straight to the operation's safe height
+Before a tool change the tool rises so that the new tool, changed where the machine
+stands, has its tip at or above the next operation's safe height (a longer tool comes
+in lower by the difference in gauge length). After each tool change the tool first
+rises straight to the operation's safe height
 (its highest move, or ``PostOptions.safe_z`` if higher), then moves in X and Y at that
 height, then descends: never X, Y and Z together from the unknown tool-change position.
 :class:`PostOptions` (the job's ``[post]`` table) sets coolant, work offset, program
@@ -211,7 +214,10 @@ class _Writer:
             raise ValueError(f"operation {op.name!r} starts with cutter compensation on")
         self.emit(_comment(f"operation {i + 1}: {op.type} - {op.name}"))
         if op.tool != self.tool:
+            zs = [m.end[2] for m in self.tp.moves if m.op == i and m.kind != "comp"]
+            safe = max(zs + ([self.opt.safe_z] if self.opt.safe_z is not None else []))
             if self.tool is not None:
+                self._lift_for_change(op.tool, safe)
                 self.emit("M5")
                 if self.coolant != "off":
                     self.emit("M9")
@@ -225,8 +231,7 @@ class _Writer:
             self.pos = [None, None, None]
             self.motion = None
             self.changed = True
-            zs = [m.end[2] for m in self.tp.moves if m.op == i and m.kind != "comp"]
-            self.safe = max(zs + ([self.opt.safe_z] if self.opt.safe_z is not None else []))
+            self.safe = safe
         if op.spindle != self.spindle:
             if op.spindle == 0:
                 self.emit("M5")
@@ -238,6 +243,20 @@ class _Writer:
         if coolant != self.coolant:
             self.emit({"flood": "M8", "mist": "M7", "off": "M9"}[coolant])
             self.coolant = coolant
+
+    def _lift_for_change(self, new_tool: int, safe: float) -> None:
+        """Before ``M6``: the machine changes tools where it stands, so a longer new tool
+        comes in lower by the difference in length. Rise (with the old tool's offset) so
+        that the new tool's tip is at or above ``safe``, the next operation's height."""
+        old, new = self.tools.get(self.tool), self.tools.get(new_tool)
+        if old is None or new is None or self.pos[2] is None:
+            return
+        need = safe + max(0.0, new.gauge_length - old.gauge_length)
+        if self.pos[2] < need - 1e-9:
+            z = self.f.s(need + 0.5 * self.f.q)       # written at or above ``need``
+            self.emit(f"G0 Z{z}")
+            self.motion = "G0"
+            self.pos = [self.pos[0], self.pos[1], self.f.r(need + 0.5 * self.f.q)]
 
     def approach(self, m: Move) -> None:
         """After a tool change: up to the safe height, X and Y there, then (for a first

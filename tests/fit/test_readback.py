@@ -16,7 +16,7 @@ from millpath.cli.main import cli
 from millpath.errors import MillpathError
 from millpath.fit import fit_program
 from millpath.fit.program import with_code
-from millpath.fit.readback import read_back, stand_in_tools
+from millpath.verify.readback import read_back, stand_in_tools
 from millpath.interpret import run
 
 

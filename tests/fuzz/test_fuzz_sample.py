@@ -25,27 +25,44 @@ def _bench():
     return sys.modules["bench_fuzz"]
 
 
-@pytest.fixture
-def small_limits(monkeypatch):
-    import millpath.interpret.cycles as cycles
-    import millpath.interpret.oword as oword
-    import millpath.interpret.runner as runner
-    monkeypatch.setattr(oword, "MAX_IDLE_ITERATIONS", 2_000)
-    monkeypatch.setattr(oword, "MAX_LOOP_ITERATIONS", 20_000)
-    monkeypatch.setattr(oword, "MAX_MOTIONS", 40_000)
-    monkeypatch.setattr(runner, "MAX_FLOW_LINES", 30_000)
-    monkeypatch.setattr(cycles, "MAX_CYCLE_STEPS", 20_000)
+#: run in a fresh interpreter: the fuzzer forks its worker, and a process whose numba
+#: kernels already ran on GNU OpenMP threads (as a test worker's have) cannot fork
+#: safely ("fork() called from a process already using GNU OpenMP"); the interpreter's
+#: work limits are lowered there for the sample
+SAMPLE = """
+import importlib.util, json, sys
+import millpath.interpret.cycles as cycles
+import millpath.interpret.oword as oword
+import millpath.interpret.runner as runner
+oword.MAX_IDLE_ITERATIONS = 2_000
+oword.MAX_LOOP_ITERATIONS = 20_000
+oword.MAX_MOTIONS = 40_000
+runner.MAX_FLOW_LINES = 30_000
+cycles.MAX_CYCLE_STEPS = 20_000
+spec = importlib.util.spec_from_file_location("bench_fuzz", sys.argv[1])
+fz = importlib.util.module_from_spec(spec)
+sys.modules["bench_fuzz"] = fz
+spec.loader.exec_module(fz)
+name = sys.argv[2]
+reader = fz.READERS[name]
+n = 2 if reader.slow else 12
+t = fz.fuzz(name, seed=0, cases=n, memory=1 << 30, hang=60.0, warm=False)
+problems = [f"{site}\\n{data}\\n{tb[-1500:]}" for site, (tb, data) in t.crashes.items()]
+problems += [f"hang: {d}" for d in t.hangs] + [f"over 1 GB: {d}" for d in t.memory]
+print(json.dumps({"cases": t.cases, "expected": len(reader.seeds) + n,
+                  "problems": problems}))
+"""
 
 
 @pytest.mark.parametrize("name", sorted(_bench().READERS))
-def test_fuzz_sample(name, small_limits):
-    fz = _bench()
-    reader = fz.READERS[name]
+def test_fuzz_sample(name):
+    import json
+    import subprocess
     if name == "solid":
         pytest.importorskip("OCP", reason="STEP solids need millpath[step-brep]")
-    t = fz.fuzz(name, seed=0, cases=2 if reader.slow else 12, memory=1 << 30, hang=60.0,
-                warm=False)
-    assert t.cases == len(reader.seeds) + (2 if reader.slow else 12)
-    problems = [f"{site}\n{data}\n{tb[-1500:]}" for site, (tb, data) in t.crashes.items()]
-    problems += [f"hang: {d}" for d in t.hangs] + [f"over 1 GB: {d}" for d in t.memory]
-    assert not problems, "\n\n".join(problems)
+    r = subprocess.run([sys.executable, "-c", SAMPLE, str(BENCH), name], capture_output=True,
+                       text=True, timeout=1200)
+    assert r.returncode == 0, r.stderr[-3000:]
+    out = json.loads(r.stdout.strip().splitlines()[-1])
+    assert out["cases"] == out["expected"]
+    assert not out["problems"], "\n\n".join(out["problems"])
