@@ -506,6 +506,8 @@ OPTION_SEEDS = tuple(json.dumps(a) for a in (
      "1e308", "--holder", "20:40"],
     ["simulate", "prog.ngc", "--tools", "tools.tbl", "--stock", "-5,-5,-2,25,25,0",
      "--resolution", "0.0001"],
+    ["simulate", "prog.ngc", "--tools", "tools.tbl", "--stock", "-5,-5,-2,25,25,0",
+     "--resolution", "1e-320"],
     ["view", "prog.ngc", "--tools", "tools.tbl", "--stock", "-5,-5,-2,25,25,0", "-o",
      "view.html", "--tolerance", "1e399"]))
 
@@ -685,7 +687,7 @@ def fuzz(name: str, seconds: float | None = None, seed: int = 0, memory: int = 1
                 tally.memory.append(f"{info}: {repr(data)[:300]}")
             else:
                 tally.crash_cases += 1
-                tally.crashes.setdefault(_site(info), (info, repr(data)[:500]))
+                tally.crashes.setdefault(_site(info), (info, repr(data)[:1500]))
 
         @hyp_seed(seed)
         @settings(max_examples=10**9, deadline=None, database=None, phases=[Phase.generate],

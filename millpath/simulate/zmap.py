@@ -40,10 +40,12 @@ class ZMap:
         if not (resolution > 0 and math.isfinite(resolution)):
             raise ValueError(f"resolution must be a positive length, not {resolution!r}")
         w, h, _ = stock.size
+        fx, fy = max(w / resolution, 1.0), max(h / resolution, 1.0)   # floats: may be inf
+        if not fx * fy <= 400_000_000:
+            raise ValueError(f"resolution {resolution} gives {fx:.3g} x {fy:.3g} cells: "
+                             "too many")
         nx = max(1, int(math.ceil(w / resolution - 1e-9)))
         ny = max(1, int(math.ceil(h / resolution - 1e-9)))
-        if nx * ny > 400_000_000:
-            raise ValueError(f"resolution {resolution} gives {nx} x {ny} cells: too many")
         z = cls(stock.xmin, stock.ymin, w / nx, h / ny, stock.zmin, stock.zmax,
                 np.full((ny, nx), float(stock.zmax)))
         if stock.cylinder is not None:

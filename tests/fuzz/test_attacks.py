@@ -334,3 +334,14 @@ def test_view_tolerance_is_bounded(tmp_path, monkeypatch):
     assert one_line(r.output, "--tolerance must be a length of 0 .. 1 (program units), "
                               "not inf")
     assert not (tmp_path / "v.html").exists()
+
+
+def test_simulate_resolution_too_fine_for_a_float(tmp_path, monkeypatch):
+    """Found by bench/fuzz.py: --resolution 1e-320 made the cell count infinite (an
+    OverflowError) before the Z-map's bound was checked."""
+    (tmp_path / "p.ngc").write_text("G21 F100\nT1 M6 G43\nG0 X0 Y0 Z5\nG1 Z-1\nG1 X20\nM2\n")
+    (tmp_path / "t.tbl").write_text("T1 P1 D6 Z50\n")
+    r = run_cli(tmp_path, monkeypatch, "simulate", "p.ngc", "--tools", "t.tbl", "--stock",
+                "-5,-5,-2,25,25,0", "--resolution", "1e-320")
+    assert r.exit_code == 1, r.output
+    assert one_line(r.output, "p.ngc: resolution 1e-320 gives inf x inf cells: too many")
