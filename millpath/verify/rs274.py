@@ -176,7 +176,11 @@ def parse_canon(text: str) -> tuple[list[Motion], str]:
         elif name == "SET_FEED_RATE":
             feed = nums[0]
         elif name == "USE_TOOL_LENGTH_OFFSET":
-            tlo = (nums[0], nums[1], nums[2])
+            # the controlled point stays where it is: in program terms it moves by the
+            # change of offset (rs274 prints the next move from the new position)
+            new_tlo = (nums[0], nums[1], nums[2])
+            pos = [p + o - n for p, o, n in zip(pos, tlo, new_tlo)]
+            tlo = new_tlo
         elif name == "CHANGE_TOOL":
             tool = int(nums[0])
         elif name == "SET_SPINDLE_SPEED":

@@ -14,6 +14,7 @@ import pytest
 from millpath.model import Machine, Operation, Stock, Tool, Toolpath
 from millpath.simulate import simulate_motions, simulate_toolpath
 from millpath.simulate.path import toolpath_motions
+from millpath.simulate.tip import tip_motions
 
 TOOLS = {1: Tool(1, "flat", 6.0, flute_length=25, stickout=35),
          2: Tool(2, "drill", 5.0, flute_length=30, stickout=40),
@@ -81,6 +82,20 @@ def _path(motions):
     return out
 
 
+def _expected(mine):
+    """The toolpath's path as the machine moves it through its tool changes, which
+    happen where the machine stands. The drill is 5 mm longer than tool 1: tool 1
+    rises from 5 to 15 before M6, and the drill arrives with its tip at 10. The ball is
+    10 mm shorter than the drill: its tip arrives at 20 and comes down to 10."""
+    out = _path(mine)
+    at = out.index(("traverse", (22.0, 32.0, 5.0))) + 1
+    assert out[at] == ("traverse", (22.0, 32.0, 10.0))
+    out[at] = ("traverse", (22.0, 32.0, 15.0))
+    at = out.index(("traverse", (5.0, 44.0, 10.0)))
+    out.insert(at, ("traverse", (5.0, 44.0, 10.0)))
+    return out
+
+
 def test_millpath_interpreter_motion_simulates_like_the_toolpath():
     from millpath.interpret import interpret
     motions = interpret(_posted(), TOOLS, machine_units="mm")
@@ -92,7 +107,7 @@ def test_drilling_cycles_and_arcs_expand_like_millpath_interpreter():
     motions = interpret(_posted(), TOOLS, machine_units="mm")
     mine, _ = toolpath_motions(_toolpath())
     # the interpreter starts at machine zero; the toolpath at its first end point
-    assert _path(motions)[1:] == _path(mine)
+    assert _path(tip_motions(motions, "mm"))[1:] == _expected(mine)
 
 
 def test_rs274_motion_simulates_like_the_toolpath(rs274):
@@ -101,7 +116,7 @@ def test_rs274_motion_simulates_like_the_toolpath(rs274):
     assert res.ok, res.error
     _compare(res.motions)
     mine, _ = toolpath_motions(_toolpath())
-    assert _path(res.motions)[1:] == _path(mine)
+    assert _path(tip_motions(res.motions, "mm"))[1:] == _expected(mine)
 
 
 def test_cubic_moves_simulate_like_their_interpreted_g5():
