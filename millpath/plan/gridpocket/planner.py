@@ -31,6 +31,7 @@ from millpath.model import Operation, Tool, Toolpath
 from millpath.model.toolpath import sample_move
 from millpath.plan.gridpocket.cells import PocketGrid, build_grid, check_grid
 from millpath.plan.gridpocket.fitmotion import Chain, Fitter
+from millpath.plan.gridpocket.material import MaterialBound
 from millpath.plan.gridpocket.navigate import adjacent, joined_edges, main_path, zigzag_runs
 from millpath.plan.gridpocket.zfield import ZField, sample_chain
 from millpath.plan.entry import helix_entry, ramp_entry
@@ -123,7 +124,11 @@ class _Builder:
         self.clear = 0.1 * spec.tool.diameter + spec.tool.profile_height(half_diag)
         self.stats = _Stats()
         self.phase = ""
-        self.cleared = None         # XY area (shapely) already cleared to done_floor
+        # what the plan has left: links go over it (fit deviation and rounding lifted)
+        lift = spec.tolerance + 10.0 ** -_decimals(spec.units)
+        self.bound = MaterialBound(spec.polygon.bounds, spec.tool, spec.top,
+                                   min(spec.dx, spec.dy, spec.tool.radius) / 4.0, lift,
+                                   _decimals(spec.units))
 
     def begin(self, phase: str, label: str) -> None:
         self.phase = phase
@@ -139,44 +144,29 @@ class _Builder:
         self.tp.line(*p, feed)
         self.pos = np.asarray(p, float)
 
-    def material_top(self, x, y, done_floor: float) -> np.ndarray:
-        """Highest material that can remain at (x, y) inside the cleared region."""
-        return np.maximum(self.zf.z(x, y), done_floor)
-
-    def travel(self, target: np.ndarray, done_floor: float) -> None:
+    def travel(self, target: np.ndarray) -> None:
         """Go from the current position to ``target`` (a cutting point) without cutting
-        on the way; plunge the last stretch at the plunge feed.
+        on the way; descend the last stretch by :meth:`_descend`.
 
-        Material can stand as high as the stock top anywhere not yet cleared; inside
-        ``self.cleared`` (XY area swept by earlier layers) it is at most
-        ``max(tip Z, done_floor)``. The move goes over at a short clearance above that
-        when the tool's footprint stays in the cleared area, else at ``safe_z``.
+        The links go over the material bound (:mod:`.material`: the stock top wherever
+        the plan has not proven air) at a short clearance, or at ``safe_z`` when that is
+        no lower.
         """
         s = self.spec
         tx, ty, tz = map(float, target)
-        top_eps = 1e-9 * max(1.0, abs(s.top))
-        above = float(self.material_top(np.array([tx]), np.array([ty]), done_floor)[0])
-        above = min(max(above, tz) + self.clear, s.safe_z)
+        above = min(max(self.bound.need_at((tx, ty)), tz) + self.clear, s.safe_z)
         if self.pos is None:
             self._rapid((tx, ty, s.safe_z))
         else:
             px, py, pz = self.pos
             if math.hypot(tx - px, ty - py) <= 1e-9:
                 if tz < pz:
-                    self._descend((tx, ty, tz), done_floor)
+                    self._descend((tx, ty, tz))
                 elif tz > pz:
                     self._rapid((tx, ty, tz))
                 return
-            if done_floor >= s.top - top_eps:
-                h = min(max(s.top, pz, tz) + self.clear, s.safe_z)
-            elif self.cleared is not None and self.cleared.covers(
-                    LineString([(px, py), (tx, ty)]).buffer(0.98 * s.tool.radius)):
-                n = max(2, int(math.ceil(math.hypot(tx - px, ty - py) / min(s.dx, s.dy))) + 1)
-                xs, ys = np.linspace(px, tx, n), np.linspace(py, ty, n)
-                h = float(self.material_top(xs, ys, done_floor).max())
-                h = min(max(h, pz, tz) + self.clear, s.safe_z)
-            else:
-                h = s.safe_z
+            h = self.bound.need_segment((px, py), (tx, ty)) + self.clear
+            h = min(max(h, pz, tz, above), s.safe_z)
             self.stats.retracts += 1
             if pz < h:
                 self._rapid((px, py, h))
@@ -184,17 +174,17 @@ class _Builder:
         if self.pos[2] > above:
             self._rapid((tx, ty, above))
         if self.pos[2] > tz:
-            self._descend((tx, ty, tz), done_floor)
+            self._descend((tx, ty, tz))
 
     def _count(self, length: float) -> None:
         self.stats.phases[self.phase] = self.stats.phases.get(self.phase, 0.0) + length
 
-    def _descend(self, target, done_floor: float) -> None:
+    def _descend(self, target) -> None:
         """Down to ``target`` from straight above: a helix where the last stretch goes
         into material (millpath.plan.entry), a straight feed where it is cleared."""
         s = self.spec
         tx, ty, tz = map(float, target)
-        solid = float(self.material_top(np.array([tx]), np.array([ty]), done_floor)[0])
+        solid = self.bound.need_at((tx, ty))
         if s.tool.type != "drill" and tz < solid - 1e-9:
             slack = self.grid.region.buffer(1e-9 * max(s.dx, s.dy))
 
@@ -222,8 +212,7 @@ class _Builder:
         self._line((tx, ty, tz), s.plunge_feed)
         self.stats.plunges += 1
 
-    def cut(self, xy: np.ndarray, floor: float, feed: float, done_floor: float,
-            region=None) -> None:
+    def cut(self, xy: np.ndarray, floor: float, feed: float, region=None) -> None:
         """Feed through the XY points at ``max(tip Z, floor)``, arriving by :meth:`travel`."""
         s = self.spec
 
@@ -234,7 +223,7 @@ class _Builder:
         pts, pos, checks, cpos = sample_chain(np.asarray(xy, float), zfun, spacing,
                                               s.tolerance / 2.0)
         pts = np.round(pts, _decimals(s.units))     # as the program will say
-        self.travel(pts[0], done_floor)
+        self.travel(pts[0])
         if s.z_mode != "tool":
             checks = cpos = None
         chain = Chain(pts, pos, checks, cpos, region)
@@ -248,6 +237,7 @@ class _Builder:
             else:
                 self.tp.cubic(seg.c1, seg.c2, tuple(seg.end), feed)
         self.pos = pts[-1].copy()
+        self.bound.cut(pts)
         length = float(np.linalg.norm(np.diff(pts, axis=0), axis=1).sum())
         self.stats.phases[self.phase] = self.stats.phases.get(self.phase, 0.0) + length
 
@@ -335,7 +325,6 @@ def plan_pocket(spec: PocketSpec) -> tuple[Toolpath, dict]:
     eps = 1e-9 * max(1.0, abs(spec.top))
 
     layers = []
-    done = spec.top
     final_path: list = []
     layer_paths: list[list] = []        # the cells each floor's layer cut (wall entries)
     for k, floor in enumerate(floors):
@@ -354,39 +343,27 @@ def plan_pocket(spec: PocketSpec) -> tuple[Toolpath, dict]:
         before = b.stats.phases.get(phase, 0.0)
         feed = spec.finish_feed if finish else spec.feed
         for chunk in _path_chunks(grid, path):
-            b.cut(_cells_xy(grid, chunk), floor, feed, done)
+            b.cut(_cells_xy(grid, chunk), floor, feed)
         layers[-1]["length"] = b.stats.phases.get(phase, 0.0) - before
         if finish:
             final_path = path
-        # the discs this layer swept are clear down to its floor (or the bottom)
-        c = _cells_xy(grid, path)
-        b.cleared = shapely.union_all(shapely.buffer(shapely.points(c), tool.radius,
-                                                     quad_segs=16))
-        done = floor
 
     # wall pass: one lap per floor, down to the bottom
     b.begin("wall", "wall pass")
     spacing = min(spec.dx, spec.dy)
-    wall_done = spec.top
     wall_region = grid.region.buffer(spec.tolerance, quad_segs=16)
     shapely.prepare(wall_region)
     for floor, path in zip(floors, layer_paths):
         # each lap is entered from a cell its layer cleared to this floor: straight down
         # there (cleared space), then across to the outline at the floor (issue 14: no
         # descent into the band of material the layer left along the wall)
-        swept = (shapely.union_all(shapely.buffer(shapely.points(_cells_xy(grid, path)),
-                                                  tool.radius, quad_segs=16))
-                 if path else None)
         for ring in rings:
             pts = _ring_from(ring, b.pos, spacing)
             entry = _wall_entry(grid, path, pts[0])
             if entry is not None:
-                b.cleared = swept
-                b.cut(np.array([entry, pts[0]]), floor, spec.finish_feed, floor, wall_region)
-            b.cut(pts, floor, spec.finish_feed, wall_done, wall_region)
-        wall_done = floor
+                b.cut(np.array([entry, pts[0]]), floor, spec.finish_feed, wall_region)
+            b.cut(pts, floor, spec.finish_feed, wall_region)
 
-    b.cleared = grid.region.buffer(tool.radius, quad_segs=16)
     zig = {"x": 0, "y": 0}
     zig_steps = {"x": 0, "y": 0}
     if spec.zigzag:
@@ -402,7 +379,7 @@ def plan_pocket(spec: PocketSpec) -> tuple[Toolpath, dict]:
             for run in runs:
                 if last is not None and (adjacent(last, run[0]) or last == run[0]):
                     run = [last] + run if last != run[0] else run
-                b.cut(_cells_xy(grid, run), -math.inf, spec.finish_feed, -math.inf)
+                b.cut(_cells_xy(grid, run), -math.inf, spec.finish_feed)
                 last = run[-1]
     b.retract()
 
