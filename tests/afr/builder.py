@@ -204,3 +204,25 @@ def top_heights(shape, xs: np.ndarray, ys: np.ndarray, zmax: float) -> np.ndarra
         if it.IsDone() and it.NbPnt():
             out[i] = max(it.Pnt(k).Z() for k in range(1, it.NbPnt() + 1))
     return out
+
+
+def raised_plate():
+    """100 x 60 plate, z 10 to 30, on two 10 mm legs along its short ends, with a 10 mm
+    through hole at (50, 30) over the air between the legs: the hole's cylinder ends
+    above the part's lowest point with nothing under it."""
+    p = fuse(box(0, 0, 10, 100, 60, T), box(0, 0, 0, 10, 60, 10), box(90, 0, 0, 100, 60, 10))
+    return unify(cut(p, cylinder(50, 30, 5, 5.0, T)))
+
+
+def window_over_bar():
+    """80 x 60 frame, z 20 to 40, with a 40 x 30 window through it (x 20-60, y 15-45)
+    and a round bar (r 8, axis along X at y 30, z 10) under it, held by two blocks
+    (x 0-10 and 70-80, y 22-38, z 2-20): no face of the bar looks up, so no floor
+    level crosses it. Through the window the bar's material lies between y 22 and
+    38, z 2 to 18."""
+    from OCP.BRepPrimAPI import BRepPrimAPI_MakeCylinder
+    from OCP.gp import gp_Ax2, gp_Dir, gp_Pnt
+    frame = cut(box(0, 0, 20, 80, 60, 40), box(20, 15, 19, 60, 45, 41))
+    bar = BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 30, 10), gp_Dir(1, 0, 0)), 8.0,
+                                   80.0).Shape()
+    return unify(fuse(frame, bar, box(0, 22, 2, 10, 38, 20), box(70, 22, 2, 80, 38, 20)))

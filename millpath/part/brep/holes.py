@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 from millpath.part.brep.faces import FaceInfo
 
 TOL = 1e-4          # mm: coincidence of centres, radii and heights
+CAVITY_BELOW = "the hole opens into a cavity below: not planned"
 
 
 @dataclass
@@ -154,7 +155,7 @@ def _stack(x, y, full, fs, by_id, zmin) -> HoleStack:
         elif zb <= zmin + 1e-3:
             seg.bottom = "through"
         else:
-            problem = problem or "the hole opens into a cavity below: not planned"
+            problem = problem or CAVITY_BELOW
         segs.append(seg)
         break
     for s in segs:

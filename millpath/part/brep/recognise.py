@@ -37,8 +37,9 @@ from shapely import affinity
 from shapely.geometry import Point, box as sbox
 
 from millpath.part.brep.faces import FaceInfo, face_table
-from millpath.part.brep.holes import HoleStack, find_holes
+from millpath.part.brep.holes import CAVITY_BELOW, HoleStack, find_holes
 from millpath.part.brep.regions import Shadows, edges_region
+from millpath.part.brep.removal import overlap, removal_solid
 from millpath.part.step.ap224 import Component, Feature, Placement
 from millpath.part.step.shapes import HoleShape, PocketShape, ShapeSet, Unmachinable
 
@@ -91,9 +92,11 @@ def recognise(solid, stock_box=None, scale: float = 1.0) -> Recognition:
             key = (round(s.diameter, 4), round(s.depth, 4), s.bottom)
             sizes[key] = sizes.get(key, 0) + 1
     for st in stacks:
+        if st.problem == CAVITY_BELOW:
+            _through_into_air(st, solid, sb[5], zmin)
         claimed.update(st.faces)
         _hole_features(st, feats, out, new_id, k, sizes)
-        if not st.problem and st.segments and st.segments[-1].bottom == "through":
+        if st.segments and st.segments[-1].bottom == "through":
             hole_disks.append(Point(st.x, st.y).buffer(st.segments[-1].diameter / 2.0 + 0.01))
 
     # floors -----------------------------------------------------------------------------
@@ -101,7 +104,7 @@ def recognise(solid, stock_box=None, scale: float = 1.0) -> Recognition:
     ups = [f for f in faces if f.horizontal() == 1 and f.id not in claimed]
     levels = sorted({round(f.zmin, 6) for f in ups if f.zmin < zmax - Z_TOL}
                     | {round(zmin, 6)})      # nothing is above the top: no section there
-    shadows = Shadows(solid, levels)
+    shadows = Shadows(solid, levels, critical=[v for f in faces for v in (f.zmin, f.zmax)])
     corners = [f for f in faces if f.kind == "cylinder" and f.concave and f.vertical_axis()
                and f.uspan < 2 * math.pi - 1e-3]
     for group in _floor_groups(ups):
@@ -160,8 +163,43 @@ def recognise(solid, stock_box=None, scale: float = 1.0) -> Recognition:
         reason = _unexplained(f, zmin)
         if reason:
             out.skipped.append(Unmachinable(f.id, f"FACE #{f.id}", reason, kind="face"))
+    _check_removal(solid, out, k, max(sb[5], zmax), zmin, {f.id: f for f in feats})
     box = tuple(v * k for v in (*lo, *hi))
     return Recognition(feats, out, box, len(faces), solid)
+
+
+def _through_into_air(st: HoleStack, solid, z_stock: float, zmin: float) -> None:
+    """A hole whose last cylinder ends above the part's bottom with nothing under it
+    (a through hole in a flange or a plate raised off the part's lowest face) is a
+    through hole: its cylinder run down below the part cuts no material (checked on
+    the solid)."""
+    seg = st.segments[-1]
+    probe = HoleShape(0, seg.x, seg.y, seg.z_top, seg.diameter, seg.depth, "through")
+    if overlap(solid, removal_solid(probe, 1.0, z_stock, zmin)) is None:
+        seg.bottom = "through"
+        st.problem = ""
+
+
+def _check_removal(solid, out: ShapeSet, k: float, z_stock: float, zmin: float,
+                   feats: dict[int, Feature]) -> None:
+    """Drop every shape whose removal volume holds material of the solid (it would
+    gouge the part): it moves to ``out.skipped`` with the figures
+    (:mod:`millpath.part.brep.removal`)."""
+    keep = []
+    unit = ("mm" if abs(k - 1.0) < 1e-9 else "in" if abs(k * 25.4 - 1.0) < 1e-9
+            else "file units")
+    for s in out.shapes:
+        o = overlap(solid, removal_solid(s, k, z_stock, zmin))
+        if o is None:
+            keep.append(s)
+            continue
+        f = feats.get(s.id)
+        what = f"{f.type} '{f.name}'" if f is not None else f"#{s.id}"
+        out.skipped.append(Unmachinable(
+            s.id, f.type if f is not None else "FEATURE",
+            f"not a feature of the solid: {o.describe(k, unit)}; machining {what} "
+            "would cut into the part", kind="gouge"))
+    out.shapes[:] = keep
 
 
 def _centre(g) -> tuple[float, float]:

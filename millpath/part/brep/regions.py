@@ -111,18 +111,26 @@ def section(solid, z: float, sagitta: float = SAGITTA):
 class Shadows:
     """Material above a height, seen from above: the union of the solid's sections just
     above each level of ``levels`` at or over the height (a 2.5D part's walls are
-    vertical between levels, so its sections change only there)."""
+    vertical between levels, so its sections change only there) and, for parts that
+    are not 2.5D, at the ``critical`` heights where faces begin or end: just above
+    and just below each, and halfway between two (material between two such heights
+    shows in those sections: a face crossing the slab spans it whole)."""
 
-    def __init__(self, solid, levels: list[float], eps: float = 1e-3):
+    def __init__(self, solid, levels: list[float], eps: float = 1e-3,
+                 critical: list[float] | None = None):
         self.solid = solid
         self.levels = sorted(set(levels))
         self.eps = eps
+        self.samples = _samples(critical or [], eps)
         self._sections: dict[float, object] = {}
         self._shadow: dict[float, object] = {}
 
     def section_above(self, z: float):
+        return self.section_at(z + self.eps)
+
+    def section_at(self, z: float):
         if z not in self._sections:
-            self._sections[z] = section(self.solid, z + self.eps)
+            self._sections[z] = section(self.solid, z)
         return self._sections[z]
 
     def above(self, z: float, rect: tuple[float, float, float, float] | None = None):
@@ -133,6 +141,7 @@ class Shadows:
         if key not in self._shadow:
             parts = [self.section_above(z)] + [self.section_above(L) for L in self.levels
                                                if L > z + 1e-9]
+            parts += [self.section_at(h) for h in self.samples if h > z + self.eps]
             if rect is not None:
                 parts = [shapely.clip_by_rect(p, *rect) for p in parts]
             parts = [p for p in parts if not p.is_empty]
@@ -140,3 +149,13 @@ class Shadows:
                 (parts[0] if parts else Polygon())
             self._shadow[key] = g.buffer(SAGITTA, quad_segs=4) if not g.is_empty else g
         return self._shadow[key]
+
+
+def _samples(critical: list[float], eps: float) -> list[float]:
+    """Heights between the ``critical`` ones: just above and below each, and halfway."""
+    c = sorted(set(round(v, 6) for v in critical))
+    out: set[float] = set()
+    for a, b in zip(c, c[1:]):
+        if b - a > 4 * eps:
+            out.update((a + eps, (a + b) / 2.0, b - eps))
+    return sorted(out)

@@ -22,6 +22,9 @@ Job keys (lengths in job units):
   ``material``: a material class overriding the file's (see
   :data:`millpath.plan.features.cutting.MATERIALS`).
 
+- ``exclude``: features left out, by id, or by face ('face 12') for a solid's
+  recognised features (each feature made of that face); sub-features go with their
+  feature. They are listed in the report's ``features.excluded``.
 - ``rest``: keep only the moves whose tool meets more than ``allowance`` (default: the
   in-process stock's cell width) of the stock left by earlier operations, Z included
   (:mod:`millpath.plan.restcut`); the report's ``features.rest`` gives the figures.
@@ -67,6 +70,24 @@ from millpath.model.units import default
 from millpath.plan.restparams import REST_PARAMS
 
 
+def _exclude_check(v: Any) -> str | None:
+    for x in v:
+        if isinstance(x, int) and not isinstance(x, bool) and x > 0:
+            continue
+        if isinstance(x, str) and _face_number(x) is not None:
+            continue
+        return "expected feature ids (numbers) or faces ('face 12')"
+    return None
+
+
+def _face_number(x: str) -> int | None:
+    """12 for 'face 12' or 'FACE #12' (None when ``x`` is not that)."""
+    w = x.replace("#", " ").split()
+    if len(w) == 2 and w[0].lower() == "face" and w[1].isdigit():
+        return int(w[1])
+    return None
+
+
 def _tools_check(v: Any) -> str | None:
     if not all(isinstance(x, int) and not isinstance(x, bool) and x > 0 for x in v):
         return "expected a list of tool numbers"
@@ -84,6 +105,11 @@ PARAMS: dict[str, Param] = {
                           doc="features this operation cannot machine (another setup, a "
                               "surface operation, no tool): 'refuse' the program (the proof "
                               "counts them) or 'list' them in the report, left on purpose"),
+    "exclude": Param("list", None, check=_exclude_check,
+                     doc="features left out: their ids (as `millpath features` lists "
+                         "them) or, for a solid, 'face N' for the features made of face N; "
+                         "listed in the report's features.excluded, not machined and not "
+                         "counted as unmachinable"),
     "stock_step": Param("path", None, doc="STEP solid whose box is the stock"),
     "tool": Param("int", None, positive=True, doc="only milling cutter to use"),
     "tools": Param("list", None, check=_tools_check, doc="tool numbers allowed"),
@@ -190,7 +216,10 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     job_mm = 25.4 if ctx.units == "inch" else 1.0
     k = part.units.length_mm / job_mm
     shapes_set = solid.shapes if solid is not None else feature_shapes(part)
-    shapes = [_scaled(s, k) for s in shapes_set.shapes]
+    out_ids = excluded_ids(part.features, params["exclude"] or [], params["step"])
+    shapes = [_scaled(s, k) for s in shapes_set.shapes if s.id not in out_ids]
+    excluded = [{"id": f.id, "type": f.type, "name": f.name} for f in part.features
+                if f.id in out_ids]
     notes: list[str] = []
 
     file_stock = None
@@ -250,7 +279,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
 
     tasks: list[_Task] = []
     unplanned: list = []            # recognised shapes without a tool: still in the design
-    skipped = [dataclasses.asdict(u) for u in shapes_set.skipped]
+    skipped = [dataclasses.asdict(u) for u in shapes_set.skipped if u.id not in out_ids]
     for s in shapes:
         def choose(candidates: list[Tool]):
             if isinstance(s, HoleShape):
@@ -388,6 +417,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         "tool_changes": len(groups),
         "planned": planned,
         "unmachinable": skipped,
+        "excluded": excluded,
         "unmachinable_policy": params["unmachinable"],
         "notes": notes,
     }}
@@ -400,6 +430,32 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
             default("feed_clearance", ctx.units))
     return PlanResult(toolpath=tp, design=design, report=report,
                       stock=file_stock if ctx.stock is None else None)
+
+
+def excluded_ids(features: list, exclude: list, file) -> set[int]:
+    """Ids of the features ``exclude`` leaves out: each id given (and its sub-features),
+    each feature made of a face 'face N'; JobError naming an id or face no feature has."""
+    by_id = {f.id: f for f in features}
+    out: set[int] = set()
+    for x in exclude:
+        n = _face_number(x) if isinstance(x, str) else None
+        if n is not None:
+            hit = [f.id for f in features if n in f.faces]
+            if not hit:
+                raise JobError(f"exclude: no recognised feature has face {n}", file)
+            out.update(hit)
+        elif x in by_id:
+            out.add(x)
+        else:
+            raise JobError(f"exclude: the file has no feature #{x}", file)
+    todo = list(out)
+    while todo:
+        f = by_id.get(todo.pop())
+        for c in (f.children if f is not None else []):
+            if c not in out:
+                out.add(c)
+                todo.append(c)
+    return out
 
 
 def _reselect(t: _Task, tools: list[Tool], tol: float) -> tuple[Tool, str] | None:
