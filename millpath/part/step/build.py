@@ -229,6 +229,28 @@ class Ap224Builder:
                             (which, "slot end usage"), [], rel="FEATURE_COMPONENT_RELATIONSHIP")
         return f
 
+    def slot_iso(self, floor_start, direction, length: float, width: float, depth: float,
+                 ends=("open", "open"), name: str = "") -> Ref:
+        """A SLOT placed as ISO 10303-224 defines it (ISO/TS 10303-1814): origin at one
+        end of the course of travel on the slot's floor (``floor_start``), placement Z
+        along the course (``direction``, XY), Y away from the part (+Z), X = Y x Z."""
+        d = (float(direction[0]), float(direction[1]), 0.0)
+        x = (-d[1], d[0], 0.0)                   # (0, 0, 1) x d: Y = Z x X = +Z
+        pl = self.placement(floor_start, d, x)
+        f = self._feature("SLOT", name, pl)
+        self._component(f, "SQUARE_U_PROFILE", "sweep", "swept shape occurrence",
+                        ("", "profile usage"),
+                        [pl, self.length("width", width), self.length("depth", depth),
+                         self.angle("first angle", 90.0), self.angle("second angle", 90.0),
+                         self.length("first radius", 0.0), self.length("second radius", 0.0)])
+        self._component(f, "PATH_FEATURE_COMPONENT", "linear", "course of travel occurrence",
+                        ("course of travel", "path feature component usage"),
+                        [pl, self.length("distance", length)], direction=d)
+        for which, e in zip(("course of travel start", "course of travel end"), ends):
+            self._component(f, "SLOT_END", e, "end condition occurrence",
+                            (which, "slot end usage"), [], rel="FEATURE_COMPONENT_RELATIONSHIP")
+        return f
+
     def pocket(self, center, depth: float, profile: str, bottom: str = "planar",
                name: str = "", angle_ref=(1.0, 0.0, 0.0), floor_radius: float = 0.0,
                **dims: float) -> Ref:

@@ -20,6 +20,10 @@ angles in degrees):
   depth direction (their path component is the course of travel): axis -Z with the
   origin on the face they are cut from, or axis +Z with the origin on their floor (the
   finished face), as RAMP files write features; their span is checked the same way.
+  A slot placed as ISO 10303-224 defines it (ISO/TS 10303-1814): origin at one end of
+  the course of travel on the slot's floor, placement Z along the course, Y away from
+  the part (the U profile opens towards +Y), X across the slot, the width centred on
+  the origin; its placement Z is then horizontal and it rises ``depth`` from its floor.
 - Hole depth is measured from the entry to the lowest point of the hole (the floor of a
   flat bottom, the tip of a conical one, the lowest point of a spherical one).
 - A slot's course of travel starts at the placement origin and runs ``length`` along
@@ -254,7 +258,7 @@ def _hole(f: Feature, o, depth_dir) -> HoleShape:
     return h
 
 
-def _slot(f: Feature, o, axis, ref) -> SlotShape:
+def _slot(f: Feature, o, axis, ref, course=None) -> SlotShape:
     prof = f.component("SQUARE_U_PROFILE")
     if prof is None:
         raise _Missing("slot without a SQUARE_U_PROFILE (only square U slots are planned)")
@@ -272,7 +276,8 @@ def _slot(f: Feature, o, axis, ref) -> SlotShape:
     if path.description not in ("", "linear"):
         raise _Missing(f"slot course of travel {path.description!r} is not linear")
     length = _need(path.params, "distance", "length", what="slot course of travel")
-    d = np.asarray(path.direction if path.direction is not None else ref, float)
+    d = np.asarray(course if course is not None else
+                   path.direction if path.direction is not None else ref, float)
     if abs(d[2]) > 1e-6:
         raise _Missing("slot course of travel is not horizontal")
     d = d[:2] / np.linalg.norm(d[:2])
@@ -379,6 +384,22 @@ def feature_shapes(part: Part) -> ShapeSet:
             continue
         o, axis, ref = _local(frame, f.placement)
         path = f.component("PATH_FEATURE_COMPONENT")
+        if f.type == "SLOT" and abs(axis[2]) < 1e-6:
+            # ISO 10303-224 (ISO/TS 10303-1814) slot frame: origin at one end on the
+            # floor, Z along the course of travel, Y away from the part (the U profile
+            # opens towards +Y): the slot rises from its floor along Y
+            up = np.cross(axis, ref)
+            if up[2] < 1 - 1e-6:
+                out.skipped.append(Unmachinable(f.id, f.type, (
+                    "the slot opens towards -Z: machine it from the other side"
+                    if up[2] < -1 + 1e-6 else "the slot's open side (its placement's "
+                    "Y) is not along Z: not reachable from the top")))
+                continue
+            try:
+                out.shapes.append(_raised(_slot(f, o, axis, ref, course=axis), True))
+            except _Missing as e:
+                out.skipped.append(Unmachinable(f.id, f.type, str(e)))
+            continue
         depth_dir = axis
         if f.type in ("ROUND_HOLE", "POCKET") and path is not None \
                 and path.direction is not None:

@@ -329,11 +329,8 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         else:
             tasks.append(_Task(s, strat, tool, note))
 
-    if shapes and not tasks:
-        first = next((u for u in skipped if u.get("kind") == "reach"),
-                     skipped[0] if skipped else {"type": "feature", "id": "?", "reason": ""})
-        raise PlanningError(f"no feature can be machined with the job's tools: "
-                            f"{first['type']} #{first['id']}: {first['reason']}",
+    if not tasks and (shapes or skipped):
+        raise PlanningError("no feature can be machined: " + why_none(skipped),
                             params["step"])
     merged = _consolidate(tasks, tol) if params["fewer_tools"] else []
     if merged:
@@ -430,6 +427,16 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
             default("feed_clearance", ctx.units))
     return PlanResult(toolpath=tp, design=design, report=report,
                       stock=file_stock if ctx.stock is None else None)
+
+
+def why_none(skipped: list[dict], most: int = 6) -> str:
+    """Each feature left out and why, reach problems first: '#12 ROUND_HOLE: ...; ...'
+    (``most`` of them, then how many more)."""
+    order = sorted(skipped, key=lambda u: u.get("kind") != "reach")
+    parts = [f"{u['type']} #{u['id']}: {u['reason']}" for u in order[:most]]
+    if len(order) > most:
+        parts.append(f"and {len(order) - most} more")
+    return "; ".join(parts) if parts else "no machinable feature"
 
 
 def excluded_ids(features: list, exclude: list, file) -> set[int]:
