@@ -35,6 +35,8 @@ def part_summary(path: Path, body=None, setup: str = "+Z") -> dict:
         part, shapes, solid = sp.part, sp.shapes, sp.info
         solid["box"] = list(sp.box)
     else:
+        from millpath.part.step.setup import turned
+        part = turned(part, setup)
         shapes = feature_shapes(part)
     return {
         "file": str(path),

@@ -80,3 +80,22 @@ def test_a_slot_whose_profile_opens_downward_is_for_the_other_side(tmp_path):
     assert not shapes.shapes
     assert "other side" in shapes.skipped[0].reason
     assert math.isclose(abs(feat.placement.axis[0]), 1.0)
+
+
+def test_setup_turns_an_ap224_part_to_the_side_it_is_machined_from(tmp_path):
+    b = Ap224Builder("UNDERSIDE")
+    b.block(100.0, 60.0, 20.0)
+    # a 10 mm hole 8 deep into the bottom face at (30, 15): entry on z 0, depth along +Z
+    b.hole((30.0, 15.0, 0.0), 10.0, 8.0, bottom="flat", axis=(0.0, 0.0, 1.0))
+    f = tmp_path / "under.stp"
+    f.write_text(b.text())
+    from millpath.part.step.setup import turned
+    top = feature_shapes(read_part(f))
+    assert not top.shapes and "other side" in top.skipped[0].reason
+    part = turned(read_part(f), "-Z")
+    assert part.stock.box() == pytest.approx((0, 0, 0, 100.0, 60.0, 20.0))
+    (h,) = feature_shapes(part).shapes
+    # turned about X: y -> 60 - y, the bottom face becomes the top
+    assert (h.x, h.y, h.z_top, h.depth) == pytest.approx((30.0, 45.0, 20.0, 8.0))
+    side = turned(read_part(f), "+X")
+    assert side.stock.box() == pytest.approx((0, 0, 0, 20.0, 60.0, 100.0))

@@ -100,7 +100,7 @@ PARAMS: dict[str, Param] = {
         isinstance(v, int) and not isinstance(v, bool) and v > 0)) else
         "expected a solid's number (1, 2, ...) or name", doc="solid of a multi-body file"),
     "setup": Param("str", "+Z", choices=("+Z", "-Z", "+X", "-X", "+Y", "-Y"),
-                   doc="the solid's axis pointing up"),
+                   doc="the axis pointing up: the solid's, or the AP224 stock frame's"),
     "unmachinable": Param("str", "refuse", choices=("refuse", "list"),
                           doc="features this operation cannot machine (another setup, a "
                               "surface operation, no tool): 'refuse' the program (the proof "
@@ -207,6 +207,9 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     solid = None
     solid_key = (params["step"], params["body"], params["setup"], params["stock_step"],
                  ctx.stock.box if ctx.stock is not None else None, ctx.units)
+    if part.features and params["setup"] != "+Z":    # AP224: read from that side
+        from millpath.part.step.setup import turned
+        part = turned(part, params["setup"])
     if not part.features:            # a B-rep solid: recognise its features
         from millpath.plan.features.solid import load_solid
         solid = ctx.parts.get("step-solid", solid_key, lambda: load_solid(
