@@ -317,8 +317,12 @@ class _Cut:
             tp.arc((B[0], B[1], z), (C[0], C[1], z), not Lc.ccw, feed)
             tp.line(E[0], E[1], z, feed)
             if control:
+                # G40's first move goes from the compensated position to the programmed
+                # point: make it the tool centre's own exit point (cleared by the lead-out),
+                # not the contour-side point E, which may lie within a radius of a wall
                 tp.compensation("off")
-            w.pos = (float(E[0]), float(E[1]), z)
+                tp.line(Lc.E[0], Lc.E[1], z, feed)
+            w.pos = (float(Lc.E[0]), float(Lc.E[1]), z)
             w.retract()
         return "ramp" if Lc is None else "lead"
 

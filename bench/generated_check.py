@@ -1,0 +1,200 @@
+"""An independent check of a written program against the geometry that generated it.
+
+LinuxCNC's ``rs274`` interprets the program (not millpath's interpreter); its motion,
+as tool tips (:func:`millpath.simulate.tip.tip_motions`), is sampled along lines and
+arcs (helices included) and every sample below the stock top is checked with shapely
+and numpy against the job's own numbers, not against millpath's proof:
+
+- ``inside`` regions (pocket, inside profile, grid-pocket): the tool centre lies in the
+  region at least ``R - tol`` from its boundary (outline and islands);
+- ``outside`` regions (outside profile): the tool centre is at least ``R - tol`` from
+  the part (outline less its holes);
+- floors: no tip below ``floor - tol``; a grid-pocket's bottom surface (``surface(x, y)``,
+  evaluated here from the job's Bezier net or measured points) stays under the tool's
+  underside within ``tol`` at points spread over the tool's footprint.
+
+Millimetres or inches as the job; ``tol`` is the operation's promised tolerance.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+import shapely
+from shapely.geometry import Polygon
+
+_AXES = {"XY": (0, 1, 2), "XZ": (2, 0, 1), "YZ": (1, 2, 0)}
+
+
+@dataclass
+class Geometry:
+    """What the job was generated from (job units)."""
+
+    top: float
+    radius: float
+    tool_type: str
+    corner_radius: float
+    tol: float
+    region: Polygon                      # the tool-centre side's region (see ``side``)
+    side: str                            # "inside" | "outside"
+    floor: float = -math.inf
+    surface: Callable[[np.ndarray, np.ndarray], np.ndarray] | None = None
+
+
+@dataclass
+class CheckResult:
+    ok: bool
+    problems: list[str] = field(default_factory=list)
+    samples: int = 0
+
+
+def bezier_surface(net: list[list[float]], bounds) -> Callable:
+    """z(x, y) of a Bezier net of heights over ``bounds`` (rows along Y from the lowest,
+    entries along X), the control points evenly spaced over the box."""
+    z = np.asarray(net, float)
+    x0, y0, x1, y1 = bounds
+
+    def bern(n: int, t: np.ndarray) -> np.ndarray:
+        k = np.arange(n + 1)
+        c = np.array([math.comb(n, i) for i in k], float)
+        return c * t[:, None] ** k * (1 - t[:, None]) ** (n - k)
+
+    def f(x, y):
+        u = np.clip((np.asarray(x, float) - x0) / (x1 - x0), 0, 1)
+        v = np.clip((np.asarray(y, float) - y0) / (y1 - y0), 0, 1)
+        bu, bv = bern(z.shape[1] - 1, u), bern(z.shape[0] - 1, v)
+        return np.einsum("ni,ij,nj->n", bv, z, bu)
+    return f
+
+
+def grid_surface(xs, ys, zs) -> Callable:
+    """Bilinear z(x, y) through measured heights ``zs[j][i]`` at (xs[i], ys[j])."""
+    from scipy.interpolate import RegularGridInterpolator
+    f = RegularGridInterpolator((np.asarray(ys, float), np.asarray(xs, float)),
+                                np.asarray(zs, float), method="linear")
+    return lambda x, y: f(np.column_stack([y, x]))
+
+
+def _arc_points(m, step: float) -> np.ndarray:
+    i1, i2, i3 = _AXES[m.plane]
+    s, e, c = np.asarray(m.start), np.asarray(m.end), np.asarray(m.center)
+    a0 = math.atan2(s[i2] - c[i2], s[i1] - c[i1])
+    a1 = math.atan2(e[i2] - c[i2], e[i1] - c[i1])
+    r = math.hypot(s[i1] - c[i1], s[i2] - c[i2])
+    turns = abs(m.rotation) - 1
+    base = (a1 - a0) % (2 * math.pi) if m.rotation > 0 else (a0 - a1) % (2 * math.pi)
+    if base < 1e-9:                      # end on the start: a full circle
+        base = 2 * math.pi
+    sweep = (base + 2 * math.pi * turns) * (1 if m.rotation > 0 else -1)
+    n = max(2, int(math.ceil(abs(sweep) * max(r, 1e-9) / step)) + 1)
+    t = np.linspace(0.0, 1.0, n)
+    out = np.empty((n, 3))
+    out[:, i1] = c[i1] + r * np.cos(a0 + sweep * t)
+    out[:, i2] = c[i2] + r * np.sin(a0 + sweep * t)
+    out[:, i3] = s[i3] + (e[i3] - s[i3]) * t
+    return out
+
+
+def sample(motions, step: float) -> np.ndarray:
+    """Points (n, 3) along traverses, feeds and arcs at most ``step`` apart."""
+    out = []
+    prev = None
+    for m in motions:
+        start_known = prev is not None and np.allclose(m.start, prev, atol=1e-6)
+        prev = m.end
+        if not start_known and m.kind in ("traverse", "feed", "arc"):
+            # the first move (or one after a tool-length change) comes from where the
+            # machine stood: down from above to its end, as the proof takes it
+            out.append(np.asarray([m.end], float))
+            continue
+        if m.kind in ("traverse", "feed"):
+            s, e = np.asarray(m.start, float), np.asarray(m.end, float)
+            n = max(2, int(math.ceil(np.linalg.norm(e - s) / step)) + 1)
+            out.append(s + (e - s) * np.linspace(0, 1, n)[:, None])
+        elif m.kind == "arc":
+            out.append(_arc_points(m, step))
+        elif m.kind in ("cubic", "nurbs"):
+            raise ValueError(f"line {m.line}: {m.kind} motion is not sampled by this check")
+    return np.concatenate(out) if out else np.zeros((0, 3))
+
+
+def _profile(g: Geometry, r: np.ndarray) -> np.ndarray:
+    r = np.clip(r, 0, g.radius)
+    if g.tool_type == "flat":
+        return np.zeros_like(r)
+    rc = g.radius if g.tool_type == "ball" else g.corner_radius
+    d = np.maximum(r - (g.radius - rc), 0.0)
+    return rc - np.sqrt(np.maximum(rc * rc - d * d, 0.0))
+
+
+def check_points(p: np.ndarray, g: Geometry) -> list[str]:
+    """Problems of the tool-tip samples ``p`` (n, 3) against ``g``."""
+    probs = []
+    low = p[p[:, 2] < g.top - 1e-6]
+    if not len(low):
+        return probs
+    xy = low[:, :2]
+    inside = shapely.contains_xy(g.region, xy[:, 0], xy[:, 1])
+    d = shapely.distance(g.region.boundary, shapely.points(xy))
+    if g.side == "inside":
+        bad = ~inside | (d < g.radius - g.tol)
+        depth = np.where(inside, g.radius - d, g.radius + d)
+    else:
+        bad = inside | (d < g.radius - g.tol)
+        depth = np.where(inside, g.radius + d, g.radius - d)
+    if bad.any():
+        k = int(np.argmax(np.where(bad, depth, -np.inf)))
+        probs.append(f"tool centre {depth[k]:.4f} into the wall at X{xy[k, 0]:.3f} "
+                     f"Y{xy[k, 1]:.3f} Z{low[k, 2]:.3f} (allowed {g.tol:g})")
+    under = low[:, 2] < g.floor - g.tol
+    if under.any():
+        k = int(np.argmin(low[:, 2]))
+        probs.append(f"tip {g.floor - low[k, 2]:.4f} below the floor {g.floor:g} at "
+                     f"X{low[k, 0]:.3f} Y{low[k, 1]:.3f}")
+    if g.surface is not None:
+        probs += _check_surface(low, g)
+    return probs
+
+
+def _check_surface(low: np.ndarray, g: Geometry) -> list[str]:
+    rings = np.linspace(0, 1, 6) * g.radius
+    ang = np.linspace(0, 2 * math.pi, 25)[:-1]
+    rr, aa = np.meshgrid(rings, ang)
+    ox, oy = (rr * np.cos(aa)).ravel(), (rr * np.sin(aa)).ravel()
+    lift = _profile(g, rr.ravel())
+    worst, at = 0.0, None
+    for a in range(0, len(low), 4000):
+        c = low[a:a + 4000]
+        qx, qy = c[:, :1] + ox, c[:, 1:2] + oy
+        ins = shapely.contains_xy(g.region, qx, qy)
+        z = np.full(qx.shape, -np.inf)
+        if ins.any():
+            z[ins] = g.surface(qx[ins], qy[ins])
+        gouge = z - (c[:, 2:3] + lift)
+        k = np.unravel_index(int(np.argmax(gouge)), gouge.shape)
+        if gouge[k] > worst:
+            worst, at = float(gouge[k]), (qx[k], qy[k])
+    if worst > g.tol:
+        return [f"bottom {worst:.4f} above the tool's underside at X{at[0]:.3f} "
+                f"Y{at[1]:.3f} (allowed {g.tol:g})"]
+    return []
+
+
+def check_program(program: Path, tools_tbl: Path, units: str, g: Geometry) -> CheckResult:
+    """Interpret ``program`` with rs274 and check its tool tips against ``g``."""
+    from millpath.simulate.tip import tip_motions
+    from millpath.verify.rs274 import run_rs274
+    r = run_rs274(program, tools_tbl, table_units=units)
+    if not r.ok:
+        return CheckResult(False, [f"rs274: line {r.error_line}: {r.error}"])
+    motions = tip_motions(r.motions, units)
+    try:
+        pts = sample(motions, max(g.radius / 8.0, 0.02))
+    except ValueError as e:
+        return CheckResult(True, [f"not checked: {e}"])
+    probs = check_points(pts, g)
+    return CheckResult(not probs, probs, len(pts))

@@ -1,0 +1,342 @@
+"""Planners proven on generated jobs: jobs a user could write, run through the pipeline.
+
+For each operation type (grid-pocket, pocket, profile) this draws random jobs from a
+fixed seed (numpy's Generator: the same seed gives the same jobs), writes each as a job
+file in a temp folder and runs it with :func:`millpath.pipeline.run_job`, as
+``millpath run`` does. Each job ends as one of:
+
+- written: the proof passed and program.ngc was written; then the independent check
+  (:mod:`generated_check`: LinuxCNC's rs274 and shapely against the job's own geometry)
+  runs on it;
+- refused up front: a one-line ``MillpathError`` before any program (counted by reason);
+- refused by the proof after planning (``UnsafeProgramError``): a planner bug; the job
+  is copied to the replay folder;
+- crashed: any other exception (a bug), also copied to the replay folder.
+
+Usage: ``python bench/generated_jobs.py --jobs 30 --seed 1 --types grid-pocket,pocket``.
+Millimetres throughout.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import re
+import shutil
+import sys
+import tempfile
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from shapely.geometry import Polygon
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import generated_check as gc  # noqa: E402
+import generated_shapes as gs  # noqa: E402
+
+TYPES = ("grid-pocket", "pocket", "profile")
+#: messages of errors found after planning (the program is bad, not the request)
+AFTER_PLANNING = ("does not interpret", "differs from the planned")
+#: errors of the interpreter: a planned program the control refuses
+AFTER_TYPES = ("GCodeError", "InterpreterError")
+REPLAY = Path(__file__).resolve().parent / "generated_replay"
+
+
+@dataclass
+class Job:
+    """A job file's tables (``toml``), its extra files and the geometry to check."""
+
+    toml: dict
+    geometry: gc.Geometry
+    files: dict[str, str] = field(default_factory=dict)
+
+
+def _val(v) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, str):
+        return json.dumps(v)
+    if isinstance(v, float):
+        return repr(round(v, 4))
+    if isinstance(v, (list, tuple)):
+        return "[" + ", ".join(_val(x) for x in v) + "]"
+    return str(v)
+
+
+def toml_text(job: dict) -> str:
+    """TOML of a job dict: top keys, [stock], [[tools]], [[operations]] (+ sub-tables)."""
+    out = [f"{k} = {_val(v)}" for k, v in job.items() if not isinstance(v, (dict, list))
+           or k not in ("stock", "simulation", "tools", "operations")]
+    for name in ("stock", "simulation"):
+        if name in job:
+            out += ["", f"[{name}]"] + [f"{k} = {_val(v)}" for k, v in job[name].items()]
+    for name in ("tools", "operations"):
+        for t in job.get(name, []):
+            out += ["", f"[[{name}]]"]
+            subs = {k: v for k, v in t.items() if isinstance(v, dict)}
+            out += [f"{k} = {_val(v)}" for k, v in t.items() if k not in subs]
+            for k, v in subs.items():
+                out += ["", f"[{name}.{k}]"] + [f"{a} = {_val(b)}" for a, b in v.items()]
+    return "\n".join(out) + "\n"
+
+
+def _tool(rng, types=("flat",), depth: float = 10.0) -> dict:
+    d = float(rng.choice([3.0, 4.0, 5.0, 6.0, 8.0, 10.0, 12.0]))
+    t = str(rng.choice(types))
+    flute = round(depth + float(rng.uniform(3, 15)), 1)
+    tool = {"number": int(rng.integers(1, 20)), "type": t, "diameter": d,
+            "flute_length": flute, "stickout": round(flute + float(rng.uniform(5, 20)), 1)}
+    if t == "bull":
+        tool["corner_radius"] = round(float(rng.uniform(0.1, 0.45)) * d, 2)
+    if rng.random() < 0.5:
+        tool["holder"] = [[round(d * 2 + 10, 1), 40.0]]
+    return tool
+
+
+def _cutting(rng) -> dict:
+    return {"feed": round(float(rng.uniform(200, 2000))), "spindle": 8000}
+
+
+def _centre_geometry(tool: dict, tol: float, region: Polygon, side: str, top: float = 0.0,
+                     floor: float = -np.inf, surface=None) -> gc.Geometry:
+    return gc.Geometry(top=top, radius=tool["diameter"] / 2, tool_type=tool["type"],
+                       corner_radius=tool.get("corner_radius", 0.0), tol=tol + 0.001,
+                       region=region, side=side, floor=floor, surface=surface)
+
+
+def grid_pocket_job(rng) -> Job:
+    """A grid-pocket: random polygon, flat / Bezier / measured bottom, layers."""
+    zhi = -float(rng.uniform(2, 10))
+    zlo = zhi - float(rng.uniform(0, 8))
+    tool = _tool(rng, ("flat", "ball", "bull"), -zlo)
+    kind = str(rng.choice(gs.KINDS))
+    poly = gs.polygon(rng, kind, (10.0, 10.0), float(rng.uniform(40, 80)),
+                      float(rng.uniform(40, 80)), tool["diameter"])
+    p = Polygon(poly)
+    b = p.bounds
+    op = {"type": "grid-pocket", "tool": tool["number"], "polygon": poly, **_cutting(rng),
+          "motion": str(rng.choice(["line", "arc"])), "zigzag": bool(rng.random() < 0.7),
+          "navigation": str(rng.choice(["wall-first", "straight-first"]))}
+    files = {}
+    form = str(rng.choice(["flat", "bezier", "measured"]))
+    if form == "flat":
+        z = round(zhi, 3)
+        op["bottom"] = {"bezier": [[z, z], [z, z]]}
+        surface = gc.bezier_surface([[z, z], [z, z]], b)
+    elif form == "bezier":
+        n = int(rng.integers(3, 5))
+        net = np.round(rng.uniform(zlo, zhi, size=(n, n)), 3).tolist()
+        op["bottom"] = {"bezier": net}
+        surface = gc.bezier_surface(net, b)
+    else:
+        step = float(rng.uniform(4, 12))
+        xs = np.linspace(b[0], b[2], max(2, int(np.ceil((b[2] - b[0]) / step)) + 1))
+        ys = np.linspace(b[1], b[3], max(2, int(np.ceil((b[3] - b[1]) / step)) + 1))
+        kx, ky, ph = rng.uniform(0.02, 0.15, 2).tolist() + [float(rng.uniform(0, 6))]
+        zs = np.round(zhi + (zlo - zhi) * 0.5 * (1 + np.sin(kx * xs[None, :] + ph)
+                                                  * np.cos(ky * ys[:, None])), 4)
+        xs, ys = np.round(xs, 4), np.round(ys, 4)
+        rows = [f"{x},{y},{zs[j, i]}" for j, y in enumerate(ys) for i, x in enumerate(xs)]
+        files["bottom.csv"] = "x,y,z\n" + "\n".join(rows) + "\n"
+        op["bottom"] = {"points": "bottom.csv"}
+        surface = gc.grid_surface(xs, ys, zs)
+    r = rng.random()
+    if r < 0.45:
+        op["stepdown"] = round(float(rng.uniform(1.0, 5.0)), 2)
+    elif r < 0.65:
+        k = int(rng.integers(1, 4))
+        op["depths"] = sorted(np.round(rng.uniform(zhi, -0.5, k), 2).tolist(), reverse=True)
+        op["depths"] = [d for i, d in enumerate(op["depths"]) if d not in op["depths"][:i]]
+    if rng.random() < 0.4:
+        g = (rng.uniform(0.3, 0.7, 2) * tool["diameter"]).round(3).tolist()
+        op["grid"] = g
+    tol = 0.005
+    if rng.random() < 0.3:
+        tol = round(float(rng.uniform(0.002, 0.02)), 4)
+        op["tolerance"] = tol
+    job = {"units": "mm", "name": f"generated grid-pocket ({kind}, {form} bottom)",
+           "stock": {"box": [0.0, 0.0, round(zlo - 5, 1), round(b[2] + 10, 1),
+                             round(b[3] + 10, 1), 0.0]},
+           "tools": [tool], "operations": [op]}
+    return Job(job, _centre_geometry(tool, tol, p, "inside", surface=surface), files)
+
+
+def _twod(rng, op_type: str) -> tuple[dict, dict, Polygon, list]:
+    depth = round(float(rng.uniform(1.0, 15.0)), 2)
+    tool = _tool(rng, ("flat", "bull"), depth)
+    kind = str(rng.choice(gs.KINDS))
+    origin = (30.0, 30.0) if op_type == "profile" else (10.0, 10.0)
+    poly = gs.polygon(rng, kind, origin, float(rng.uniform(30, 90)),
+                      float(rng.uniform(30, 70)), tool["diameter"])
+    isl = gs.islands(rng, poly, tool["diameter"], int(rng.integers(0, 3)),
+                     gap=tool["diameter"] * float(rng.uniform(1.1, 2.0)))
+    op = {"type": op_type, "tool": tool["number"], "polygon": poly, "depth": depth,
+          "stepdown": round(float(rng.uniform(0.3, 1.0)) * depth, 2), **_cutting(rng)}
+    if isl:
+        op["islands"] = isl
+    if rng.random() < 0.3:
+        op["tolerance"] = round(float(rng.uniform(0.005, 0.05)), 4)
+    op["direction"] = str(rng.choice(["climb", "conventional"]))
+    return op, tool, Polygon(poly, isl), [kind]
+
+
+def pocket_job(rng) -> Job:
+    """A pocket: random outline and islands, offset / zigzag / adaptive clearing."""
+    op, tool, region, tags = _twod(rng, "pocket")
+    op["strategy"] = str(rng.choice(["offset", "zigzag", "adaptive"]))
+    if rng.random() < 0.5:
+        op["stepover"] = round(float(rng.uniform(0.2, 0.7)) * tool["diameter"], 3)
+    if op["strategy"] == "zigzag":
+        op["angle"] = round(float(rng.uniform(0, 180)), 1)
+    if op["strategy"] == "adaptive":
+        op["engagement"] = round(float(rng.uniform(0.08, 0.3)), 3)
+    if rng.random() < 0.3:
+        op["allowance"] = round(float(rng.uniform(0.1, 0.5)), 2)
+    op["entry"] = str(rng.choice(["helix", "ramp"]))
+    if rng.random() < 0.3:
+        op["ramp_angle"] = round(float(rng.uniform(1.0, 10.0)), 1)
+    b = region.bounds
+    job = {"units": "mm", "name": f"generated pocket ({tags[0]}, {op['strategy']})",
+           "fit": str(rng.choice(["none", "arcs"])),
+           "stock": {"box": [0.0, 0.0, -round(op["depth"] + 5, 1), round(b[2] + 10, 1),
+                             round(b[3] + 10, 1), 0.0]},
+           "tools": [tool], "operations": [op]}
+    tol = op.get("tolerance", 0.01)
+    return Job(job, _centre_geometry(tool, tol, region, "inside", floor=-op["depth"]))
+
+
+def profile_job(rng) -> Job:
+    """A profile: random outline with holes, outside or inside, leads and tabs."""
+    op, tool, region, tags = _twod(rng, "profile")
+    op["side"] = str(rng.choice(["outside", "inside"]))
+    op["compensation"] = str(rng.choice(["cam", "control"]))
+    if rng.random() < 0.4:
+        op["lead_radius"] = round(float(rng.uniform(0.55, 1.5)) * tool["diameter"], 3)
+    if op["side"] == "outside" and rng.random() < 0.4:
+        op["tabs"] = int(rng.integers(1, 5))
+        op["tab_height"] = round(float(rng.uniform(0.2, 0.5)) * op["depth"], 2)
+        if rng.random() < 0.5:
+            op["tab_width"] = round(float(rng.uniform(1.0, 3.0)) * tool["diameter"], 2)
+    b = region.bounds
+    job = {"units": "mm", "name": f"generated profile ({tags[0]}, {op['side']})",
+           "fit": str(rng.choice(["none", "arcs"])),
+           "stock": {"box": [0.0, 0.0, -round(op["depth"] + 5, 1), round(b[2] + 30, 1),
+                             round(b[3] + 30, 1), 0.0]},
+           "tools": [tool], "operations": [op]}
+    tol = op.get("tolerance", 0.01)
+    return Job(job, _centre_geometry(tool, tol, region, op["side"], floor=-op["depth"]))
+
+
+MAKERS = {"grid-pocket": grid_pocket_job, "pocket": pocket_job, "profile": profile_job}
+
+
+@dataclass
+class Outcome:
+    kind: str          # "written" | "upfront" | "refused" | "crashed"
+    reason: str = ""   # the message, numbers replaced by # (to count reasons)
+    message: str = ""
+    check: gc.CheckResult | None = None
+    cpu: float = 0.0
+
+
+def write_job(job: Job, folder: Path) -> Path:
+    folder.mkdir(parents=True, exist_ok=True)
+    for name, text in job.files.items():
+        (folder / name).write_text(text)
+    path = folder / "job.toml"
+    path.write_text(toml_text(job.toml))
+    return path
+
+
+def _reason(msg: str) -> str:
+    msg = msg.split(": ", 1)[1] if msg.startswith("/") and ": " in msg else msg
+    return re.sub(r"-?\d+(\.\d+)?(e-?\d+)?", "#", msg)[:110]
+
+
+def run_one(job: Job, folder: Path) -> Outcome:
+    """Write ``job`` into ``folder`` and run it; the independent check on a program."""
+    from millpath.errors import MillpathError
+    from millpath.pipeline import run_job
+    from millpath.verify.gate import UnsafeProgramError
+    path = write_job(job, folder)
+    t0 = time.process_time()
+    try:
+        run_job(path, folder / "out", pictures=False)
+    except UnsafeProgramError as e:
+        return Outcome("refused", _reason(e.message), e.message,
+                       cpu=time.process_time() - t0)
+    except MillpathError as e:
+        if type(e).__name__ in AFTER_TYPES or any(w in e.message for w in AFTER_PLANNING):
+            return Outcome("crashed", _reason(e.message), e.message,
+                           cpu=time.process_time() - t0)
+        return Outcome("upfront", _reason(e.message), cpu=time.process_time() - t0)
+    except Exception as e:  # noqa: BLE001 - every other exception is a bug to report
+        return Outcome("crashed", f"{type(e).__name__}: {e}"[:200],
+                       cpu=time.process_time() - t0)
+    cpu = time.process_time() - t0
+    chk = gc.check_program(folder / "out" / "program.ngc", folder / "out" / "tools.tbl",
+                           "mm", job.geometry)
+    return Outcome("written", check=chk, cpu=cpu)
+
+
+def jobs_of(op_type: str, n: int, seed: int) -> list[Job]:
+    """``n`` jobs of ``op_type`` from ``seed`` (the same for the same arguments)."""
+    rng = np.random.default_rng([seed, TYPES.index(op_type)])
+    return [MAKERS[op_type](rng) for _ in range(n)]
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--jobs", type=int, default=10, help="jobs per type")
+    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--types", default=",".join(TYPES))
+    ap.add_argument("--replay", type=Path, default=REPLAY, help="folder for failing jobs")
+    ap.add_argument("--verbose", action="store_true", help="one line per job")
+    a = ap.parse_args(argv)
+    rows = []
+    failing = 0
+    for op_type in a.types.split(","):
+        counts = {"written": 0, "upfront": 0, "refused": 0, "crashed": 0, "check": 0}
+        upfront: dict[str, int] = {}
+        cpu = 0.0
+        saved = []
+        with tempfile.TemporaryDirectory(prefix="millpath-gen-") as tmp:
+            for k, job in enumerate(jobs_of(op_type, a.jobs, a.seed)):
+                folder = Path(tmp) / f"{op_type}-{k:03d}"
+                o = run_one(job, folder)
+                cpu += o.cpu
+                counts[o.kind] += 1
+                bad = o.kind in ("refused", "crashed")
+                if o.kind == "upfront":
+                    upfront[o.reason] = upfront.get(o.reason, 0) + 1
+                if o.check is not None and not o.check.ok:
+                    counts["check"] += 1
+                    bad = True
+                if a.verbose:
+                    print(f"  {op_type} {k:3d} {job.toml['name']}: {o.kind} {o.cpu:.1f}s "
+                          f"{o.reason} {'; '.join(o.check.problems) if o.check else ''}")
+                if bad:
+                    dest = a.replay / f"seed{a.seed}-{op_type}-{k:03d}"
+                    shutil.rmtree(dest, ignore_errors=True)
+                    write_job(job, dest)
+                    why = o.message or o.reason or "; ".join(o.check.problems)
+                    (dest / "why.txt").write_text(f"{o.kind}: {why}\n")
+                    saved.append((dest / "job.toml", o.kind, why))
+        failing += len(saved)
+        rows.append((op_type, a.jobs, counts, upfront, cpu, saved))
+    print(f"{'type':12} {'jobs':>5} {'written':>8} {'upfront':>8} {'refused':>8} "
+          f"{'crashed':>8} {'check':>6} {'CPU s':>8}")
+    for op_type, n, c, up, cpu, saved in rows:
+        print(f"{op_type:12} {n:5d} {c['written']:8d} {c['upfront']:8d} {c['refused']:8d} "
+              f"{c['crashed']:8d} {c['check']:6d} {cpu:8.1f}")
+        for reason, k in sorted(up.items(), key=lambda t: -t[1]):
+            print(f"    up front x{k}: {reason}")
+        for path, kind, why in saved:
+            print(f"    {kind}: {path}: {why[:300]}")
+    return 1 if failing else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

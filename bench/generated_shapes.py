@@ -1,0 +1,126 @@
+"""Random simple polygons and islands a user could draw, for generated jobs.
+
+Millimetres; polygons are lists of [x, y] (counter-clockwise, no repeated closing
+point), rounded to 3 decimals and valid (simple) after rounding. Every draw comes from
+the ``numpy.random.Generator`` passed in, so a seed gives the same shapes.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import shapely
+from shapely import affinity
+from shapely.geometry import Point, Polygon, box
+from shapely.geometry.polygon import orient
+
+KINDS = ("convex", "star", "u", "l", "neck", "rounded")
+
+
+def _coords(p: Polygon) -> list[list[float]]:
+    return [[round(float(x), 3), round(float(y), 3)] for x, y in p.exterior.coords[:-1]]
+
+
+def _valid(pts: list[list[float]]) -> Polygon | None:
+    if len(pts) < 3:
+        return None
+    p = Polygon(pts)
+    return p if p.is_valid and p.area > 1.0 else None
+
+
+def _convex(rng: np.random.Generator, w: float, h: float) -> Polygon:
+    pts = rng.uniform([0, 0], [w, h], size=(int(rng.integers(5, 12)), 2))
+    return shapely.convex_hull(shapely.multipoints(pts))
+
+
+def _star(rng: np.random.Generator, w: float, h: float) -> Polygon:
+    n = int(rng.integers(5, 13))
+    ang = np.sort(rng.uniform(0, 2 * math.pi, n))
+    r = rng.uniform(0.45, 1.0, n)
+    return Polygon(np.column_stack([w / 2 * (1 + r * np.cos(ang)),
+                                    h / 2 * (1 + r * np.sin(ang))]))
+
+
+def _u(rng: np.random.Generator, w: float, h: float, tool_d: float) -> Polygon:
+    slot_w = rng.uniform(0.15, 0.5) * w
+    slot_d = rng.uniform(0.2, 0.7) * h
+    x0 = rng.uniform(0.2 * w, 0.8 * w - slot_w)
+    return box(0, 0, w, h).difference(box(x0, h - slot_d, x0 + slot_w, h + 1))
+
+
+def _l(rng: np.random.Generator, w: float, h: float, tool_d: float) -> Polygon:
+    cw, ch = rng.uniform(0.3, 0.7) * w, rng.uniform(0.3, 0.7) * h
+    return box(0, 0, w, h).difference(box(w - cw, h - ch, w + 1, h + 1))
+
+
+def _neck(rng: np.random.Generator, w: float, h: float, tool_d: float) -> Polygon:
+    a = rng.uniform(0.3, 0.45) * w
+    neck = rng.uniform(1.05, 3.0) * tool_d          # at least the tool's width
+    y0 = rng.uniform(0.1 * h, 0.9 * h - neck)
+    return shapely.union_all([box(0, 0, a, h), box(w - a, 0, w, h),
+                              box(a - 1, y0, w - a + 1, y0 + neck)])
+
+
+def _rounded(rng: np.random.Generator, w: float, h: float, tool_d: float) -> Polygon:
+    base = (_u if rng.random() < 0.5 else _l)(rng, w, h, tool_d)
+    r = rng.uniform(0.3, 3.0)
+    p = base.buffer(r, quad_segs=4).buffer(-r, quad_segs=4)   # concave corners rounded
+    return p.buffer(-r, quad_segs=4).buffer(r, quad_segs=4)   # convex corners rounded
+
+
+def polygon(rng: np.random.Generator, kind: str, origin: tuple[float, float], w: float,
+            h: float, tool_d: float) -> list[list[float]]:
+    """A simple polygon of ``kind`` (see KINDS) in the box ``origin`` + (w, h), turned by
+    a random angle about its centre (and kept in the box's bounding circle)."""
+    for _ in range(50):
+        if kind == "convex":
+            p = _convex(rng, w, h)
+        elif kind == "star":
+            p = _star(rng, w, h)
+        else:
+            p = {"u": _u, "l": _l, "neck": _neck, "rounded": _rounded}[kind](rng, w, h, tool_d)
+        if rng.random() < 0.5:
+            p = affinity.rotate(p, float(rng.uniform(0, 360)), origin=(w / 2, h / 2))
+            s = min(w / (p.bounds[2] - p.bounds[0]), h / (p.bounds[3] - p.bounds[1]), 1.0)
+            p = affinity.scale(p, s, s, origin=(w / 2, h / 2))
+            p = affinity.translate(p, -p.bounds[0], -p.bounds[1])
+        p = orient(affinity.translate(p, *origin).simplify(0.01), 1.0)
+        if p.geom_type != "Polygon" or p.interiors:
+            continue
+        pts = _coords(p)
+        q = _valid(pts)
+        if q is not None and q.buffer(-0.6 * tool_d).area > 0.1 * q.area:
+            return pts
+    raise RuntimeError(f"no valid {kind} polygon drawn")
+
+
+def islands(rng: np.random.Generator, outer: list[list[float]], tool_d: float,
+            count: int, gap: float) -> list[list[list[float]]]:
+    """Up to ``count`` islands (circles of 16-64 chords or rectangles) inside ``outer``,
+    each at least ``gap`` from the outline and from the others."""
+    room = Polygon(outer)
+    out: list[list[list[float]]] = []
+    for _ in range(count * 20):
+        if len(out) == count:
+            break
+        r = rng.uniform(0.6, 2.5) * tool_d
+        free = room.buffer(-(gap + r))
+        if free.is_empty:
+            continue
+        x0, y0, x1, y1 = free.bounds
+        c = Point(rng.uniform(x0, x1), rng.uniform(y0, y1))
+        if not free.contains(c):
+            continue
+        if rng.random() < 0.6:
+            isl = c.buffer(r, quad_segs=int(rng.integers(4, 17)))
+        else:
+            isl = affinity.rotate(box(c.x - r, c.y - 0.6 * r, c.x + r, c.y + 0.6 * r),
+                                  float(rng.uniform(0, 180)))
+        isl = orient(isl, 1.0)
+        pts = _coords(isl)
+        if _valid(pts) is None:
+            continue
+        room = room.difference(Polygon(pts).buffer(gap))
+        out.append(pts)
+    return out
