@@ -74,6 +74,25 @@ def inward_offset(poly: Polygon, distance: float, quad_segs: int = 16) -> Polygo
     return parts[0] if len(parts) == 1 else MultiPolygon(parts)
 
 
+def _clear_of_corners(poly: Polygon, region, radius: float, segs: int = 64):
+    """``region`` less a disc of ``radius`` about each reflex corner of ``poly``: the
+    round joins of the offset are chords inside their arcs (nearer the corner than the
+    radius); the discs' own chords (``segs`` per quarter) lie outside the radius."""
+    ring = np.asarray(shapely.geometry.polygon.orient(poly, 1.0).exterior.coords)[:-1]
+    a, b = ring - np.roll(ring, 1, axis=0), np.roll(ring, -1, axis=0) - ring
+    reflex = ring[(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]) < 0]
+    if region.is_empty or not len(reflex):
+        return region
+    grown = radius / math.cos(math.pi / (4 * segs)) * (1 + 1e-9)
+    discs = shapely.MultiPoint(reflex).buffer(grown, quad_segs=segs)
+    out = region.difference(discs)
+    parts = [shapely.geometry.polygon.orient(g, 1.0)
+             for g in getattr(out, "geoms", [out]) if g.area > 0]
+    if not parts:
+        return shapely.geometry.Polygon()
+    return parts[0] if len(parts) == 1 else MultiPolygon(parts)
+
+
 @dataclass
 class PocketGrid:
     """Cells of the pocket: ``inside[i, j]`` when cell (i, j)'s centre may be visited."""
@@ -132,7 +151,7 @@ def build_grid(poly: Polygon, tool_radius: float, dx: float, dy: float, file=Non
 
     ``anchor``: an (x, y) the lattice of cell centres passes through (default: the
     cells tile the bounding box from its lower-left corner)."""
-    region = inward_offset(poly, tool_radius)
+    region = _clear_of_corners(poly, inward_offset(poly, tool_radius), tool_radius)
     if region.is_empty:
         xmin, ymin, xmax, ymax = poly.bounds
         raise PlanningError(f"{key}: the tool (diameter {2 * tool_radius:g}) is too big for the "
