@@ -29,6 +29,7 @@ from millpath.simulate.leftover import (SweptChords, first_of_each, medial_cap, 
                                         sample_keys, sample_triangles, shorten_rays,
                                         swept_chords)
 from millpath.simulate.groups import ChordGroups, chord_groups
+from millpath.simulate.leftpeak import refine_peaks
 from millpath.simulate.path import motion_blocks, motion_segments
 
 
@@ -297,15 +298,17 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
         left = medial_cap(st.pts, st.nrm, st.own, tri, idx, margin, st.out)
         if not len(left):
             continue
-        q = int(np.argmax(left))
-        lq = float(left[q]) if left[q] >= accuracy / 2 else 0.0
+        left = np.where(left >= accuracy / 2, left, 0.0)
+        # between the samples: the peaks near the highest ones
+        measure = _LeftMeasure(motions, mop, lut, chord, block, shapes, stock, tri, idx,
+                               reach, margin, accuracy)
+        lq, X, w = refine_peaks(st.pts, st.own, left, st.who, tri, _unit_normals(tri),
+                                measure, float(spacing), accuracy)
         for o in (ref.ops if ref.ops is not None else sorted(set(mop.tolist())) or [0]):
             op_left[o] = max(op_left.get(o, 0.0), lq)
         if lq > best_l:
             best_l = lq
-            w = int(st.who[q])
-            l_at = {"x": float(st.pts[q, 0]), "y": float(st.pts[q, 1]),
-                    "z": float(st.pts[q, 2]),
+            l_at = {"x": float(X[0]), "y": float(X[1]), "z": float(X[2]),
                     "line": int(motions[w].line) if w >= 0 else None,
                     "operation": int(mop[w]) if w >= 0 else None}
     gouging = motion_g > accuracy
@@ -318,6 +321,66 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
     return ExactResult(best_g, best_l, int(gouging.sum()), g_at, l_at, motion_g, op_g, op_n,
                        op_left, [r.name for r in references], accuracy, float(spacing),
                        nchords)
+
+
+class _LeftMeasure:
+    """Material left at a few design points of one reference, measured as the samples
+    are (:func:`verify_exact`): each ray capped by the stock box and the design, cut
+    back by the cutting chords near it, capped where another triangle is nearer."""
+
+    def __init__(self, motions, mop, lut, chord: float, block: int, shapes: ToolShapes,
+                 stock: Stock, tri: np.ndarray, idx: BoxIndex, reach: float, margin: float,
+                 accuracy: float):
+        self.args = (motions, mop, lut, chord, block)
+        self.shapes, self.stock, self.tri, self.idx = shapes, stock, tri, idx
+        self.reach, self.margin, self.accuracy = reach, margin, accuracy
+        self.sw: SweptChords | None = None
+        self.motion = np.zeros(0, np.int64)
+
+    def prepare(self, centres: np.ndarray, normals: np.ndarray, radius: float) -> None:
+        """Keep the chords whose swept cutter may meet a ray from within ``radius`` of
+        a centre (last first, as the samples' pass gives them)."""
+        ends = centres + self.reach * normals
+        lo = np.minimum(centres, ends) - radius
+        hi = np.maximum(centres, ends) + radius
+        keep = []
+        for _, ch in _blocks(*self.args):
+            if not len(ch.S):
+                continue
+            R = self.shapes.R[ch.slot, 0]
+            clo = np.minimum(ch.S, ch.E)
+            chi = np.maximum(ch.S, ch.E)
+            clo[:, :2] -= R[:, None]
+            chi[:, :2] += R[:, None]
+            chi[:, 2] += self.shapes.L[ch.slot, 0]
+            near = np.zeros(len(ch.S), bool)
+            for a, b in zip(lo, hi):
+                near |= np.all((clo <= b) & (chi >= a), axis=1)
+            c = np.flatnonzero(near)
+            keep.append((ch.S[c], ch.E[c], ch.slot[c], ch.motion[c]))
+        if keep:
+            S, E, slot, mo = (np.concatenate([k[i] for k in keep]) for i in range(4))
+        else:
+            S, E, slot, mo = np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0, np.int64), \
+                np.zeros(0, np.int64)
+        self.sw = swept_chords(S[::-1], E[::-1], slot[::-1], self.shapes)
+        self.motion = mo[::-1]
+
+    def __call__(self, points, normals, owners):
+        cap = ray_caps(points, normals, owners, self.stock.box, self.tri, self.idx,
+                       self.reach)
+        out, who = shorten_rays(points, normals, cap, self.sw, self.shapes, self.accuracy,
+                                self.accuracy / 2)
+        who = (np.where(who >= 0, self.motion[np.maximum(who, 0)], -1) if len(self.motion)
+               else who)
+        left = medial_cap(points, normals, owners, self.tri, self.idx, self.margin, out)
+        return np.where(left >= self.accuracy / 2, left, 0.0), who
+
+
+def _unit_normals(tri: np.ndarray) -> np.ndarray:
+    n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    ln = np.linalg.norm(n, axis=1)
+    return n / np.where(ln > 0, ln, 1.0)[:, None]
 
 
 def _last_first(ch: _Chords, grp: ChordGroups, shapes: ToolShapes) -> SweptChords:
