@@ -42,8 +42,10 @@ def print_verification(console: Console, report: dict) -> None:
                              fig("features not machined", unmachined)
                              + (f" [yellow](+{left} left on purpose)[/]" if left else ""),
                              f"[{'red' if gouge_bad else 'green'}]{gouge}[/]"])
-                  + (f", max left {ver['max_left']:.4g}" if ver.get("max_left") is not None
-                     else ""))
+                  + (f", max left {ver['max_left']:.4g}"
+                     + (f" (sampled every {ver['left_spacing']:.3g})"
+                        if ver.get("left_spacing") else "")
+                     if ver.get("max_left") is not None else ""))
     for p in problems:
         console.print(f"[red]  {p['text']}[/]")
 

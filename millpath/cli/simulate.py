@@ -60,7 +60,10 @@ def command(args: ProgramArgs, max_feed: float | None, as_json: bool,
                     + (f" (line {p['line']})" if p.get("line") is not None else "")) if p else ""
         click.echo(f"max gouge        {j['max_gouge']:.4g} {units}{at(j.get('max_gouge_at'))}"
                    f", {j.get('gouging_moves', 0)} gouging motions")
-        click.echo(f"max left         {j['max_left']:.4g} {units}{at(j.get('max_left_at'))}")
+        click.echo(f"max left         {j['max_left']:.4g} {units}{at(j.get('max_left_at'))}"
+                   + (f" (sampled every {j['left_spacing']:.3g} {units}: material narrower "
+                      "than that between samples can be missed)"
+                      if j.get("left_spacing") else ""))
         click.echo(f"accuracy         {j.get('accuracy')} {units}")
         if j["left_volume"] is not None:
             click.echo(f"left volume      {j['left_volume']:.6g} {u3}")
