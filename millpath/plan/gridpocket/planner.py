@@ -11,10 +11,10 @@ left along the wall), then the X zigzag and the Y zigzag runs at the bottom.
 
 A layer with floor ``f`` puts each point at ``max(tip Z on the bottom, f)`` and skips
 the cells whose bottom is above ``f``; the finish layer visits every cell, so it takes
-the skipped cells down to the bottom (at most one step of material). Moves between non-adjacent cells stay at cutting depth
-when the straight move keeps the tool inside the offset outline; otherwise the tool
-retracts to ``safe_z``. Clean-up runs are joined at the bottom when they start next
-to where the previous one ended, else over a short retract above the cleared bottom.
+the skipped cells down to the bottom (at most one step of material). Links between
+cuts go over an upper bound of the material the plan has left (:mod:`.material`: the
+stock top wherever no cutter has provably swept) at a short clearance, or at ``safe_z``
+when that is no lower; descents into material are helices or ramps.
 """
 
 from __future__ import annotations
