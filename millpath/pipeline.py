@@ -257,7 +257,8 @@ def _run(job_path: str | Path, outdir: str | Path, prog: Progress, force: bool,
                                motion_op=motion_op,
                                accuracy=_accuracy(job.units) if exact else None,
                                times=times)
-        report.verification = sim.to_json()
+        report.verification = sim.to_json({i: o.tolerance for i, o in enumerate(tp.ops)
+                                           if o.tolerance})
     else:
         report.verification = {"skipped": "simulation disabled in the job"}
     report.cycle_time_s = float(np.sum(times))

@@ -106,6 +106,24 @@ class ExactResult:
     accuracy: float = 0.001
     spacing: float = 0.0
     chords: int = 0
+    reach: float = 0.0                  # material left is measured up to this
+    # per design: its operations (None: all), the material left at each sample and the
+    # design area each sample stands for (its triangle's area over its samples)
+    left_samples: list[tuple[list[int] | None, np.ndarray, np.ndarray]] = field(
+        default_factory=list)
+
+    @property
+    def left_is_uncut(self) -> bool:
+        """The largest material left reaches the measuring cap: stock no cutter came
+        near, at least ``reach`` deep (not a measured figure)."""
+        return self.reach > 0 and self.max_left >= self.reach * (1 - 1e-9)
+
+    def left_area(self, threshold: float, op: int | None = None) -> float:
+        """About how much design surface has more than ``threshold`` left (program
+        units squared): the areas the samples over it stand for; ``op``: on the designs
+        of that operation only."""
+        return float(sum(w[v > threshold].sum() for ops, v, w in self.left_samples
+                         if op is None or ops is None or op in ops))
 
 
 MOTION_BLOCK = 100_000      # motions turned into chords at a time (bounds memory)
@@ -294,6 +312,7 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
                     _shorten(st, f, ch, cidx, shapes, accuracy)
     best_l, l_at = 0.0, None
     op_left: dict[int, float] = {}
+    samples: list[tuple[list[int] | None, np.ndarray, np.ndarray]] = []
     for (ref, tri, idx, _), st in zip(refs, states):
         left = medial_cap(st.pts, st.nrm, st.own, tri, idx, margin, st.out)
         if not len(left):
@@ -304,6 +323,11 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
                                reach, margin, accuracy)
         lq, X, w = refine_peaks(st.pts, st.own, left, st.who, tri, _unit_normals(tri),
                                 measure, float(spacing), accuracy)
+        area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]),
+                                    axis=1)
+        per = np.bincount(st.own, minlength=len(tri))
+        samples.append((ref.ops, left.astype(np.float32),
+                        (area[st.own] / per[st.own]).astype(np.float32)))
         for o in (ref.ops if ref.ops is not None else sorted(set(mop.tolist())) or [0]):
             op_left[o] = max(op_left.get(o, 0.0), lq)
         if lq > best_l:
@@ -320,7 +344,7 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
         op_n[o] = int(gouging[m].sum())
     return ExactResult(best_g, best_l, int(gouging.sum()), g_at, l_at, motion_g, op_g, op_n,
                        op_left, [r.name for r in references], accuracy, float(spacing),
-                       nchords)
+                       nchords, reach, samples)
 
 
 class _LeftMeasure:

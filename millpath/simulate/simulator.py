@@ -67,7 +67,7 @@ class SimResult:
     holder_hit: np.ndarray | None = None
     design_grid: DesignGrid | None = None          # the design sampled on the Z-map
 
-    def to_json(self) -> dict[str, Any]:
+    def to_json(self, tolerances: dict[int, float] | None = None) -> dict[str, Any]:
         """The verification keys of report.json / ``millpath simulate --json``.
 
         With an exact check (a design was given), ``max_gouge`` / ``max_left`` are the
@@ -75,7 +75,11 @@ class SimResult:
         exact at points ``left_spacing`` apart), with ``max_gouge_at`` /
         ``max_left_at`` ({x, y, z, line, operation}), ``gouging_moves`` (motions
         gouging by more than ``accuracy``), ``reference`` (the designs used) and
-        ``by_operation``. ``left_volume`` stays the Z-map's."""
+        ``by_operation``. ``max_left_uncut`` says the largest figure is stock no cutter
+        came near (at least ``left_measured_to`` deep). With ``tolerances`` (operation ->
+        tolerance), each operation's row gives ``left_area_over_tolerance``: about how
+        much of its design has more than its tolerance left (program units squared).
+        ``left_volume`` stays the Z-map's."""
         def r(v):
             return None if v is None else round(float(v), 6)
         ex = self.exact
@@ -93,7 +97,8 @@ class SimResult:
             out.update(max_gouge_at=at(ex.gouge_at), max_left_at=at(ex.left_at),
                        gouging_moves=int(ex.gouging_moves),
                        reference=", ".join(ex.references), accuracy=float(ex.accuracy),
-                       left_spacing=r(ex.spacing))
+                       left_spacing=r(ex.spacing), left_measured_to=r(ex.reach),
+                       max_left_uncut=bool(ex.left_is_uncut))
         elif self.max_gouge is not None:
             out.update(reference="design heights on the Z-map (cell-bound)",
                        accuracy=float(self.resolution))
@@ -105,6 +110,10 @@ class SimResult:
                 rows.append({"operation": int(o),
                              "max_gouge": r(ex.op_gouge.get(o, 0.0)) if ex else None,
                              "max_left": r(ex.op_left.get(o)) if ex else None,
+                             **({"left_area_over_tolerance":
+                                 r(ex.left_area(tolerances[o], o))}
+                                if ex is not None and tolerances and tolerances.get(o)
+                                else {}),
                              "gouging_moves": int(ex.op_gouging.get(o, 0)) if ex else None,
                              "holder_contacts": int(self.holder_hit[m].sum()),
                              "rapids_through_material": int(self.rapid_hit[m].sum())})

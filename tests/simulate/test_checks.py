@@ -51,7 +51,10 @@ def test_cut_0_2_below_a_planar_design_reports_a_gouge_of_0_2():
     assert set(j) == {"removed_volume", "max_gouge", "max_left", "left_volume",
                       "rapids_through_material", "holder_contacts", "cycle_time_s",
                       "resolution", "max_gouge_at", "max_left_at", "gouging_moves",
-                      "reference", "accuracy", "left_spacing", "by_operation"}
+                      "reference", "accuracy", "left_spacing", "left_measured_to",
+                      "max_left_uncut", "by_operation"}
+    # the border is 2 mm of stock, measured (the cap is twice the diameter, 12 mm)
+    assert j["left_measured_to"] == pytest.approx(12.0) and j["max_left_uncut"] is False
     assert j["accuracy"] == 0.001 and j["reference"] == "design"
     assert j["gouging_moves"] > 0 and j["max_gouge_at"]["z"] == pytest.approx(-2.0)
     assert j["max_gouge"] == pytest.approx(0.2, abs=j["accuracy"])     # exact check

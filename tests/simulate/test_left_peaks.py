@@ -57,3 +57,22 @@ def test_closest_point_of_a_triangle():
     got = closest_on_triangles(P, np.repeat(T, len(P), axis=0))
     want = [[1, 1, 0], [4, 0, 0], [0, 2, 0], [2, 2, 0], [1, 1, 0]]
     assert np.allclose(got, want)
+
+
+def test_uncut_stock_is_said_to_be_uncut_and_its_area_measured():
+    """Ball passes at tip z = 0 over y <= 0 only, stock 20 mm over the plate's top:
+    past y = R the stock is uncut (left at the measuring cap, twice the diameter);
+    more than 0.5 mm is left where R - sqrt(R^2 - y^2) > 0.5, y > sqrt(R^2 - (R - 0.5)^2),
+    an area of 20 x (10 - that) on the top face, to within a band one sample spacing
+    wide along the region's edge."""
+    R = BALL.radius
+    passes = [Motion("feed", 1, (-16.0, y, 0.0), (16.0, y, 0.0), 500, tool=1)
+              for y in np.arange(-13.0, 0.001, 1.0)]
+    res = verify_exact(passes, {1: BALL}, Stock(-10, -10, -5, 10, 10, 20),
+                       [Reference(_box((-10, -10, -5), (10, 10, 0)), "plate")], accuracy=ACC)
+    assert res.reach == pytest.approx(2 * BALL.diameter)
+    assert res.max_left == pytest.approx(res.reach) and res.left_is_uncut
+    y0 = math.sqrt(R * R - (R - 0.5) ** 2)
+    truth = 20.0 * (10.0 - y0)
+    band = 2 * (20.0 + (10.0 - y0)) * res.spacing
+    assert abs(res.left_area(0.5) - truth) <= band
