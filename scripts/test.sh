@@ -42,6 +42,9 @@ here=$(pwd)
 
 echo "== running the test suite"
 # two workers (CI has 2 cores); a module's tests stay on one worker, so its fixtures
-# (planned examples) are built once; the slowest tests are listed at the end
+# (planned examples) are built once; the slowest tests are listed at the end. A worker
+# that dies (killed for memory, a native crash) is not replaced: the run reports the
+# test it was running and ends (xdist's module scheduler can wait forever for a
+# replaced worker).
 exec .venv/bin/python -m pytest -q -n "${MILLPATH_TEST_WORKERS:-2}" --dist loadscope \
-    --durations=15 "$@"
+    --max-worker-restart=0 --durations=15 "$@"
