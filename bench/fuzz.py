@@ -13,8 +13,8 @@ then draws inputs from hypothesis strategies (fixed seed, no shrinking, no examp
 database). Each case is written to a file and read in a worker process whose peak
 resident memory is measured after each case (over ``--memory-gb``, default 1: "over the
 memory limit", and the worker is restarted) and whose address space is capped at three
-times that, so a case that needs more fails there instead of taking the machine. A case passes when the command exits 0, or exits 1 with one line
-``millpath: error: ...`` naming the input (its file, or the option); anything else is a
+times that, so a case that needs more fails there instead of taking the machine. A case passes when the command exits 0, or exits 1 with lines
+``millpath: error: ...`` (one per problem of a job file) naming the input (its file, or the option); anything else is a
 crash: an internal error (exit 2), a message of several lines or naming something else,
 another exception, or a worker killed by a signal. A case running over
 ``--hang-seconds`` (20) is a hang (the worker is killed and restarted), and a
@@ -79,9 +79,10 @@ class CommandFailed(Exception):
 
 def command(*args, names: tuple[str, ...]) -> str:
     """``millpath ARGS`` in this process as from a shell (click's runner, millpath's own
-    error boundary). Exit 0: the output. Exit 1 with one line ``millpath: error: ...``
-    naming one of ``names`` (the input's file name, an option): MillpathError. Anything
-    else: CommandFailed with what was printed."""
+    error boundary). Exit 0: the output. Exit 1 with lines ``millpath: error: ...``
+    (one per problem of a job file), the first naming one of ``names`` (the input's
+    file name, an option): MillpathError. Anything else: CommandFailed with what was
+    printed."""
     from click.testing import CliRunner
 
     from millpath.cli.main import cli
@@ -90,7 +91,7 @@ def command(*args, names: tuple[str, ...]) -> str:
     if r.exit_code == 0:
         return r.stdout
     err = [s for s in r.stderr.splitlines() if not s.startswith("millpath: warning:")]
-    if r.exit_code == 1 and len(err) == 1 and err[0].startswith("millpath: error: "):
+    if r.exit_code == 1 and err and all(s.startswith("millpath: error: ") for s in err):
         if any(n in err[0] for n in names):
             raise MillpathError(err[0])
         raise CommandFailed(f"error names none of {names}: {err[0]}")

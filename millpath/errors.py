@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+from contextlib import contextmanager
 from pathlib import Path
+from typing import Iterator
 
 
 class MillpathError(Exception):
@@ -59,3 +61,54 @@ class PlanningError(MillpathError):
 
 class GeometryError(MillpathError):
     """Bad geometry: self-intersecting polygon, NaN coordinates, degenerate curve."""
+
+
+#: the most job-file problems the command line prints before "... and N more"
+MAX_SHOWN = 20
+
+
+class JobErrors(JobError):
+    """Every problem found in one reading of a job file, each a :class:`JobError`;
+    ``str`` gives one line per problem."""
+
+    def __init__(self, errors: list[JobError]):
+        first = errors[0]
+        super().__init__(first.message, first.file, first.line, first.entity)
+        self.errors = list(errors)
+
+    def lines(self, cap: int = MAX_SHOWN) -> list[str]:
+        """One line per problem, at most ``cap`` of them, then "... and N more"."""
+        out = [str(e) for e in self.errors[:cap]]
+        if len(self.errors) > cap:
+            out.append(f"... and {len(self.errors) - cap} more")
+        return out
+
+    def __str__(self) -> str:
+        return "\n".join(str(e) for e in self.errors)
+
+
+class Problems:
+    """JobErrors gathered while reading one job, raised together by :meth:`check`."""
+
+    def __init__(self) -> None:
+        self.errors: list[JobError] = []
+
+    def __len__(self) -> int:
+        return len(self.errors)
+
+    def add(self, e: JobError) -> None:
+        self.errors += e.errors if isinstance(e, JobErrors) else [e]
+
+    @contextmanager
+    def gather(self) -> Iterator[None]:
+        """Run a block; a JobError it raises is recorded and the reading goes on after
+        the block."""
+        try:
+            yield
+        except JobError as e:
+            self.add(e)
+
+    def check(self) -> None:
+        """Raise :class:`JobErrors` when anything was recorded."""
+        if self.errors:
+            raise JobErrors(self.errors)

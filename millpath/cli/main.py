@@ -6,7 +6,8 @@ named ``command``. One error boundary for every command:
 - a failure caused by the input (:class:`MillpathError`, an ``OSError`` reading or
   writing a file the user named, or a command's option or argument click cannot take)
   prints one line ``millpath: error: FILE[:LINE]: message`` (``--option: message``) and
-  exits 1;
+  exits 1; a job file's problems (:class:`JobErrors`) print one such line each, at most
+  ``MAX_SHOWN`` of them and then ``... and N more``;
 - any other exception is a bug in millpath: one line ``millpath: internal error: ...``
   saying so, exit 2;
 - ``--debug`` shows the traceback instead, and every library warning.
@@ -27,7 +28,7 @@ import warnings
 import click
 
 from millpath import __version__
-from millpath.errors import MillpathError, MillpathWarning
+from millpath.errors import JobErrors, MillpathError, MillpathWarning
 
 COMMANDS = ("run", "demo", "check", "simulate", "features", "drop", "fit", "keys", "view")
 
@@ -68,6 +69,9 @@ class _Group(click.Group):
                 _fail(debug, f"error: {_usage(e)}", EXIT_INPUT)
             except (click.exceptions.Exit, click.exceptions.Abort, click.ClickException):
                 raise
+            except JobErrors as e:
+                _fail(debug, "\nmillpath: ".join(f"error: {line}" for line in e.lines()),
+                      EXIT_INPUT)
             except MillpathError as e:
                 _fail(debug, f"error: {e}", EXIT_INPUT)
             except OSError as e:

@@ -2,8 +2,9 @@
 against small schemas, with errors naming key and file.
 
 A schema maps each allowed key to a :class:`Param`. Unknown keys, missing required
-keys, wrong types, NaN and out-of-range values raise :class:`JobError`; no number may be
-larger than :data:`~millpath.model.limits.MAX_COORDINATE`.
+keys, wrong types, NaN and out-of-range values are each a :class:`JobError`; a table's
+are all found in one pass. No number may be larger than
+:data:`~millpath.model.limits.MAX_COORDINATE`.
 """
 
 from __future__ import annotations
@@ -15,7 +16,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable
 
-from millpath.errors import JobError
+from millpath.errors import JobError, JobErrors, Problems
 from millpath.model.limits import MAX_DIGITS, MAX_NESTING, check_coordinate
 
 REQUIRED = object()
@@ -90,76 +91,94 @@ def _floats(v: Any, key: str, file: str | None) -> list[float]:
 
 
 def validate(table: Any, schema: dict[str, Param], where: str, file: str | Path | None,
-             base_dir: Path | None = None) -> dict[str, Any]:
+             base_dir: Path | None = None, problems: Problems | None = None
+             ) -> dict[str, Any]:
     """Check ``table`` against ``schema``; return a dict with defaults filled in.
 
+    Every unknown key, missing key and bad value of the table is found: without
+    ``problems`` they are raised together as :class:`JobErrors`; with it they are
+    recorded there and the bad keys take their default (None when required).
     ``where`` prefixes key names in messages (e.g. ``operations[2]``). Paths (kind
     "path") are resolved relative to ``base_dir``.
     """
     f = str(file) if file is not None else None
     if not isinstance(table, dict):
         raise JobError(f"{where}: expected a table", f)
+    found: list[JobError] = []
     out: dict[str, Any] = {}
     for key in table:
         if key not in schema:
             allowed = ", ".join(sorted(schema))
-            raise JobError(f"{where}.{key}: unknown key (allowed: {allowed})", f)
+            found.append(JobError(f"{where}.{key}: unknown key (allowed: {allowed})", f))
     for key, p in schema.items():
         name = f"{where}.{key}" if where else key
+        default = None if p.default is REQUIRED else p.default
         if key not in table:
             if p.default is REQUIRED:
-                raise JobError(f"{name}: missing required key", f)
-            out[key] = p.default
+                found.append(JobError(f"{name}: missing required key", f))
+            out[key] = default
             continue
-        v = table[key]
-        if p.kind == "float":
-            v = float(_check_number(v, name, p, f))
-        elif p.kind == "int":
-            if not isinstance(v, int) or isinstance(v, bool):
-                raise JobError(f"{name}: expected an integer, got {v!r}", f)
-            _check_number(v, name, p, f)
-        elif p.kind == "bool":
-            if not isinstance(v, bool):
-                raise JobError(f"{name}: expected true or false, got {v!r}", f)
-        elif p.kind in ("str", "path"):
-            if not isinstance(v, str):
-                raise JobError(f"{name}: expected a string, got {v!r}", f)
-            if p.kind == "path":
-                path = Path(v)
-                if not path.is_absolute() and base_dir is not None:
-                    path = base_dir / path
-                v = path
-        elif p.kind == "floats":
-            v = _floats(v, name, f)
-            if p.length is not None and len(v) != p.length:
-                raise JobError(f"{name}: expected {p.length} numbers, got {len(v)}", f)
-            for x in v:
-                if p.positive and x <= 0:
-                    raise JobError(f"{name}: numbers must be positive", f)
-        elif p.kind == "points":
-            if not isinstance(v, list) or not v:
-                raise JobError(f"{name}: expected a list of points", f)
-            pts = []
-            for i, q in enumerate(v):
-                pts.append(_floats(q, f"{name}[{i}]", f))
-                if len(pts[-1]) not in (2, 3):
-                    raise JobError(f"{name}[{i}]: a point has 2 or 3 coordinates", f)
-            v = pts
-        elif p.kind == "list":
-            if not isinstance(v, list):
-                raise JobError(f"{name}: expected a list, got {v!r}", f)
-        elif p.kind == "table":
-            if not isinstance(v, dict):
-                raise JobError(f"{name}: expected a table, got {v!r}", f)
-        if p.choices is not None and v not in p.choices:
-            raise JobError(f"{name}: must be one of {', '.join(map(repr, p.choices))}, "
-                           f"got {v!r}", f)
-        if p.check is not None:
-            msg = p.check(v)
-            if msg:
-                raise JobError(f"{name}: {msg}", f)
-        out[key] = v
+        try:
+            out[key] = _value(table[key], p, name, f, base_dir)
+        except JobError as e:
+            found.append(e)
+            out[key] = default
+    if found and problems is None:
+        raise JobErrors(found)
+    for e in found:
+        problems.add(e)
     return out
+
+
+def _value(v: Any, p: Param, name: str, f: str | None, base_dir: Path | None) -> Any:
+    """The value ``v`` of key ``name`` checked against ``p``; JobError if it is bad."""
+    if p.kind == "float":
+        v = float(_check_number(v, name, p, f))
+    elif p.kind == "int":
+        if not isinstance(v, int) or isinstance(v, bool):
+            raise JobError(f"{name}: expected an integer, got {v!r}", f)
+        _check_number(v, name, p, f)
+    elif p.kind == "bool":
+        if not isinstance(v, bool):
+            raise JobError(f"{name}: expected true or false, got {v!r}", f)
+    elif p.kind in ("str", "path"):
+        if not isinstance(v, str):
+            raise JobError(f"{name}: expected a string, got {v!r}", f)
+        if p.kind == "path":
+            path = Path(v)
+            if not path.is_absolute() and base_dir is not None:
+                path = base_dir / path
+            v = path
+    elif p.kind == "floats":
+        v = _floats(v, name, f)
+        if p.length is not None and len(v) != p.length:
+            raise JobError(f"{name}: expected {p.length} numbers, got {len(v)}", f)
+        for x in v:
+            if p.positive and x <= 0:
+                raise JobError(f"{name}: numbers must be positive", f)
+    elif p.kind == "points":
+        if not isinstance(v, list) or not v:
+            raise JobError(f"{name}: expected a list of points", f)
+        pts = []
+        for i, q in enumerate(v):
+            pts.append(_floats(q, f"{name}[{i}]", f))
+            if len(pts[-1]) not in (2, 3):
+                raise JobError(f"{name}[{i}]: a point has 2 or 3 coordinates", f)
+        v = pts
+    elif p.kind == "list":
+        if not isinstance(v, list):
+            raise JobError(f"{name}: expected a list, got {v!r}", f)
+    elif p.kind == "table":
+        if not isinstance(v, dict):
+            raise JobError(f"{name}: expected a table, got {v!r}", f)
+    if p.choices is not None and v not in p.choices:
+        raise JobError(f"{name}: must be one of {', '.join(map(repr, p.choices))}, "
+                       f"got {v!r}", f)
+    if p.check is not None:
+        msg = p.check(v)
+        if msg:
+            raise JobError(f"{name}: {msg}", f)
+    return v
 
 
 #: what the TOML bounds scan stops at: string and comment openings, brackets, line ends

@@ -15,7 +15,7 @@ from typing import Any
 
 import tomli_w
 
-from millpath.errors import JobError
+from millpath.errors import JobError, Problems
 from millpath.io.schema import Param, parse_toml, validate
 from millpath.model.limits import (MAX_COORDINATE, Limits, check_length,
                                    check_tool_diameter)
@@ -47,56 +47,67 @@ TOOL = {
 
 
 def tools_from_tables(tables: Any, file: str | Path | None = None,
-                      units: str = "mm", limits: Limits | None = None) -> dict[int, Tool]:
+                      units: str = "mm", limits: Limits | None = None,
+                      problems: Problems | None = None) -> dict[int, Tool]:
     """Validate a list of ``[[tools]]`` tables and build Tools keyed by number: diameters
     within :data:`~millpath.model.limits.TOOL_DIAMETER`, the tool's whole length
     (stick-out and holder) and the holder's diameters within ``limits.max_extent``
-    (default: the units' own)."""
+    (default: the units' own). With ``problems``, each tool's problems are recorded
+    there and the other tools are read on; without, the first raises."""
     limits = limits or Limits.default_for(units)
     if not isinstance(tables, list):
         raise JobError("tools: expected an array of tables [[tools]]", file)
     out: dict[int, Tool] = {}
     for i, t in enumerate(tables):
-        where = f"tools[{i}]"
-        v = validate(t, TOOL, where, file)
-        holder = []
-        for j, h in enumerate(v["holder"]):
-            if (not isinstance(h, list) or len(h) != 2
-                    or not all(isinstance(x, (int, float)) and not isinstance(x, bool)
-                               and 0 < x <= MAX_COORDINATE for x in h)):
-                raise JobError(f"{where}.holder[{j}]: expected [diameter, length], each > 0 "
-                               f"and at most {MAX_COORDINATE:g}", file)
-            holder.append((float(h[0]), float(h[1])))
-        if v["number"] in out:
-            raise JobError(f"{where}.number: tool {v['number']} is defined twice", file)
-        d = v["diameter"]
-        bad = check_tool_diameter(d, units)
-        if bad:
-            raise JobError(f"{where}.diameter: {bad}", file)
-        scale = 25.4 if units == "mm" else 1.0
-        flute = v["flute_length"] or max(3.0 * d, 0.5 * scale)
-        stick = v["stickout"] or max(flute + 0.2 * scale, 1.5 * flute)
-        for key, value, what in (
-                ("stickout", stick, "stick-out"),
-                ("length", v["length"] or 0.0, "tool length"),
-                ("holder", stick + sum(h[1] for h in holder), "tool and holder length"),
-                ("holder", max((h[0] for h in holder), default=0.0), "holder diameter"),
-                ("shank_diameter", v["shank_diameter"] or 0.0, "shank diameter")):
-            bad = check_length(value, units, limits.max_extent, what)
-            if bad:
-                raise JobError(f"{where}.{key}: {bad}", file)
-        try:
-            out[v["number"]] = Tool(
-                number=v["number"], type=v["type"], diameter=d,
-                corner_radius=v["corner_radius"], flutes=v["flutes"], flute_length=flute,
-                stickout=stick, holder=holder, material=v["material"],
-                point_angle=v["point_angle"], shank_diameter=v["shank_diameter"],
-                length=v["length"], comment=v["comment"])
-        except ValueError as e:
-            raise JobError(f"{where}: {e}", file) from None
-        if flute > stick:
-            raise JobError(f"{where}.flute_length: longer than the stickout", file)
+        if problems is None:
+            _tool(t, f"tools[{i}]", out, file, units, limits)
+            continue
+        with problems.gather():
+            _tool(t, f"tools[{i}]", out, file, units, limits)
     return out
+
+
+def _tool(t: Any, where: str, out: dict[int, Tool], file: str | Path | None, units: str,
+          limits: Limits) -> None:
+    """Validate one ``[[tools]]`` table and add its Tool to ``out``."""
+    v = validate(t, TOOL, where, file)
+    holder = []
+    for j, h in enumerate(v["holder"]):
+        if (not isinstance(h, list) or len(h) != 2
+                or not all(isinstance(x, (int, float)) and not isinstance(x, bool)
+                           and 0 < x <= MAX_COORDINATE for x in h)):
+            raise JobError(f"{where}.holder[{j}]: expected [diameter, length], each > 0 "
+                           f"and at most {MAX_COORDINATE:g}", file)
+        holder.append((float(h[0]), float(h[1])))
+    if v["number"] in out:
+        raise JobError(f"{where}.number: tool {v['number']} is defined twice", file)
+    d = v["diameter"]
+    bad = check_tool_diameter(d, units)
+    if bad:
+        raise JobError(f"{where}.diameter: {bad}", file)
+    scale = 25.4 if units == "mm" else 1.0
+    flute = v["flute_length"] or max(3.0 * d, 0.5 * scale)
+    stick = v["stickout"] or max(flute + 0.2 * scale, 1.5 * flute)
+    for key, value, what in (
+            ("stickout", stick, "stick-out"),
+            ("length", v["length"] or 0.0, "tool length"),
+            ("holder", stick + sum(h[1] for h in holder), "tool and holder length"),
+            ("holder", max((h[0] for h in holder), default=0.0), "holder diameter"),
+            ("shank_diameter", v["shank_diameter"] or 0.0, "shank diameter")):
+        bad = check_length(value, units, limits.max_extent, what)
+        if bad:
+            raise JobError(f"{where}.{key}: {bad}", file)
+    try:
+        out[v["number"]] = Tool(
+            number=v["number"], type=v["type"], diameter=d,
+            corner_radius=v["corner_radius"], flutes=v["flutes"], flute_length=flute,
+            stickout=stick, holder=holder, material=v["material"],
+            point_angle=v["point_angle"], shank_diameter=v["shank_diameter"],
+            length=v["length"], comment=v["comment"])
+    except ValueError as e:
+        raise JobError(f"{where}: {e}", file) from None
+    if flute > stick:
+        raise JobError(f"{where}.flute_length: longer than the stickout", file)
 
 
 def read_tool_library(path: str | Path, units: str = "mm") -> dict[int, Tool]:

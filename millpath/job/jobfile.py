@@ -28,9 +28,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from millpath.errors import JobError
+from millpath.errors import JobError, Problems
 from millpath.io.toollib import tools_from_tables
 from millpath.io.schema import Param, parse_toml, validate
+from millpath.io.tomllines import place
 from millpath.model import Machine, Stock, Tool
 from millpath.model.limits import (Limits, check_cells, check_tolerance, count_needed,
                                    MAX_TOLERANCE)
@@ -140,48 +141,36 @@ class Job:
 
 
 def load_job(path: str | Path) -> Job:
-    """Read a job file; raise JobError naming the file and key on any problem."""
+    """Read a job file; raise JobError naming the file and key on any problem, or
+    JobErrors naming every problem found, each at the line of its key."""
     p = Path(path)
     text = read_text(p, "job file", JobError)
     data = parse_toml(text, p)
-    return job_from_dict(data, p)
+    try:
+        return job_from_dict(data, p)
+    except JobError as e:
+        raise place(e, text) from None
 
 
 def job_from_dict(data: dict, path: Path | None = None) -> Job:
+    """The job of a parsed job file; every unknown key, wrong type and out-of-range
+    value is found and raised together (JobErrors)."""
     base = path.parent if path else Path.cwd()
-    top = validate(data, TOP, "", path, base)
-    units = top["units"]
+    problems = Problems()
+    top = validate(data, TOP, "", path, base, problems)
+    units = top["units"] or "mm"
     limits = Limits.default_for(units)
-    if top["limits"] is not None:
-        lim = validate(top["limits"], LIMITS, "limits", path)
-        bad = Limits.raised(lim)
-        if bad:
-            raise JobError(f"limits.{bad[0]}: {bad[1]}", path)
-        limits = Limits(**{k: lim[k] if lim[k] is not None else getattr(limits, k)
-                           for k in Limits.keys()})
+    with problems.gather():
+        if top["limits"] is not None:
+            limits = _limits(validate(top["limits"], LIMITS, "limits", path), limits, path)
     stock = None
-    if top["stock"] is not None:
-        st = validate(top["stock"], STOCK, "stock", path)
-        if (st["box"] is None) == (st["cylinder"] is None):
-            raise JobError("stock: give either box = [...] or cylinder = [...]", path)
-        key = "box" if st["box"] is not None else "cylinder"
-        try:
-            if key == "box":
-                stock = Stock.from_box(st["box"])
-            else:
-                cx, cy, d, z0, z1 = st["cylinder"]
-                stock = Stock.from_cylinder(cx, cy, d / 2.0, z0, z1)
-        except ValueError as e:
-            raise JobError(f"stock.{key}: {e}", path) from None
-        side = max(stock.size)
-        if side > limits.max_extent:
-            raise JobError(f"stock.{key}: a side of {side:g} {units} is larger than the "
-                           f"{limits.max_extent:g} {units} limit (wrong units? raise "
-                           f"[limits] max_extent if the machine is that big)", path)
+    with problems.gather():
+        if top["stock"] is not None:
+            stock = _stock(validate(top["stock"], STOCK, "stock", path), limits, units, path)
     machine = Machine.default_for(units)
     machine_units = ""
     if top["machine"] is not None:
-        m = validate(top["machine"], MACHINE, "machine", path)
+        m = validate(top["machine"], MACHINE, "machine", path, problems=problems)
         machine = Machine(rapid=m["rapid"] or machine.rapid,
                           max_feed=m["max_feed"] or machine.max_feed,
                           acceleration=m["acceleration"] or machine.acceleration)
@@ -189,40 +178,91 @@ def job_from_dict(data: dict, path: Path | None = None) -> Job:
     if top["fit_tolerance"] is not None:
         bad = check_tolerance(top["fit_tolerance"], units)
         if bad:
-            raise JobError(f"fit_tolerance: {bad}", path)
-    sim = validate(top["simulation"] or {}, SIMULATION, "simulation", path, base)
+            problems.add(JobError(f"fit_tolerance: {bad}", path))
+    sim = validate(top["simulation"] or {}, SIMULATION, "simulation", path, base, problems)
     if sim["resolution"] is not None and stock is not None:
         bad = check_cells(stock.size[0], stock.size[1], sim["resolution"], limits.max_cells)
         if bad:
-            raise JobError(f"simulation.resolution: {bad}", path)
-    post = validate(top["post"] or {}, POST, "post", path, base)
+            problems.add(JobError(f"simulation.resolution: {bad}", path))
+    post = validate(top["post"] or {}, POST, "post", path, base, problems)
     for key in ("preamble", "postamble"):
-        _check_gcode(post[key], f"post.{key}", path)
-    tools = tools_from_tables(top["tools"], path, units, limits)
+        with problems.gather():
+            _check_gcode(post[key], f"post.{key}", path)
+    tools: dict[int, Tool] = {}
+    before = len(problems)
+    if top["tools"] is not None:
+        tools = tools_from_tables(top["tools"], path, units, limits, problems)
+    tools_read = len(problems) == before      # every tool read: tool numbers are checkable
     ops = []
-    if not top["operations"]:
-        raise JobError("operations: a job needs at least one [[operations]] entry", path)
-    for i, op in enumerate(top["operations"]):
-        where = f"operations[{i}]"
-        if not isinstance(op, dict):
-            raise JobError(f"{where}: expected a table", path)
-        if "type" not in op:
-            raise JobError(f"{where}.type: missing required key", path)
-        mod = strategy(op["type"], where, path)
-        body = renamed(op["type"], {k: v for k, v in op.items() if k != "type"}, i, path)
-        params = validate(body, mod.PARAMS, where, path, base)
-        if "tool" in params and isinstance(params["tool"], int) and params["tool"] not in tools:
-            raise JobError(f"{where}.tool: tool {params['tool']} is not in the job's [[tools]]",
-                           path)
-        _check_work(params, stock, limits, units, where, path)
-        _check_scale(params, tools, sim["resolution"], units, where, path)
-        ops.append((op["type"], params))
+    if not top["operations"] and top["operations"] is not None:
+        problems.add(JobError("operations: a job needs at least one [[operations]] entry",
+                              path))
+    for i, op in enumerate(top["operations"] or []):
+        with problems.gather():
+            params = _operation(op, i, path, base, problems)
+            if params is None:
+                continue
+            where = f"operations[{i}]"
+            if tools_read and isinstance(params.get("tool"), int) \
+                    and params["tool"] not in tools:
+                raise JobError(f"{where}.tool: tool {params['tool']} is not in the job's "
+                               f"[[tools]]", path)
+            _check_work(params, stock, limits, units, where, path)
+            _check_scale(params, tools, sim["resolution"], units, where, path)
+            ops.append((op["type"], params))
+    problems.check()
     default_tol = default("path_tolerance", units)
     return Job(path=path, units=units, name=top["name"] or (path.stem if path else "job"),
                stock=stock, machine=machine, tools=tools, operations=ops, fit=top["fit"],
                fit_tolerance=top["fit_tolerance"] or default_tol, simulation=sim,
                limits=limits, reference=top["reference"], machine_units=machine_units,
                post=post)
+
+
+def _operation(op: Any, i: int, path: Path | None, base: Path,
+               problems: Problems) -> dict[str, Any] | None:
+    """The validated keys of operation ``i``; None when it has problems (recorded)."""
+    where = f"operations[{i}]"
+    if not isinstance(op, dict):
+        raise JobError(f"{where}: expected a table", path)
+    if "type" not in op:
+        raise JobError(f"{where}.type: missing required key", path)
+    mod = strategy(op["type"], where, path)
+    before = len(problems)
+    body = renamed(op["type"], mod.PARAMS, {k: v for k, v in op.items() if k != "type"},
+                   i, path, problems)
+    params = validate(body, mod.PARAMS, where, path, base, problems)
+    return params if len(problems) == before else None
+
+
+def _limits(lim: dict[str, Any], limits: Limits, path: Path | None) -> Limits:
+    """The job's [limits] over the units' defaults; none may be raised past its cap."""
+    bad = Limits.raised(lim)
+    if bad:
+        raise JobError(f"limits.{bad[0]}: {bad[1]}", path)
+    return Limits(**{k: lim[k] if lim[k] is not None else getattr(limits, k)
+                     for k in Limits.keys()})
+
+
+def _stock(st: dict[str, Any], limits: Limits, units: str, path: Path | None) -> Stock:
+    """The [stock] block or bar, within the limits' extent."""
+    if (st["box"] is None) == (st["cylinder"] is None):
+        raise JobError("stock: give either box = [...] or cylinder = [...]", path)
+    key = "box" if st["box"] is not None else "cylinder"
+    try:
+        if key == "box":
+            stock = Stock.from_box(st["box"])
+        else:
+            cx, cy, d, z0, z1 = st["cylinder"]
+            stock = Stock.from_cylinder(cx, cy, d / 2.0, z0, z1)
+    except ValueError as e:
+        raise JobError(f"stock.{key}: {e}", path) from None
+    side = max(stock.size)
+    if side > limits.max_extent:
+        raise JobError(f"stock.{key}: a side of {side:g} {units} is larger than the "
+                       f"{limits.max_extent:g} {units} limit (wrong units? raise "
+                       f"[limits] max_extent if the machine is that big)", path)
+    return stock
 
 
 def _check_work(params: dict[str, Any], stock: Stock | None, limits: Limits, units: str,

@@ -100,11 +100,15 @@ def markdown() -> str:
             cells = [f"`{k.name}`", k.kind, k.default, k.unit, k.doc]
             lines.append("| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |")
         lines.append("")
+    from millpath.plan.registry import STRATEGIES, strategy
     lines += ["## Renamed keys", "",
-              "Old names still accepted, with a deprecation warning naming the new key "
-              "(giving both is an error).", "",
-              "| operation | old key | new key |", "|---|---|---|"]
-    for op, table in sorted(RENAMED.items()):
-        lines += [f"| {op} | `{old}` | `{new}` |" for old, new in table.items()]
+              "Old names mean their new names in every operation type: accepted with a "
+              "deprecation warning naming the new key where the type takes the new key "
+              "(giving both is an error), refused naming the new key where it does not. "
+              "An old name that is a key of its own in a type keeps that meaning there.", "",
+              "| old key | new key | a key of its own in |", "|---|---|---|"]
+    for old, new in RENAMED.items():
+        own = ", ".join(n for n in sorted(STRATEGIES) if old in strategy(n).PARAMS)
+        lines.append(f"| `{old}` | `{new}` | {own or '-'} |")
     lines.append("")
     return "\n".join(lines)

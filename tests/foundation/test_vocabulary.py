@@ -1,6 +1,7 @@
-"""One vocabulary (issue 23.2): every renamed key's old name is still accepted, with a
-one-line deprecation warning naming the new key, and gives the same validated value as
-the new name; giving both names is an error naming both."""
+"""One vocabulary: every renamed key's old name means its new name in every operation
+type: accepted with a one-line deprecation warning naming the new key where the type
+takes the new key (the same validated value), refused naming the new key where it does
+not; giving both names is an error naming both."""
 
 from __future__ import annotations
 
@@ -8,7 +9,7 @@ import warnings
 
 import pytest
 
-from millpath.errors import JobError, MillpathWarning
+from millpath.errors import JobError, JobErrors, MillpathWarning
 from millpath.job.jobfile import job_from_dict
 from millpath.job.vocabulary import RENAMED
 from millpath.plan.registry import STRATEGIES, strategy
@@ -35,16 +36,61 @@ def _job(op: dict) -> dict:
 
 
 def _cases():
-    for op_type, table in sorted(RENAMED.items()):
-        for old, new in table.items():
-            yield op_type, old, new
+    """(type, old, new) of each type in BASE that takes the new key."""
+    for op_type in sorted(BASE):
+        params = strategy(op_type).PARAMS
+        for old, new in RENAMED.items():
+            if new in params and old not in params:
+                yield op_type, old, new
 
 
 def test_renamed_keys_are_new_names_of_existing_keys():
-    for op_type, old, new in _cases():
-        assert op_type in STRATEGIES
-        params = strategy(op_type).PARAMS
-        assert new in params and old not in params, (op_type, old, new)
+    for old, new in RENAMED.items():
+        types = [t for t in STRATEGIES if new in strategy(t).PARAMS]
+        assert types, (old, new)
+        for op_type in types:
+            assert old not in strategy(op_type).PARAMS or (op_type, old) == ("features",
+                                                                             "step")
+
+
+def _outcome(op: dict, tmp_path) -> tuple[list[str], list[str], dict | None]:
+    """(error messages, warnings, validated operation or None) of a job of ``op``."""
+    with warnings.catch_warnings(record=True) as got:
+        warnings.simplefilter("always")
+        try:
+            job = job_from_dict(_job(op), tmp_path / "job.toml")
+        except JobErrors as e:
+            return [x.message for x in e.errors], [str(w.message) for w in got], None
+    return [], [str(w.message) for w in got], job.operations[0][1]
+
+
+@pytest.mark.parametrize("op_type", sorted(STRATEGIES))
+@pytest.mark.parametrize("old,new", sorted(RENAMED.items()))
+def test_an_old_name_is_its_new_name_in_every_operation_type(op_type, old, new, tmp_path):
+    params = strategy(op_type).PARAMS
+    if old in params:
+        pytest.skip(f"'{old}' is a key of its own in {op_type}")
+    value = VALUE[new]
+    errs_new, warned_new, got_new = _outcome({"type": op_type, new: value}, tmp_path)
+    errs_old, warned_old, got_old = _outcome({"type": op_type, old: value}, tmp_path)
+    assert not warned_new
+    if new in params:
+        assert errs_old == errs_new and got_old == got_new
+        assert warned_old == [f"{tmp_path / 'job.toml'}: [operation 1] '{old}' is "
+                              f"deprecated; use '{new}'"]
+    else:
+        unknown = f"operations[0].{new}: unknown key"
+        assert [e for e in errs_new if e.startswith(unknown)]
+        assert [e for e in errs_new if not e.startswith(unknown)] == \
+            [e for e in errs_old if not e.startswith(f"operations[0].{old}:")]
+        assert f"operations[0].{old}: '{old}' is now '{new}', which {op_type} operations " \
+               f"do not take" in errs_old
+        assert not warned_old
+
+
+def test_features_keeps_step_for_its_step_file(tmp_path):
+    errs, warned, got = _outcome({"type": "features", "step": "part.stp"}, tmp_path)
+    assert not errs and not warned and got["step"] == tmp_path / "part.stp"
 
 
 @pytest.mark.parametrize("op_type,old,new", list(_cases()))
@@ -73,7 +119,7 @@ def test_both_names_is_an_error_naming_both(op_type, old, new, tmp_path):
     with pytest.raises(JobError) as e:
         job_from_dict(_job(op), tmp_path / "job.toml")
     assert f"'{old}'" in e.value.message and f"'{new}'" in e.value.message
-    assert e.value.message.startswith("operations[0]:")
+    assert e.value.message.startswith(f"operations[0].{old}:")
 
 
 def test_warning_is_one_line_on_the_command_line(tmp_path):
@@ -93,6 +139,7 @@ def test_warning_is_one_line_on_the_command_line(tmp_path):
     assert p.returncode == 1 and not (tmp_path / "out").exists()
     assert lines == [f"millpath: warning: {job}: [operation 1] 'step_down' is deprecated; "
                      f"use 'stepdown'",
-                     f"millpath: error: {job}: operations[1]: 'step_down' and 'stepdown' "
+                     f"millpath: error: {job}:23: operations[1].step_down: 'step_down' and "
+                     f"'stepdown' "
                      f"are the same key ('step_down' is the deprecated name); give only "
                      f"'stepdown'"]
