@@ -574,9 +574,10 @@ def _worker(conn, name: str, memory: int, folder: str, warm: bool) -> None:
             reader.read(path)
             result = ("ok", "")
         except MillpathError as e:
-            msg = str(e)
-            result = ("error" if "\n" not in msg.strip() else "crash",
-                      "multi-line message: " + msg)
+            # a job file's problems are several errors, each of one line
+            msgs = [str(x) for x in getattr(e, "errors", [e])]
+            result = ("error" if not any("\n" in m.strip() for m in msgs) else "crash",
+                      "multi-line message: " + "\n".join(msgs))
         except MemoryError:
             result = ("memory", "MemoryError")
         except CommandFailed as e:
