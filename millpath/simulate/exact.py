@@ -15,6 +15,7 @@ the motion's for that; the material left is exact (to ``accuracy``) at sample po
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Callable
 
 import numpy as np
 
@@ -202,13 +203,18 @@ class _LeftState:
 def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
                  references: list[Reference], *, motion_op: np.ndarray | None = None,
                  accuracy: float = 0.001, spacing: float | None = None,
-                 block: int = MOTION_BLOCK) -> ExactResult:
+                 block: int = MOTION_BLOCK,
+                 progress: Callable[[int, int], None] | None = None) -> ExactResult:
     """Gouge and material left of ``motions`` against ``references`` (see the module
     doc). ``motion_op`` gives each motion's operation (default all 0). Material left is
     measured up to twice the largest tool diameter (more is reported as that). ``spacing`` is
     the distance between material-left sample points (default a quarter of the
     smallest tool radius). Chords are made ``block`` motions at a time, so memory does
-    not grow with the program's length."""
+    not grow with the program's length. ``progress(done, total)`` is called before each
+    block with the motions checked so far (a second pass over the chords, when
+    material-left rays need their whole length, counts the motions again) and last,
+    after the material left is measured, with done = total."""
+    tick = progress or (lambda done, total: None)
     nm = len(motions)
     mop = np.zeros(nm, np.int64) if motion_op is None else np.asarray(motion_op, np.int64)
     numbers = sorted({int(m.tool) for m in motions if m.tool != 0 and m.kind != "dwell"})
@@ -249,6 +255,8 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
     nblocks, only = 0, None     # a program of one block keeps it for the second pass
     for ch, grp, cidx in _chord_blocks(motions, mop, lut, chord, block, accuracy, group_len,
                                        shapes):
+        tick(nm - 1 - int(ch.motion.max()), nm)     # the motions after it (blocks come
+                                                    # last first)
         nchords += len(ch.S)
         nblocks += 1
         only = (ch, grp, cidx) if nblocks == 1 else None
@@ -289,6 +297,8 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
             # material left on this reference, by all cutting chords: the rays near
             # the design first
             _shorten(st, np.arange(len(st.pts)), ch, cidx, shapes, accuracy)
+    tick(nm, nm)
+    total = nm
     if worst is not None:
         S, E, slot, dv, tri, idx, res, w, o = worst
         _, X = locate(S, E, slot, shapes, tri, res, 0, accuracy, idx, dv)
@@ -306,7 +316,9 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
     if any(len(f) for f in far):
         again = [only] if only is not None else _chord_blocks(motions, mop, lut, chord, block,
                                                                accuracy, group_len, shapes)
+        total = 2 * nm
         for ch, _, cidx in again:
+            tick(total - 1 - int(ch.motion.max()), total)
             for st, f in zip(states, far):
                 if len(f):
                     _shorten(st, f, ch, cidx, shapes, accuracy)
@@ -335,6 +347,7 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
             l_at = {"x": float(X[0]), "y": float(X[1]), "z": float(X[2]),
                     "line": int(motions[w].line) if w >= 0 else None,
                     "operation": int(mop[w]) if w >= 0 else None}
+    tick(total, total)
     gouging = motion_g > accuracy
     op_g: dict[int, float] = {}
     op_n: dict[int, int] = {}

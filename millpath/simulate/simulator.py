@@ -290,8 +290,9 @@ def _lift_start(motions: list[Motion], stock: Stock) -> list[Motion]:
 
 
 def _exact(res: SimResult, motions, tools, stock, design, references, motion_op,
-           accuracy) -> SimResult:
-    """Run the grid-free check (when a design or references are given) into ``res``."""
+           accuracy, progress: "bool | Progress" = False) -> SimResult:
+    """Run the grid-free check (when a design or references are given) into ``res``,
+    with a bar of the motions checked."""
     nm = len(motions)
     mop = np.zeros(nm, np.int64) if motion_op is None else np.asarray(motion_op, np.int64)
     res.motion_op = mop
@@ -302,8 +303,11 @@ def _exact(res: SimResult, motions, tools, stock, design, references, motion_op,
         size = min([tools[t].radius / 2 for t in used] + [max(stock.size[:2]) / 64])
         references = [Reference(design_triangles(design, stock, accuracy, size), "design")]
     if references:
-        res.exact = verify_exact(motions, tools, stock, references, motion_op=mop,
-                                 accuracy=accuracy)
+        bars = progress if isinstance(progress, Progress) else Progress(bool(progress))
+        with bars.task("verifying exactly: motions checked", total=nm) as bar:
+            res.exact = verify_exact(
+                motions, tools, stock, references, motion_op=mop, accuracy=accuracy,
+                progress=lambda done, total: bar.update(completed=done, total=total))
         ga, la = res.exact.gouge_at, res.exact.left_at
         res.gouge_at = (ga["x"], ga["y"]) if ga else None
         res.left_at = (la["x"], la["y"]) if la else None
@@ -345,7 +349,8 @@ def simulate_motions(motions: list[Motion], tools: dict[int, Tool], stock: Stock
         times = motion_times(motions, machine, corner_angle=corner_angle)
     res = _finish(zmap, design, motions, flags, times, resolution, lines, nseg)
     res.rapid_hit, res.holder_hit = flags
-    return _exact(res, motions, tools, stock, design, references, motion_op, accuracy)
+    return _exact(res, motions, tools, stock, design, references, motion_op, accuracy,
+                  progress)
 
 
 def sweep_motions(zmap: ZMap, motions: list[Motion], tools: dict[int, Tool],
@@ -407,7 +412,7 @@ def simulate_toolpath(toolpath: Toolpath, tools: dict[int, Tool], stock: Stock, 
     res.per_operation = times_by_operation(toolpath, src, times)
     res.rapid_hit, res.holder_hit = rapid_hit, holder_hit
     _exact(res, motions, tools, stock, design, None,
-           np.array([toolpath.moves[i].op for i in src], np.int64), accuracy)
+           np.array([toolpath.moves[i].op for i in src], np.int64), accuracy, progress)
     # by_operation counts toolpath moves like the totals
     mop = np.array([m.op for m in toolpath.moves], np.int64)
     res.motion_op, res.rapid_hit, res.holder_hit = mop, rm[:nm], hm[:nm]
