@@ -27,27 +27,39 @@ from typing import Iterator
 
 
 class _Task:
-    def __init__(self, bar, task_id, label: str):
+    """One bar. Its count never shows more done than the total: an estimate found low
+    is raised to the count; a task that ends normally ends at count/count (the work it
+    did is all there was)."""
+
+    def __init__(self, bar, task_id, label: str, total: float | None):
         self._bar = bar
         self._id = task_id
         self._label = label
+        self.completed = 0.0
+        self.total = total
 
     def advance(self, n: float = 1.0) -> None:
-        if self._bar is not None:
-            self._bar.advance(self._id, n)
+        self.update(completed=self.completed + n)
 
     def update(self, *, completed: float | None = None, total: float | None = None,
                info: str | None = None) -> None:
         if self._bar is None:
             return
-        kw = {}
         if completed is not None:
-            kw["completed"] = completed
+            self.completed = completed
         if total is not None:
-            kw["total"] = total
+            self.total = total
+        if self.total is not None and self.completed > self.total:
+            self.total = self.completed
+        kw = {"completed": self.completed, "total": self.total}
         if info is not None:
             kw["description"] = f"{self._label} [dim]{info}[/]"
         self._bar.update(self._id, **kw)
+
+    def finish(self) -> None:
+        """The true final state: everything counted was the whole task."""
+        if self._bar is not None:
+            self._bar.update(self._id, completed=self.completed, total=self.completed)
 
 
 class Progress:
@@ -74,14 +86,17 @@ class Progress:
 
     @contextmanager
     def task(self, label: str, total: float | None = None) -> Iterator[_Task]:
-        """A bar for one step; ``total`` may be an estimate (updated later) or None."""
+        """A bar for one step; ``total`` may be an estimate (updated later) or None.
+        When the step ends normally the bar shows count/count."""
         if not self.enabled:
-            yield _Task(None, None, label)
+            yield _Task(None, None, label, total)
             return
         bar = self._open()
         tid = bar.add_task(label, total=total)
         try:
-            yield _Task(bar, tid, label)
+            task = _Task(bar, tid, label, total)
+            yield task
+            task.finish()
         finally:
             self._close()
 

@@ -51,9 +51,9 @@ def command(outdir: Path, only: str | None) -> None:
     failures = 0
     refused: list[str] = []
     views: list[tuple[str, Path]] = []
-    for job in jobs:
+    for k, job in enumerate(jobs, 1):
         name = job.parent.name
-        console.print(f"[bold]{name}[/] ...")
+        console.print(f"[bold]{name}[/] ({k} of {len(jobs)}) ...")
         from millpath.verify.gate import UnsafeProgramError
         try:
             res = run_job(job, outdir / name, progress=True)

@@ -30,6 +30,8 @@ The design handed to the simulator is the tessellated surface as a height field.
 
 from __future__ import annotations
 
+from contextlib import nullcontext
+
 import numpy as np
 
 from millpath.errors import JobError, PlanningError
@@ -168,11 +170,13 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
             on_level=(lambda n, z: bar.update(completed=n, info=f"z {z:.4g}"))
             if bar else None)
 
+    # a bar only for what the strategy runs (a zigzag has no waterline levels)
+    zz_bar = (prog.task(f"{params['name']}: zigzag pass lines", total=est.pass_lines or None)
+              if strategy != "waterline" else nullcontext())
+    wl_bar = (prog.task(f"{params['name']}: waterline levels", total=est.levels or None)
+              if strategy != "zigzag" else nullcontext())
     try:
-        with prog.task(f"{params['name']}: zigzag pass lines",
-                       total=est.pass_lines or None) as zbar, \
-                prog.task(f"{params['name']}: waterline levels", total=est.levels or None) \
-                as wbar:
+        with zz_bar as zbar, wl_bar as wbar:
             if strategy == "zigzag":
                 res = run(params["side_step"], zbar)
             elif strategy == "waterline":
