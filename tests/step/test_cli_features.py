@@ -68,3 +68,13 @@ def test_names_with_brackets_are_printed_verbatim(tmp_path):
     r = CliRunner().invoke(cli, ["features", str(tmp_path / "b.stp")])
     assert r.exit_code == 0, r.output
     assert "material: steel [S235] /bold" in r.output and "[red]hole" in r.output
+
+
+@pytest.mark.parametrize("setup", ["inf", "-1e308", "mm", "+z "])
+def test_a_setup_that_is_no_axis_is_one_line(setup):
+    """A --setup that names no axis of the stock is one error line naming the file."""
+    part = FIXTURES / "slots_pockets.stp"
+    r = CliRunner().invoke(cli, ["features", str(part), "--setup", setup])
+    assert r.exit_code == 1, r.output
+    lines = r.output.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith(f"millpath: error: {part}: setup: one of")

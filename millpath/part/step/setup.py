@@ -32,6 +32,9 @@ def turned(part: Part, setup: str) -> Part:
     its side."""
     if setup == "+Z":
         return part
+    if setup not in ROTATION:
+        raise Ap224Error(f"setup: one of {', '.join(ROTATION)} expected, "
+                         f"not {setup!r}", part.file)
     r = ROTATION[setup]
     st = part.stock
     if st is None:
