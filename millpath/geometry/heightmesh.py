@@ -35,10 +35,15 @@ def _h(design, x, y, floor):
 def height_field_mesh(design, box: tuple[float, float, float, float], *, size: float,
                       min_size: float, flat_tol: float, floor: float,
                       slope: float = 4.0, max_cells: int = 4_000_000,
-                      merge: bool = False) -> np.ndarray:
+                      merge: bool = False, wall_size: float | None = None) -> np.ndarray:
     """Triangles (n, 3, 3) of ``design`` over ``box`` = (xmin, ymin, xmax, ymax);
     ``merge``: each height's horizontal triangles merged into few (see
-    :func:`millpath.geometry.flatmerge.merge_horizontal`)."""
+    :func:`millpath.geometry.flatmerge.merge_horizontal`). ``wall_size`` (default
+    ``min_size``): a smallest cell holding a jump (corners apart by more than
+    ``slope * min_size``) that cannot be cut as one wall is split further, down to cells
+    of at most ``wall_size``, before it becomes a ramp; a ramp is then off the design by
+    at most the diagonal of such a cell."""
+    wall_size = min_size if wall_size is None else min(float(wall_size), min_size)
     x0, y0, x1, y1 = map(float, box)
     nx = max(1, int(math.ceil((x1 - x0) / size)))
     ny = max(1, int(math.ceil((y1 - y0) / size)))
@@ -68,13 +73,20 @@ def height_field_mesh(design, box: tuple[float, float, float, float], *, size: f
         size_ = np.maximum(cw, ch)
         rough = (dev > flat_tol) | (spread > slope * size_)
         split = rough & (size_ > min_size)
-        keep = ~split
-        walls = np.flatnonzero(rough & keep)
+        walls = np.flatnonzero(rough & ~split)
+        handled = np.zeros(0, np.int64)
         if len(walls):
             wt, done = _wall_cells(design, X[walls], Y[walls], Z[walls], cw[walls],
                                    ch[walls], floor, flat_tol, slope)
             out.append(wt)
-            keep[walls[done]] = False
+            handled = walls[done]
+            # a jump not cut as one wall (a corner, two walls, a side off its triangles):
+            # smaller cells, down to wall_size
+            rest = walls[~done]
+            split[rest[(size_[rest] > wall_size * (1 + 1e-9))
+                       & (spread[rest] > slope * min_size)]] = True
+        keep = ~split
+        keep[handled] = False
         if keep.any():
             a = np.stack([X[keep, 0], Y[keep, 0], z0[keep]], axis=1)
             b = np.stack([X[keep, 1], Y[keep, 1], z1[keep]], axis=1)
@@ -159,6 +171,24 @@ def _wall_cells(design, X, Y, Z, cw, ch, floor, flat_tol, slope):
         # a real wall: the height jumps across the bracket (not a steep smooth slope)
         jump[:, e] = (H[:, a] == H[:, b]) | (np.abs(za - zb) > gap[idx] / 2)
     good = jump.all(axis=1)
+    # the wall between the two crossings is their chord: the design must change side
+    # within flat_tol of the chord's midpoint (a corner of the outline, or a wall bowed
+    # more than that, is not one wall across the cell)
+    change = H != np.roll(H, -1, axis=1)                 # edge k -> k+1 crosses
+    e1 = np.argmax(change, axis=1)
+    e2 = 3 - np.argmax(change[:, ::-1], axis=1)
+    rows = np.arange(len(idx))
+    p, q = cross[rows, e1], cross[rows, e2]
+    mid = (p + q) / 2
+    d = q - p
+    n = np.stack([-d[:, 1], d[:, 0]], axis=1)
+    n /= np.maximum(np.hypot(n[:, 0], n[:, 1]), 1e-300)[:, None]
+    hc = np.stack([np.where(H, Xc, 0.0).sum(axis=1), np.where(H, Yc, 0.0).sum(axis=1)],
+                  axis=1) / H.sum(axis=1)[:, None]
+    n *= np.where(((hc - mid) * n).sum(axis=1) < 0, -1.0, 1.0)[:, None]
+    z_hi = _h(design, mid[:, 0] + n[:, 0] * flat_tol, mid[:, 1] + n[:, 1] * flat_tol, floor)
+    z_lo = _h(design, mid[:, 0] - n[:, 0] * flat_tol, mid[:, 1] - n[:, 1] * flat_tol, floor)
+    good &= (z_hi > level) & (z_lo <= level)
     # every cell's points: its corners (0-3), each edge's crossing on the high side
     # (4-7) and on the low side (8-11); each pattern of high corners gives its
     # triangles as rows of those numbers

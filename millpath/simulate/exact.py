@@ -71,7 +71,8 @@ def design_triangles(design, stock: Stock, accuracy: float, size: float,
     """Triangles of a design: its ``mesh()`` when it has one (given ``accuracy`` when it
     takes it: meshed within a part of it), else a height-field mesh
     over the stock box with cells of ``size`` refined to ``50 accuracy`` where walls
-    or curvature need it (walls cut exactly at the cell edges, flat to ``accuracy / 2``).
+    or curvature need it (walls cut exactly at the cell edges, flat to ``accuracy / 2``;
+    corners of walls in cells refined to ``accuracy / 2``).
     Where the design has no part (through openings) the mesh closes a stock height
     under the stock's bottom, below anything a drill reaching through the part cuts.
     ``merge``: flat regions as few large triangles (see
@@ -84,8 +85,11 @@ def design_triangles(design, stock: Stock, accuracy: float, size: float,
         m = m(stock.box, **kw) if "box" in takes else m(**kw)
         return orient_outward(getattr(m, "triangles", m))      # a Mesh, or (n, 3, 3)
     x0, y0, z0, x1, y1, z1 = stock.box
+    # corners of the outline and walls not cut whole at 50 accuracy: cells down to
+    # accuracy / 2 (a ramp across one is off the design by under 0.71 accuracy)
     tri = height_field_mesh(design, (x0, y0, x1, y1), size=size, min_size=accuracy * 50,
-                            flat_tol=accuracy / 2, floor=z0 - max(1.0, z1 - z0), merge=merge)
+                            flat_tol=accuracy / 2, floor=z0 - max(1.0, z1 - z0), merge=merge,
+                            wall_size=accuracy / 2)
     return orient_outward(tri)
 
 
