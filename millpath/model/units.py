@@ -40,6 +40,8 @@ DEFAULTS: dict[str, PerUnits] = {
     "taper_cusp": PerUnits(0.02, 0.0008),        # features: cusp on a hole's cone bottom
     "roundtrip": PerUnits(2e-4, 2e-5),           # program vs plan after the post's rounding
     "verify_accuracy": PerUnits(0.001, 0.00004),  # bound on the exact gouge / left figures
+    "wear_margin": PerUnits(0.1, 0.004),         # profile, control compensation: concave
+                                                 # corners rounded to the tool radius + this
     # stock left, steps (job units)
     "features_allowance": PerUnits(0.2, 0.008),  # wall stock left for the finish pass
     "rough_allowance": PerUnits(0.3, 0.012),     # surface-rough: stock left on the surface

@@ -30,12 +30,22 @@ class Leads:
 
 def start_on_longest(ring: np.ndarray) -> np.ndarray:
     """``ring`` (n, 2, not closed) rotated to start at the middle of its longest chord."""
+    return start_on_chord(ring, chords_by_length(ring, 1)[0])
+
+
+def start_on_chord(ring: np.ndarray, k: int) -> np.ndarray:
+    """``ring`` (n, 2, not closed) rotated to start at the middle of its chord ``k``
+    (from vertex k to k + 1)."""
+    nxt = np.roll(ring, -1, axis=0)
+    mid = (ring[k] + nxt[k]) / 2
+    return np.vstack([mid, np.roll(ring, -(k + 1), axis=0)])
+
+
+def chords_by_length(ring: np.ndarray, n: int = 8) -> list[int]:
+    """Indices of the ``n`` longest chords of ``ring`` (n, 2, not closed), longest first."""
     nxt = np.roll(ring, -1, axis=0)
     L = np.hypot(*(nxt - ring).T)
-    k = int(np.argmax(L))
-    mid = (ring[k] + nxt[k]) / 2
-    out = np.vstack([mid, np.roll(ring, -(k + 1), axis=0)])
-    return out
+    return [int(k) for k in np.argsort(-L, kind="stable")[:n]]
 
 
 def leads(P0: np.ndarray, t: np.ndarray, side: int, rho: float, d: float,

@@ -14,14 +14,22 @@ Keys (job units; feeds in units per minute; Z absolute, tool tip):
 - ``compensation``: ``cam`` (the tool-centre path: the contour offset by the tool
   radius, round joins within a 20th of the tolerance) or ``control`` (the contour
   itself between ``G41``/``G42 D<tool>`` and ``G40``; the control offsets it by the
-  tool table's diameter).
+  tool table's diameter). LinuxCNC refuses a concave corner or arc the tool cannot stay
+  tangent to, so the contour programmed is the one the tool can follow: its concave
+  corners, and notches narrower than the tool, rounded to the tool radius plus
+  ``wear_margin`` (default 0.1 mm / 0.004 in: how much larger the control's radius, wear
+  offset included, may be than the tool's); the material left there is what the tool
+  cannot reach anyway, and the margin.
 - ``direction``: ``climb`` (default: tool on the left, G41, with a clockwise spindle)
   or ``conventional`` (right, G42).
 - ``lead_radius`` (default the tool diameter; must exceed the tool radius): tangent
   quarter-arc lead-in and lead-out on the tool side, each with a straight entry/exit of
   ``lead_radius`` (see :mod:`.leads`), entered by a helix beside the entry. A contour
-  with no room for them (a hole little wider than the tool) is entered by descending
-  along its own path at ``ramp_angle`` (CAM compensation, no tabs; else an error).
+  with no room for them at the middle of its longest straight stretch gets smaller
+  leads (down to a little more than the tool radius) or leads on the next longest
+  stretches; one with room nowhere (a hole little wider than the tool) is entered by
+  descending along its own path at ``ramp_angle`` (CAM compensation, no tabs; else an
+  error naming the keys to change).
 - ``top`` (default stock top), ``depth`` below it, ``stepdown``: levels; a bottom more
   than 0.5 mm / 0.02 in below the stock's is refused (:mod:`millpath.plan.sense`).
 - ``tabs = N`` holding tabs on each outline (outer contour) ``tab_width`` long (default
@@ -43,17 +51,18 @@ import math
 
 import numpy as np
 import shapely
-from shapely.geometry import LineString, Point
+from shapely.geometry import LineString, Point, Polygon
 from shapely.geometry.polygon import orient
 
 from millpath.errors import JobError, PlanningError
 from millpath.io.schema import Param
 from millpath.model import Operation, Toolpath
+from millpath.model.units import default
 from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.twod.contours import (SELECT_PARAMS, layer_polygons, material, order,
                                             profile_contours, select)
 from millpath.plan.profile.design import ProfileDesign, slot_band
-from millpath.plan.profile.leads import leads, start_on_longest
+from millpath.plan.profile.leads import chords_by_length, leads, start_on_chord
 from millpath.plan.twod.field import MaterialField, Raster, densify, stock_heights
 from millpath.plan.twod.geometry import (CURVE_FRACTION, GEOMETRY_PARAMS, default_tolerance,
                                          load_regions)
@@ -72,6 +81,9 @@ PARAMS = {
     **SELECT_PARAMS,
     "compensation": Param("str", "cam", choices=("cam", "control"),
           doc="'cam': the tool-centre path; 'control': the contour between G41/G42 and G40"),
+    "wear_margin": Param("float", None, nonneg=True, unit="length",
+          doc="control compensation: concave corners are programmed with a radius of at "
+              "least the tool radius plus this (default 0.1 mm / 0.004 in)"),
     "direction": Param("str", "climb", choices=("climb", "conventional"),
           doc="climb (tool on the left, G41) or conventional (right, G42)"),
     "lead_radius": Param("float", None, positive=True, unit="length",
@@ -224,12 +236,22 @@ class _Cut:
         side = 1 if p["direction"] == "climb" else -1
         control = p["compensation"] == "control"
         what = f"the contour {c.describe(tol)}"
+        if control:
+            margin = p["wear_margin"]
+            if margin is None:
+                margin = default("wear_margin", self.ctx.units)
+            contour = followable(contour, R + margin, outside, tol / 100)
+            if contour is None:
+                raise PlanningError(f"tool {tool.number} (diameter {tool.diameter:g}) does "
+                                    f"not fit inside {what} with control compensation "
+                                    f"(wear_margin {margin:g}): use a smaller tool", self.where)
         # traversal with the tool on the left (climb): outside clockwise, inside ccw
         ring = np.asarray(orient(contour, -1.0 if outside else 1.0).exterior.coords)[:-1, :2]
         if side < 0:
             ring = ring[::-1]
-        ring = start_on_longest(ring)
-        t = ring[1] - ring[0]
+        if control:
+            ring = reachable(ring, R + 0.5 * margin, side)
+        ring0 = ring
         centre = offset(contour, R if outside else -R, self.quad_segs)
         cpolys = polygons(centre)
         if not cpolys:
@@ -248,7 +270,32 @@ class _Cut:
                                 f"{what} would cut into the part at ({hit[0]:.3f}, "
                                 f"{hit[1]:.3f}): another contour is nearer than the tool "
                                 f"diameter", self.where)
-        P0c = ring[0] + R * side * np.array([-t[1], t[0]]) / np.hypot(*t)
+        # the lead: at the middle of the longest straight stretch if it fits there, else
+        # smaller, else on the next longest stretches
+        base = [rho] if p["lead_radius"] else [rho * f for f in (1.0, 0.8, 0.65, 0.55)]
+        floor = 1.05 * (R + (margin if control else 0.0))
+        tries = [r for r in base if r > floor] + ([floor] if floor < base[-1] else [])
+        if not tries:
+            tries = [floor]
+        Lc = Lp = None
+        chords = chords_by_length(ring0)
+        for k in chords:
+            ring = start_on_chord(ring0, k)
+            t = ring[1] - ring[0]
+            P0c = ring[0] + R * side * np.array([-t[1], t[0]]) / np.hypot(*t)
+            for rho_k in tries:
+                Lc = leads(ring[0], t, side, rho_k, rho_k, offset=R)     # tool-centre leads
+                Lp = leads(ring[0], t, side, rho_k, rho_k, offset=0.0)   # programmed leads
+                if _leads_fit(Lc, P0c, R, self.solid, tol):
+                    break
+            else:
+                Lc = Lp = None
+            if Lc is not None:
+                break
+        else:
+            ring = start_on_chord(ring0, chords[0])
+            t = ring[1] - ring[0]
+            P0c = ring[0] + R * side * np.array([-t[1], t[0]]) / np.hypot(*t)
         closed_c = np.vstack([cring, cring[:1]])
         at = LineString(closed_c).project(LineString([P0c, P0c]).centroid)
         cum = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(closed_c, axis=0).T))])
@@ -256,22 +303,15 @@ class _Cut:
         cring = np.vstack([P0c, np.roll(cring, -k, axis=0)])
         if np.hypot(*(cring[1] - cring[0])) < 1e-9:
             cring = cring[1:]
-        tries = [rho] if p["lead_radius"] else [rho * f for f in (1.0, 0.8, 0.65, 0.55)]
-        Lc = Lp = None
-        for rho_k in tries:
-            Lc = leads(ring[0], t, side, rho_k, rho_k, offset=R)     # tool-centre leads
-            Lp = leads(ring[0], t, side, rho_k, rho_k, offset=0.0)   # programmed leads
-            if _leads_fit(Lc, cring[0], R, self.solid, tol):
-                break
-        else:
-            Lc = Lp = None
         tabs_here = p["tabs"] and c.outer
         if Lc is None and (control or tabs_here):
+            why = "compensation = \"control\"" if control else "tabs"
             raise PlanningError(f"no room for the lead-in and lead-out of radius "
-                                f"{tries[-1]:g} or more at ({ring[0][0]:.3f}, "
-                                f"{ring[0][1]:.3f}) of {what}"
-                                + (" (tabs need them)" if tabs_here and not control else ""),
-                                self.where)
+                                f"{tries[-1]:g} or more on any of the {len(chords)} longest "
+                                f"straight stretches of {what} (first at ({ring[0][0]:.3f}, "
+                                f"{ring[0][1]:.3f})): {why} needs them; use "
+                                + ("compensation = \"cam\", " if control else "tabs = 0, ")
+                                + "a smaller lead_radius or a smaller tool", self.where)
         path_c = np.vstack([cring, cring[:1]])
         L = float(np.hypot(*np.diff(path_c, axis=0).T).sum())
         width = p["tab_width"] or tool.diameter
@@ -325,6 +365,67 @@ class _Cut:
             w.pos = (float(Lc.E[0]), float(Lc.E[1]), z)
             w.retract()
         return "ramp" if Lc is None else "lead"
+
+
+def followable(contour, r: float, outside: bool, eps: float):
+    """The contour a tool of radius ``r`` can stay tangent to all along: ``contour``
+    (a polygon) opened on its air side (outside if ``outside``, else inside) by a disc
+    of radius ``r``: concave corners rounded to radius ``r``, notches narrower than
+    ``2 r`` closed over; convex corners kept. The round joins are chords within ``eps``
+    of their arcs (so a convex corner moves by about ``eps``), points within ``eps`` of
+    a line merged. None if no tool of radius ``r`` fits (inside), or the polygon it
+    fits in splits in several (a neck)."""
+    segs = max(8, int(math.ceil(0.5 * math.pi / (2 * math.acos(max(1.0 - eps / r, -1.0))))))
+    if outside:
+        grown = polygons(offset(contour, r, segs))
+        if not grown:
+            return None
+        grown = Polygon(max(grown, key=lambda g: g.area).exterior)
+        back = polygons(offset(grown, -r, segs))
+    else:
+        shrunk = polygons(offset(contour, -r, segs))
+        if len(shrunk) != 1:
+            return None
+        back = polygons(offset(shrunk[0], r, segs))
+    if not back:
+        return None
+    return Polygon(max(back, key=lambda g: g.area).exterior).simplify(eps)
+
+
+def reachable(ring: np.ndarray, r: float, side: int) -> np.ndarray:
+    """``ring`` (n, 2, not closed, followed with the tool on side ``side``: +1 left)
+    with the concave vertices dropped that a tool of radius ``r`` offset by the control
+    cannot reach: LinuxCNC offsets each segment by ``r``, meets the next one at a
+    concave vertex where the two offsets intersect, and refuses a segment whose
+    offset runs backwards. Dropping a concave vertex replaces two segments by their
+    chord, on the tool's side: material left, never cut."""
+    pts = [np.asarray(q, float) for q in ring]
+    for _ in range(4 * len(pts) + 4):
+        n = len(pts)
+        if n < 3:
+            break
+        P = np.asarray(pts)
+        d = np.roll(P, -1, axis=0) - P                       # segment k: P[k] -> P[k+1]
+        L = np.hypot(d[:, 0], d[:, 1])
+        t = d / np.maximum(L, 1e-300)[:, None]
+        nrm = side * np.column_stack([-t[:, 1], t[:, 0]])
+        tin = np.roll(t, 1, axis=0)                          # segment ending at vertex k
+        cross = tin[:, 0] * t[:, 1] - tin[:, 1] * t[:, 0]
+        dot = np.einsum("ij,ij->i", tin, t)
+        concave = side * cross > 1e-12
+        # at a concave vertex the offsets meet r * tan(turn / 2) back along each segment
+        back = np.where(concave, r * np.abs(cross) / np.maximum(1.0 + dot, 1e-12), 0.0)
+        bad = (L - back - np.roll(back, -1)) <= 0.0          # segment k too short
+        drop = set()
+        for k in np.flatnonzero(bad):
+            j = (k + 1) % n if concave[(k + 1) % n] else k
+            if concave[j] and j not in drop and (j - 1) % n not in drop \
+                    and (j + 1) % n not in drop:
+                drop.add(j)
+        if not drop:
+            break
+        pts = [q for k, q in enumerate(pts) if k not in drop]
+    return np.asarray(pts)
 
 
 def _meets(path: LineString, r: float, solid) -> tuple[float, float] | None:
