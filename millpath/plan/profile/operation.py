@@ -26,7 +26,8 @@ Keys (job units; feeds in units per minute; Z absolute, tool tip):
   quarter-arc lead-in and lead-out on the tool side, each with a straight entry/exit of
   ``lead_radius`` (see :mod:`.leads`), entered by a helix beside the entry. A contour
   with no room for them at the middle of its longest straight stretch gets smaller
-  leads (down to a little more than the tool radius) or leads on the next longest
+  leads (down to 1.5 times the tool radius, plus wear_margin under control
+  compensation) or leads on the next longest
   stretches; one with room nowhere (a hole little wider than the tool) is entered by
   descending along its own path at ``ramp_angle`` (CAM compensation, no tabs; else an
   error naming the keys to change).
@@ -273,7 +274,7 @@ class _Cut:
         # the lead: at the middle of the longest straight stretch if it fits there, else
         # smaller, else on the next longest stretches
         base = [rho] if p["lead_radius"] else [rho * f for f in (1.0, 0.8, 0.65, 0.55)]
-        floor = 1.05 * (R + (margin if control else 0.0))
+        floor = 1.5 * (R + (margin if control else 0.0))
         tries = [r for r in base if r > floor] + ([floor] if floor < base[-1] else [])
         if not tries:
             tries = [floor]
