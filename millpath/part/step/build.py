@@ -215,6 +215,12 @@ class Ap224Builder:
         on the slot's floor (the RAMP files' way, axis out of the material)."""
         d = (float(direction[0]), float(direction[1]), 0.0)
         pl = self.placement(start, tuple(float(a) for a in axis), d)
+        return self._slot(pl, d, length, width, depth, ends, name)
+
+    def _slot(self, pl: Ref, d, length: float, width: float, depth: float, ends,
+              name: str) -> Ref:
+        """A SLOT at placement ``pl``: its U profile, its course of travel ``d`` for
+        ``length`` and its two ends."""
         f = self._feature("SLOT", name, pl)
         self._component(f, "SQUARE_U_PROFILE", "sweep", "swept shape occurrence",
                         ("", "profile usage"),
@@ -237,19 +243,7 @@ class Ap224Builder:
         d = (float(direction[0]), float(direction[1]), 0.0)
         x = (-d[1], d[0], 0.0)                   # (0, 0, 1) x d: Y = Z x X = +Z
         pl = self.placement(floor_start, d, x)
-        f = self._feature("SLOT", name, pl)
-        self._component(f, "SQUARE_U_PROFILE", "sweep", "swept shape occurrence",
-                        ("", "profile usage"),
-                        [pl, self.length("width", width), self.length("depth", depth),
-                         self.angle("first angle", 90.0), self.angle("second angle", 90.0),
-                         self.length("first radius", 0.0), self.length("second radius", 0.0)])
-        self._component(f, "PATH_FEATURE_COMPONENT", "linear", "course of travel occurrence",
-                        ("course of travel", "path feature component usage"),
-                        [pl, self.length("distance", length)], direction=d)
-        for which, e in zip(("course of travel start", "course of travel end"), ends):
-            self._component(f, "SLOT_END", e, "end condition occurrence",
-                            (which, "slot end usage"), [], rel="FEATURE_COMPONENT_RELATIONSHIP")
-        return f
+        return self._slot(pl, d, length, width, depth, ends, name)
 
     def pocket(self, center, depth: float, profile: str, bottom: str = "planar",
                name: str = "", angle_ref=(1.0, 0.0, 0.0), floor_radius: float = 0.0,
