@@ -73,21 +73,21 @@ def run_cli(tmp_path: Path, monkeypatch, *args: str):
     (job(reference="[reference]\nx = " + "1" * 5000), "job.toml:22:",
      "a number of 5000 digits (at most 1000)"),
     (job(resolution="1" * 5000), "job.toml:6:", "a number of 5000 digits (at most 1000)"),
-    (job(resolution="0.0001"), "job.toml: simulation.resolution:",
+    (job(resolution="0.0001"), "job.toml:6: simulation.resolution:",
      "0.0001 makes 1.6e+12 cells over the stock, more than the limit of 16000000 (use "
      "0.032 or more, or raise [limits] max_cells)"),
-    (job(top="fit_tolerance = 1e-12"), "job.toml: fit_tolerance:",
+    (job(top="fit_tolerance = 1e-12"), "job.toml:2: fit_tolerance:",
      "1e-12 mm is finer than the program's 4 decimals can hold (at least 0.0002 mm)"),
-    (job(holder="1e9"), "job.toml: tools[0].holder:",
+    (job(holder="1e9"), "job.toml:12: tools[0].holder:",
      "a tool and holder length of 1e+09 mm is larger than the 10000 mm limit"),
-    (job().replace("diameter = 6", "diameter = 1e-12"), "job.toml: tools[0].diameter:",
+    (job().replace("diameter = 6", "diameter = 1e-12"), "job.toml:10: tools[0].diameter:",
      "a diameter of 1e-12 mm is outside 0.01 .. 1000 mm (wrong units?)"),
-    (job(resolution="8"), "job.toml: simulation.resolution:",
+    (job(resolution="8"), "job.toml:6: simulation.resolution:",
      "cells of 8 mm are wider than the 6 mm tool 1 of operations[0]"),
-    (job(resolution="1e-300"), "job.toml: simulation.resolution:",
+    (job(resolution="1e-300"), "job.toml:6: simulation.resolution:",
      "1e-300 makes inf cells over the stock"),
     (job(reference='[post]\npreamble = "G92 X0\\nG0 X100000000000000000000"'),
-     "job.toml: post.preamble:", "line 2: X word 1e+20 is larger than the 1e+09 limit"),
+     "job.toml:22: post.preamble:", "line 2: X word 1e+20 is larger than the 1e+09 limit"),
 ])
 def test_job_values_are_refused_where_written(tmp_path, monkeypatch, text, where, words):
     (tmp_path / "job.toml").write_text(text)

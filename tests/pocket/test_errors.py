@@ -48,7 +48,7 @@ def _dxf(tmp_path, draw) -> str:
 def test_engagement_outside_0_1(tmp_path):
     msg = _run(tmp_path, 'polygon = [[0, 0], [50, 0], [50, 50], [0, 50]]\n'
                          'strategy = "adaptive"\nengagement = 1.2\n')
-    assert msg.startswith(f"millpath: error: {tmp_path / 'job.toml'}: operations[0].engagement: "
+    assert msg.startswith(f"millpath: error: {tmp_path / 'job.toml'}:16: operations[0].engagement: "
                           "must be a fraction of the tool diameter in (0, 1), got 1.2")
 
 

@@ -73,19 +73,23 @@ def _move_line(prog: str, lineno: int, axis: str, by: float, modal: float = 0.0)
 
 def test_a_contour_point_moved_normal_to_the_contour_is_seen():
     tp, prog, lines = _profile("outside")
-    # the L's bottom edge (0,0)-(60,0): the compensated move to (60, 0) at the first level
-    on = False
+    # the L's bottom edge (0,0)-(60,0): a compensated move along it at the first level
+    on, prev, target = False, None, None
     for m, ln in zip(tp.moves, lines):
         if m.kind == "comp":
             on = m.comp != "off"
-        elif on and m.kind == "line" and abs(m.end[0] - 60) < 1e-9 and abs(m.end[1]) < 1e-9:
-            target = ln
+        elif on and m.kind == "line" and prev is not None and abs(prev[1]) < 1e-5 \
+                and abs(m.end[1]) < 1e-5 and abs(m.end[0] - prev[0]) > 1.0:
+            target, x_end = ln, m.end[0]
             break
+        if m.kind != "comp":
+            prev = m.end
+    assert target is not None
     assert _check(tp, _move_line(prog, target, "Y", 0.0005), lines) != []
     assert _check(tp, _move_line(prog, target, "Y", -0.0005), lines) != []
     assert _check(tp, _move_line(prog, target, "Y", 0.0001), lines) == []
     # along the edge (X): the offset path is the same line, only its end moves
-    assert _check(tp, _move_line(prog, target, "X", 0.1, 60.0), lines) != []
+    assert _check(tp, _move_line(prog, target, "X", 0.1, x_end), lines) != []
 
 
 def test_compensation_without_radii_is_not_compared():

@@ -333,7 +333,10 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
             tasks.append(_Task(s, strat, tool, note))
 
     if not tasks and (shapes or skipped):
-        raise PlanningError("no feature can be machined: " + why_none(skipped),
+        left_out = (f" ({len(excluded)} left out by exclude: "
+                    + ", ".join(f"{x['type']} #{x['id']}" for x in excluded[:6])
+                    + (", ..." if len(excluded) > 6 else "") + ")") if excluded else ""
+        raise PlanningError("no feature can be machined: " + why_none(skipped) + left_out,
                             params["step"])
     merged = _consolidate(tasks, tol) if params["fewer_tools"] else []
     if merged:

@@ -371,23 +371,24 @@ class _Cut:
 def followable(contour, r: float, outside: bool, eps: float):
     """The contour a tool of radius ``r`` can stay tangent to all along: ``contour``
     (a polygon) opened on its air side (outside if ``outside``, else inside) by a disc
-    of radius ``r``: concave corners rounded to radius ``r``, notches narrower than
-    ``2 r`` closed over; convex corners kept. The round joins are chords within ``eps``
-    of their arcs (so a convex corner moves by about ``eps``), points within ``eps`` of
-    a line merged. None if no tool of radius ``r`` fits (inside), or the polygon it
-    fits in splits in several (a neck)."""
+    of radius ``r``: concave corners rounded to radius ``r`` (chords within ``eps`` of
+    the arcs), notches narrower than ``2 r`` closed over, convex corners kept (outside:
+    exactly; inside: within ``eps``, on the air side), points within ``eps`` of a line
+    merged. Never on the material's side of ``contour``. None
+    if no tool of radius ``r`` fits (inside), or the polygon it fits in splits in
+    several (a neck)."""
     segs = max(8, int(math.ceil(0.5 * math.pi / (2 * math.acos(max(1.0 - eps / r, -1.0))))))
     if outside:
         grown = polygons(offset(contour, r, segs))
         if not grown:
             return None
         grown = Polygon(max(grown, key=lambda g: g.area).exterior)
-        back = polygons(offset(grown, -r, segs))
+        back = polygons(offset(grown, -r, segs).union(contour))
     else:
         shrunk = polygons(offset(contour, -r, segs))
         if len(shrunk) != 1:
             return None
-        back = polygons(offset(shrunk[0], r, segs))
+        back = polygons(offset(shrunk[0], r, segs).intersection(contour))
     if not back:
         return None
     return Polygon(max(back, key=lambda g: g.area).exterior).simplify(eps)
