@@ -388,7 +388,7 @@ def followable(contour, r: float, outside: bool, eps: float):
         shrunk = polygons(offset(contour, -r, segs))
         if len(shrunk) != 1:
             return None
-        back = polygons(offset(shrunk[0], r, segs).intersection(contour))
+        back = polygons(offset(shrunk[0], r, segs))
     if not back:
         return None
     return Polygon(max(back, key=lambda g: g.area).exterior).simplify(eps)
