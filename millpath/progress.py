@@ -12,6 +12,10 @@ All tasks open at the same time share one display (one line each, with counts, e
 time and a time estimate); :meth:`Progress.session` keeps the display open across
 several steps (``millpath run`` holds one for the whole run).
 
+While a display is open, numba compiling a kernel (the first run after an install or an
+upgrade: the compiled kernels are cached, see :mod:`millpath`) shows as a task of its
+own, "compiling kernels (once per install)", with the count and the kernel's name.
+
 Disabled (``Progress(False)``, or stderr not a terminal) every call does nothing, so
 tests and pipes see no output; ``MILLPATH_PROGRESS=always`` in the environment shows
 the bars on a non-terminal stderr too (their final state, printed when the display
@@ -22,6 +26,7 @@ from __future__ import annotations
 
 import os
 import sys
+import threading
 from contextlib import contextmanager
 from typing import Iterator
 
@@ -62,6 +67,49 @@ class _Task:
             self._bar.update(self._id, completed=self.completed, total=self.completed)
 
 
+class _Compiles:
+    """A numba event listener counting kernel compiles into a task of ``bar``."""
+
+    LABEL = "compiling kernels (once per install)"
+
+    def __init__(self, bar):
+        from numba.core.event import Listener
+
+        outer = self
+
+        class _L(Listener):
+            def on_start(self, event):
+                outer.start(event)
+
+            def on_end(self, event):
+                outer.end(event)
+
+        self.listener = _L()
+        self.bar = bar
+        self.task = None
+        self.count = 0
+        self.lock = threading.Lock()
+
+    def start(self, event) -> None:
+        d = event.data.get("dispatcher") if isinstance(event.data, dict) else None
+        name = getattr(getattr(d, "py_func", None), "__qualname__", "")
+        with self.lock:
+            if self.task is None:
+                self.task = self.bar.add_task(self.LABEL, total=None)
+            self.bar.update(self.task, description=f"{self.LABEL} [dim]{name}[/]")
+
+    def end(self, event) -> None:
+        with self.lock:
+            self.count += 1
+            self.bar.update(self.task, completed=self.count)
+
+    def close(self) -> None:
+        with self.lock:
+            if self.task is not None:
+                self.bar.update(self.task, description=self.LABEL, completed=self.count,
+                                total=self.count)
+
+
 class Progress:
     """Progress bars on stderr when ``enabled`` and stderr is a terminal (or
     ``MILLPATH_PROGRESS=always``)."""
@@ -71,6 +119,7 @@ class Progress:
         self.enabled = bool(enabled) and (forced or sys.stderr.isatty())
         self._bar = None
         self._depth = 0
+        self._compiles: _Compiles | None = None
 
     @contextmanager
     def session(self) -> Iterator["Progress"]:
@@ -119,6 +168,7 @@ class Progress:
                             MofNCompleteColumn(), TimeElapsedColumn(), TimeRemainingColumn(),
                             console=Console(stderr=True), transient=False)
             self._bar.start()
+            self._compiles = _listen(self._bar)
         self._depth += 1
         return self._bar
 
@@ -126,7 +176,23 @@ class Progress:
         self._depth -= 1
         if self._depth == 0 and self._bar is not None:
             bar, self._bar = self._bar, None
+            if self._compiles is not None:
+                from numba.core.event import unregister
+                unregister("numba:compile", self._compiles.listener)
+                self._compiles.close()
+                self._compiles = None
             bar.stop()
+
+
+def _listen(bar) -> _Compiles | None:
+    """A compile counter registered with numba (None if numba is not importable)."""
+    try:
+        from numba.core.event import register
+    except ImportError:                 # pragma: no cover - numba is a dependency
+        return None
+    c = _Compiles(bar)
+    register("numba:compile", c.listener)
+    return c
 
 
 #: the silent instance (default of :class:`millpath.plan.base.PlanContext`)

@@ -1,4 +1,8 @@
-"""``millpath demo [-o DIR]``: run every example job bundled with millpath.
+"""``millpath demo [-o DIR] [--all] [-k TEXT]``: run the example jobs bundled with millpath.
+
+By default one example of each family (:data:`SHORT`: features from a STEP file, a
+die-blanking contour, a grid-navigation pocket, an adaptive pocket from a DXF drawing, a
+3-axis surface); ``--all`` runs every example, ``-k TEXT`` those whose name contains TEXT.
 
 An example the proof refuses (see :mod:`millpath.verify.gate`) is listed in red with
 its report and pictures written and no program; it does not make the demo fail, since
@@ -21,6 +25,22 @@ def example_jobs() -> list[Path]:
     return sorted(p for p in root.glob("*/job.toml"))
 
 
+#: the default set: one example of each family
+SHORT = ("features-plate", "die-blanking", "pocket-casestudy-line", "pocket-dxf-adaptive",
+         "surface-cavity")
+
+
+def chosen_jobs(only: str | None, every: bool) -> list[Path]:
+    """The examples ``millpath demo`` runs: those whose name contains ``only`` (of every
+    example), else every example if ``every``, else the :data:`SHORT` set."""
+    jobs = example_jobs()
+    if only is not None:
+        return [j for j in jobs if only in j.parent.name]
+    if every:
+        return jobs
+    return [j for j in jobs if j.parent.name in SHORT]
+
+
 def _fmt(v, digits=4):
     if v is None:
         return "-"
@@ -34,20 +54,25 @@ def _fmt(v, digits=4):
               default=Path("millpath-demo"), show_default=True, help="Output folder.")
 @click.option("-k", "--only", "only", default=None, help="Run only examples whose name "
               "contains this text.")
-def command(outdir: Path, only: str | None) -> None:
-    """Run the bundled example jobs, each into DIR/<example>/, and summarise them."""
+@click.option("--all", "every", is_flag=True, help="Run every example (default: one of "
+              "each family).")
+def command(outdir: Path, only: str | None, every: bool) -> None:
+    """Run bundled example jobs (one of each family; --all: every one), each into
+    DIR/<example>/, and summarise them."""
     from millpath.errors import MillpathError
     from millpath.pipeline import run_job
     console = Console()
     if not console.is_terminal:
         console = Console(width=160)
-    jobs = [j for j in example_jobs() if only is None or only in j.parent.name]
+    jobs = chosen_jobs(only, every)
     if not jobs:
         raise MillpathError("no example jobs found")
     table = Table(title=f"millpath demo: {len(jobs)} examples -> {outdir}")
     for col in ("example", "units", "ops", "lines", "moves", "cycle s", "removed",
                 "max gouge", "max left", "run s"):
         table.add_column(col, justify="left" if col == "example" else "right")
+    from millpath.cli.warm import wait_for_warm
+    wait_for_warm()
     failures = 0
     refused: list[str] = []
     views: list[tuple[str, Path]] = []
@@ -86,6 +111,9 @@ def command(outdir: Path, only: str | None) -> None:
         console.print("3D views (open in a browser, no network needed):")
         for name, f in views:
             console.print(f"  {name}: {f.resolve()}", soft_wrap=True, highlight=False)
+    rest = len(example_jobs()) - len(jobs)
+    if only is None and not every and rest > 0:
+        console.print(f"{rest} more examples: millpath demo --all")
     if refused:
         console.print(f"[red]{len(refused)} of {len(jobs)} examples refused by the proof "
                       f"(no program.ngc; see their report.json): {', '.join(refused)}[/]",

@@ -30,7 +30,8 @@ import click
 from millpath import __version__
 from millpath.errors import JobErrors, MillpathError, MillpathWarning
 
-COMMANDS = ("run", "demo", "check", "simulate", "features", "drop", "fit", "keys", "view")
+COMMANDS = ("run", "demo", "check", "simulate", "features", "drop", "fit", "keys", "view",
+            "warm")
 
 EXIT_INPUT = 1
 EXIT_BUG = 2

@@ -67,6 +67,8 @@ def command(job: Path, outdir: Path | None, quiet: bool, force: bool,
     from millpath.verify.gate import UnsafeProgramError
     out = outdir or job.with_suffix("")
     console = Console(quiet=quiet, highlight=False)
+    from millpath.cli.warm import wait_for_warm
+    wait_for_warm()
     try:
         with output_lock(out):
             res = run_job(job, out, progress=not quiet, force=force,

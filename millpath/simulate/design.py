@@ -12,9 +12,10 @@ import math
 from pathlib import Path
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from millpath.errors import MillpathError
+from millpath.threads import over_range
 
 
 class PlaneDesign:
@@ -92,10 +93,10 @@ class HeightFieldDesign:
         return out.reshape(shape)
 
 
-@njit(cache=True, parallel=True)
-def _mesh_heights(px, py, tri, start, items, bx0, by0, bs, nbx, nby, out):
+@njit(cache=True, nogil=True)
+def _mesh_heights(lo, hi, px, py, tri, start, items, bx0, by0, bs, nbx, nby, out):
     n = px.shape[0]
-    for q in prange(n):
+    for q in range(lo, hi):
         x = px[q]
         y = py[q]
         best = -np.inf
@@ -202,6 +203,6 @@ class MeshDesign:
         py = np.ascontiguousarray(np.broadcast_to(y, shape).ravel())
         out = np.empty(px.shape[0])
         gx0, gy0, bs, nbx, nby = self._grid
-        _mesh_heights(px, py, self.triangles, self._start, self._items, gx0, gy0, bs,
+        over_range(_mesh_heights, px.shape[0], px, py, self.triangles, self._start, self._items, gx0, gy0, bs,
                       nbx, nby, out)
         return out.reshape(shape)

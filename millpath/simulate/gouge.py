@@ -24,7 +24,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from millpath.geometry.convex import (BALL, BULL, CYL, DRILL, FLAT, depth, may_meet, meets,
                                       shape_rings, support_swept, underside)
@@ -35,6 +35,7 @@ from millpath.geometry.index import (BoxIndex, box_candidates, bucket_range, fir
 from millpath.geometry.inside import in_material
 from millpath.model.tool import Tool
 from millpath.simulate.rims import barycentric, rim_search, surface_dist2
+from millpath.threads import over_range
 
 KIND = {"flat": FLAT, "ball": BALL, "bull": BULL, "drill": DRILL}
 
@@ -217,8 +218,8 @@ def coarse_tops(index: BoxIndex) -> np.ndarray:
     return np.ascontiguousarray(pad.reshape(ny, COARSE, nx, COARSE).max(axis=(1, 3)))
 
 
-@njit(cache=True, error_model="numpy", parallel=True)
-def _gouge_groups(S, E, slot, cdev, gs, gS, gE, gdev, kind, R, rc, k, zb, L, nshape, tri, tn,
+@njit(cache=True, nogil=True, error_model="numpy")
+def _gouge_groups(lo, hi, S, E, slot, cdev, gs, gS, gE, gdev, kind, R, rc, k, zb, L, nshape, tri, tn,
                   tc, tr, txy, ctop, ix, e0, tol, out_g, out_t, out_s, out_r, out_x):
     """Chords ``gs[g]:gs[g+1]`` form group g (coarse chord gS -> gE within ``gdev`` of
     each of them, see :mod:`millpath.simulate.groups`): its triangles are gathered once
@@ -228,7 +229,7 @@ def _gouge_groups(S, E, slot, cdev, gs, gS, gE, gdev, kind, R, rc, k, zb, L, nsh
     looked for from ``e0 - cdev[c]`` (its bound is added to them afterwards), the
     group's from ``e`` = the least of these."""
     ng = gs.shape[0] - 1
-    for g in prange(ng):
+    for g in range(lo, hi):
         buf = np.empty(256, np.int64)
         gd = np.empty(256)
         bb = np.empty(4)
@@ -429,14 +430,14 @@ def _chord_gouge(c, j, P0, P1, s, kind, R, rc, k, zb, L, tri, tn, tc, tr, txy, i
     out_g[c] = best
 
 
-@njit(cache=True, error_model="numpy", parallel=True)
-def _near_chords(S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, txy, ctop, ix, e0,
+@njit(cache=True, nogil=True, error_model="numpy")
+def _near_chords(lo, hi, S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, txy, ctop, ix, e0,
                  grow, out):
     """out[c] = 1 when some triangle may come within ``grow`` of the part of chord c's
     swept tool that is ``e0`` deep (one test per triangle, no bisection: a ball's core
     distance, else :func:`may_meet`)."""
     n = S.shape[0]
-    for c in prange(n):
+    for c in range(lo, hi):
         buf = np.empty(256, np.int64)
         bb = np.empty(4)
         rr = np.empty(3)
@@ -673,7 +674,7 @@ def gouge_chords(S: np.ndarray, E: np.ndarray, slot: np.ndarray, shapes: ToolSha
         gs, gS, gE, gdev = groups
         cdev = (np.zeros(n) if dev is None else
                 np.ascontiguousarray(np.broadcast_to(np.asarray(dev, float), (n,))))
-        _gouge_groups(S, E, np.ascontiguousarray(slot, np.int64), cdev,
+        over_range(_gouge_groups, len(gs) - 1, S, E, np.ascontiguousarray(slot, np.int64), cdev,
                       np.ascontiguousarray(gs, np.int64), np.ascontiguousarray(gS, float),
                       np.ascontiguousarray(gE, float), np.ascontiguousarray(gdev, float),
                       *shapes.arrays(), triangles, f.normals, f.centres, f.radii, f.xy,
@@ -722,7 +723,7 @@ def near_chords(S: np.ndarray, E: np.ndarray, slot: np.ndarray, shapes: ToolShap
     grow = np.ascontiguousarray(np.broadcast_to(np.asarray(grow, float), (len(S),)))
     if len(S) and len(triangles):
         f = faces if faces is not None else faces_of(triangles, index)
-        _near_chords(np.ascontiguousarray(S, float), np.ascontiguousarray(E, float),
+        over_range(_near_chords, len(S), np.ascontiguousarray(S, float), np.ascontiguousarray(E, float),
                      np.ascontiguousarray(slot, np.int64), *shapes.arrays(), triangles,
                      f.normals, f.xy, f.tops, index.arrays(), accuracy / 2.0,
                      grow, out)

@@ -27,7 +27,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 FLAT, BALL, BULL, DRILL = 0, 1, 2, 3
 
@@ -344,10 +344,11 @@ def _sweep_band(H, bmax, B, jlo, jhi, zfloor, gx, gy, dx, dy,
     return hits > 0
 
 
-@njit(cache=True, parallel=True)
-def sweep_chunk(H, zfloor, gx, gy, dx, dy, B, S, E, seg_tool, seg_rapid, seg_motion,
-                ttype, tR, trc, tk, hR, hZ, hN, eps, rapid_hit, holder_hit, nthreads):
-    """Sweep chords ``S[n] -> E[n]`` in order over the Z-map ``H`` (modified in place).
+@njit(cache=True, nogil=True)
+def sweep_chunk(t, nthreads, H, zfloor, gx, gy, dx, dy, B, S, E, seg_tool, seg_rapid,
+                seg_motion, ttype, tR, trc, tk, hR, hZ, hN, eps, rapid_hit, holder_hit):
+    """Sweep chords ``S[n] -> E[n]`` in order over the Z-map ``H`` (modified in place),
+    in the bands of ``B`` rows ``t, t + nthreads, ...`` (thread ``t`` of ``nthreads``).
 
     Tool parameters are indexed by ``seg_tool`` (a slot, not a tool number): type code,
     radius, corner radius, cone slope ``k`` (height per unit radius); holder cylinders
@@ -360,35 +361,34 @@ def sweep_chunk(H, zfloor, gx, gy, dx, dy, B, S, E, seg_tool, seg_rapid, seg_mot
     nby = (ny + B - 1) // B
     nbx = (nx + B - 1) // B
     nseg = S.shape[0]
-    for t in prange(nthreads):
-        bmax = np.empty(nbx)
-        for bj in range(t, nby, nthreads):
-            jlo = bj * B
-            jhi = min(ny, jlo + B)
-            for bi in range(nbx):
-                ilo = bi * B
-                ihi = min(nx, ilo + B)
-                mx = -np.inf
-                for j in range(jlo, jhi):
-                    for i in range(ilo, ihi):
-                        if H[j, i] > mx:
-                            mx = H[j, i]
-                bmax[bi] = mx
-            for s in range(nseg):
-                slot = seg_tool[s]
-                x0 = S[s, 0]
-                y0 = S[s, 1]
-                z0 = S[s, 2]
-                x1 = E[s, 0]
-                y1 = E[s, 1]
-                z1 = E[s, 2]
-                for c in range(hN[slot]):
-                    if _sweep_band(H, bmax, B, jlo, jhi, zfloor, gx, gy, dx, dy,
-                                   x0, y0, z0, x1, y1, z1, FLAT, hR[slot, c], 0.0, 0.0,
-                                   hZ[slot, c], False, eps):
-                        holder_hit[seg_motion[s]] = 1
-                hit = _sweep_band(H, bmax, B, jlo, jhi, zfloor, gx, gy, dx, dy,
-                                  x0, y0, z0, x1, y1, z1, ttype[slot], tR[slot], trc[slot],
-                                  tk[slot], 0.0, True, eps)
-                if hit and seg_rapid[s]:
-                    rapid_hit[seg_motion[s]] = 1
+    bmax = np.empty(nbx)
+    for bj in range(t, nby, nthreads):
+        jlo = bj * B
+        jhi = min(ny, jlo + B)
+        for bi in range(nbx):
+            ilo = bi * B
+            ihi = min(nx, ilo + B)
+            mx = -np.inf
+            for j in range(jlo, jhi):
+                for i in range(ilo, ihi):
+                    if H[j, i] > mx:
+                        mx = H[j, i]
+            bmax[bi] = mx
+        for s in range(nseg):
+            slot = seg_tool[s]
+            x0 = S[s, 0]
+            y0 = S[s, 1]
+            z0 = S[s, 2]
+            x1 = E[s, 0]
+            y1 = E[s, 1]
+            z1 = E[s, 2]
+            for c in range(hN[slot]):
+                if _sweep_band(H, bmax, B, jlo, jhi, zfloor, gx, gy, dx, dy,
+                               x0, y0, z0, x1, y1, z1, FLAT, hR[slot, c], 0.0, 0.0,
+                               hZ[slot, c], False, eps):
+                    holder_hit[seg_motion[s]] = 1
+            hit = _sweep_band(H, bmax, B, jlo, jhi, zfloor, gx, gy, dx, dy,
+                              x0, y0, z0, x1, y1, z1, ttype[slot], tR[slot], trc[slot],
+                              tk[slot], 0.0, True, eps)
+            if hit and seg_rapid[s]:
+                rapid_hit[seg_motion[s]] = 1

@@ -15,13 +15,14 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from millpath.geometry.convex import BALL, may_meet, meets, shape_rings, underside
 from millpath.geometry.distance import (ball_core, core_point_dist2, core_segment_dist2,
                                         point_triangle_dist2, ray_triangle,
                                         segment_segment_dist2)
 from millpath.geometry.index import BoxIndex, box_candidates
+from millpath.threads import over_range
 
 
 def sample_triangles(tri: np.ndarray, spacing: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -133,11 +134,11 @@ def _point_dist2(p, n, t, T):
     return point_triangle_dist2(p[0] + n[0] * t, p[1] + n[1] * t, p[2] + n[2] * t, T)
 
 
-@njit(cache=True, parallel=True)
-def _caps(P, N, own, blo, bhi, tri, ix, reach, out):
+@njit(cache=True, nogil=True)
+def _caps(lo, hi, P, N, own, blo, bhi, tri, ix, reach, out):
     """Segment length before the ray leaves the stock box or meets another triangle."""
     m = P.shape[0]
-    for q in prange(m):
+    for q in range(lo, hi):
         p = P[q]
         n = N[q]
         U = min(_box_exit(p, n, blo, bhi), reach)
@@ -159,14 +160,14 @@ def _caps(P, N, own, blo, bhi, tri, ix, reach, out):
         out[q] = U
 
 
-@njit(cache=True, parallel=True)
-def _medial(P, N, own, tri, ix, margin, out):
+@njit(cache=True, nogil=True)
+def _medial(lo, hi, P, N, own, tri, ix, margin, out):
     """Shorten each ``out[q]`` to where another triangle becomes nearer to
     ``P[q] + t N[q]`` than ``t`` (beyond it the point is no longer ``t`` from the design:
     concave corners, the far side of a slot). Triangles more than ``margin`` beside the
     ray are not looked at (a wall that far off bounds only uncut stock)."""
     m = P.shape[0]
-    for q in prange(m):
+    for q in range(lo, hi):
         buf = np.empty(64, np.int64)
         ex = np.empty(3)
         p = P[q]
@@ -277,8 +278,8 @@ def _point_cut(X, cand, nc, S, E, slot, clo, chi, gstart, gS, gE, gdev, glo, ghi
     return -1
 
 
-@njit(cache=True, parallel=True)
-def _left(P, N, U0, S, E, slot, clo, chi, gstart, gS, gE, gdev, kind, R, rc, k, zb, L, gix,
+@njit(cache=True, nogil=True)
+def _left(lo, hi, P, N, U0, S, E, slot, clo, chi, gstart, gS, gE, gdev, kind, R, rc, k, zb, L, gix,
           tol, stop, out, out_c):
     """See :func:`shorten_rays`: the chords in groups (``gstart``), each group looked
     at whole first (its coarse chord ``gS -> gE`` grown by ``gdev``); a ray shorter
@@ -286,7 +287,7 @@ def _left(P, N, U0, S, E, slot, clo, chi, gstart, gS, gE, gdev, kind, R, rc, k, 
     m = P.shape[0]
     glo = gix[0]
     ghi = gix[1]
-    for q in prange(m):
+    for q in range(lo, hi):
         buf = np.empty(256, np.int64)
         rr = np.empty(3)
         rh = np.empty(3)
@@ -474,7 +475,7 @@ def ray_caps(points, normals, owner, stock_box, triangles, tri_index: BoxIndex,
     m = len(points)
     U0 = np.zeros(m)
     if m:
-        _caps(np.ascontiguousarray(points, float), np.ascontiguousarray(normals, float),
+        over_range(_caps, m, np.ascontiguousarray(points, float), np.ascontiguousarray(normals, float),
               np.ascontiguousarray(owner, np.int64), np.asarray(stock_box[:3], float),
               np.asarray(stock_box[3:], float), triangles, tri_index.arrays(),
               float(reach), U0)
@@ -536,7 +537,7 @@ def shorten_rays(points, normals, lengths, sw: SweptChords, shapes,
     who = np.full(m, -1, np.int64)
     if m == 0 or len(sw.S) == 0:
         return np.asarray(lengths, float).copy(), who
-    _left(np.ascontiguousarray(points, float), np.ascontiguousarray(normals, float),
+    over_range(_left, m, np.ascontiguousarray(points, float), np.ascontiguousarray(normals, float),
           np.ascontiguousarray(lengths, float), sw.S, sw.E, sw.slot, sw.clo, sw.chi,
           sw.start, sw.gS, sw.gE, sw.dev, *shapes.arrays()[:6], sw.index.arrays(),
           accuracy / 20.0, float(stop), out, who)
@@ -549,7 +550,7 @@ def medial_cap(points, normals, owner, triangles, tri_index: BoxIndex, margin: f
     than the design point (see :func:`_medial`)."""
     out = np.array(lengths, float)
     if len(out):
-        _medial(np.ascontiguousarray(points, float), np.ascontiguousarray(normals, float),
+        over_range(_medial, len(out), np.ascontiguousarray(points, float), np.ascontiguousarray(normals, float),
                 np.ascontiguousarray(owner, np.int64), triangles, tri_index.arrays(),
                 margin, out)
     return out

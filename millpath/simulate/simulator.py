@@ -20,7 +20,6 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
-import numba
 import numpy as np
 
 from millpath.model.motion import Motion
@@ -34,6 +33,7 @@ from millpath.simulate.exact import ExactResult, Reference, design_triangles, ve
 from millpath.simulate.kernel import BALL, BULL, DRILL, FLAT, sweep_chunk
 from millpath.simulate.path import Segments, motion_blocks, motion_segments, toolpath_motions
 from millpath.simulate.zmap import ZMap
+from millpath.threads import per_thread
 
 _TYPE = {"flat": FLAT, "ball": BALL, "bull": BULL, "drill": DRILL}
 BAND = 32                     # rows per band (and block width of the skip test)
@@ -175,7 +175,6 @@ def sweep(zmap: ZMap, segs: Segments, tools: dict[int, Tool], n_motions: int, *,
     rapid_hit = np.zeros(max(n_motions, 1), np.int8)
     holder_hit = np.zeros(max(n_motions, 1), np.int8)
     eps = 1e-4 * min(zmap.dx, zmap.dy)
-    nthreads = numba.get_num_threads()
     H = zmap.heights
     n = len(segs)
     bars = progress if isinstance(progress, Progress) else Progress(bool(progress))
@@ -184,10 +183,9 @@ def sweep(zmap: ZMap, segs: Segments, tools: dict[int, Tool], n_motions: int, *,
     with bars.task("simulating: chords swept", total=n) as bar:
         for a in range(0, n, CHUNK):
             b = min(n, a + CHUNK)
-            sweep_chunk(H, zmap.zmin, zmap.x0, zmap.y0, zmap.dx, zmap.dy, BAND,
-                        segs.start[a:b], segs.end[a:b], seg_tool[a:b],
-                        segs.rapid[a:b], segs.motion[a:b], *arrays, eps,
-                        rapid_hit, holder_hit, nthreads)
+            per_thread(sweep_chunk, H, zmap.zmin, zmap.x0, zmap.y0, zmap.dx, zmap.dy, BAND,
+                       segs.start[a:b], segs.end[a:b], seg_tool[a:b], segs.rapid[a:b],
+                       segs.motion[a:b], *arrays, eps, rapid_hit, holder_hit)
             bar.update(completed=b)
     return rapid_hit[:n_motions], holder_hit[:n_motions]
 

@@ -18,7 +18,7 @@ MAX_LINES = 800
 
 #: ARCHITECTURE.md's layers, lowest first; a layer may import only layers before it
 LAYERS = [
-    ("millpath.errors", "millpath.progress"),
+    ("millpath.errors", "millpath.progress", "millpath.threads"),
     ("millpath.model", "millpath.geometry"),
     ("millpath.io", "millpath.gcode"),
     ("millpath.part",),

@@ -29,7 +29,7 @@ for the triangle), before any exact test; a triangle listed in several cells is 
 once per query; each query starts from the previous point's contact and from the mesh
 point under its axis (a mesh point under the cutter bounds the drop from below), so
 points in pass order test few triangles;
-``numba`` ``prange`` over chunks of points.
+chunks of points on several threads (:mod:`millpath.threads`).
 
 Points where the cutter touches no triangle get ``-inf`` (or ``z_floor``).
 """
@@ -40,10 +40,11 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from millpath.part.surface.mesh import Mesh
 from millpath.plan.surface.cutter import Cutter
+from millpath.threads import over_range
 
 
 @dataclass
@@ -457,15 +458,13 @@ def _drop_range(xy, p0, p1, R, rc, tri, box, ztop, plane, x0, y0, cell, nx, ny, 
         wz = cc_out[p, 2]
 
 
-@njit(parallel=True, cache=True)
-def _drop_batch(xy, R, rc, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts, items,
-                z_out, cc_out):
-    n = xy.shape[0]
-    nchunk = 64
-    for k in prange(nchunk):
-        seen = np.zeros(tri.shape[0], np.int64)
-        _drop_range(xy, (n * k) // nchunk, (n * (k + 1)) // nchunk, R, rc, tri, box, ztop,
-                    plane, x0, y0, cell, nx, ny, starts, items, z_out, cc_out, seen, 1)
+@njit(cache=True, nogil=True)
+def _drop_chunk(lo, hi, xy, R, rc, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts,
+                items, z_out, cc_out):
+    """Points ``lo:hi`` with marks of their own (one chunk of a threaded batch)."""
+    seen = np.zeros(tri.shape[0], np.int64)
+    _drop_range(xy, lo, hi, R, rc, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts,
+                items, z_out, cc_out, seen, 1)
 
 
 #: below this many points a batch runs on one thread: starting the thread pool costs
@@ -492,7 +491,7 @@ def drop(index: MeshIndex, cutter: Cutter, xy, z_floor: float = -np.inf) -> Drop
             index.plane, index.x0, index.y0, index.cell, index.nx, index.ny, index.starts,
             index.items, z, cc)
     if len(pts) >= PARALLEL_MIN:
-        _drop_batch(pts, *args)
+        over_range(_drop_chunk, len(pts), pts, *args, chunks_per_thread=32)
     elif len(pts):
         if index.seen is None or index.marks + len(pts) >= 2**62:
             index.seen = np.zeros(len(index.tri), np.int64)
@@ -548,16 +547,10 @@ def _height_one(x, y, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts, items
                           -np.inf, 1e-9, True)
 
 
-@njit(parallel=True, cache=True)
-def _height_batch(xs, ys, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts, items, out):
-    for p in prange(xs.shape[0]):
-        out[p] = _height_one(xs[p], ys[p], tri, box, ztop, plane, x0, y0, cell, nx, ny,
-                             starts, items)
-
-
-@njit(cache=True)
-def _height_serial(xs, ys, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts, items, out):
-    for p in range(xs.shape[0]):
+@njit(cache=True, nogil=True)
+def _height_batch(lo, hi, xs, ys, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts,
+                  items, out):
+    for p in range(lo, hi):
         out[p] = _height_one(xs[p], ys[p], tri, box, ztop, plane, x0, y0, cell, nx, ny,
                              starts, items)
 
@@ -581,7 +574,7 @@ class MeshHeight:
         out = np.empty(len(xs))
         ix = self.index
         if len(xs):
-            fn = _height_batch if len(xs) >= PARALLEL_MIN else _height_serial
-            fn(xs, ys, ix.tri, ix.box, ix.ztop, ix.plane, ix.x0, ix.y0, ix.cell,
-                          ix.nx, ix.ny, ix.starts, ix.items, out)
+            over_range(_height_batch, len(xs), xs, ys, ix.tri, ix.box, ix.ztop, ix.plane,
+                       ix.x0, ix.y0, ix.cell, ix.nx, ix.ny, ix.starts, ix.items, out,
+                       smallest=PARALLEL_MIN // 2)
         return out.reshape(np.broadcast_shapes(x.shape, y.shape))
