@@ -387,7 +387,8 @@ def meets(T, P0, P1, nr, rr, rh, rho, tol):
         elif nw == 2:
             m = _closest_seg(W, 0, 1, nv)
         elif nw == 3:
-            m = _closest_tri(W, 0, 1, 2, nv)
+            # (int64 corners, not literals: one compiled signature of _closest_tri)
+            m = _closest_tri(W, np.int64(0), np.int64(1), np.int64(2), nv)
         else:
             m = _closest_tet(W, nv)
             if m == 15:

@@ -462,8 +462,9 @@ def _near_chords(lo, hi, S, E, slot, kind, R, rc, k, zb, L, nshape, tri, tn, txy
             if nr == 0:
                 continue
             g = grow[c]
+            # (np.bool_: a bool, not a literal, so under_candidates has one signature)
             nc, buf = under_candidates(ix, txy, ctop, tn[:, 2], P0, P1, kind[s, j], Rj,
-                                       rc[s, j], k[s, j], zb[s, j], L[s, j], g, e0, False, buf,
+                                       rc[s, j], k[s, j], zb[s, j], L[s, j], g, e0, np.bool_(False), buf,
                                        bb)
             for p in range(nc):
                 t = buf[p]

@@ -382,13 +382,17 @@ def sweep_chunk(t, nthreads, H, zfloor, gx, gy, dx, dy, B, S, E, seg_tool, seg_r
             x1 = E[s, 0]
             y1 = E[s, 1]
             z1 = E[s, 2]
-            for c in range(hN[slot]):
+            # the holder's cylinders (tested, flat, lifted) and then the tool (cutting);
+            # one call site, so the band sweep is compiled for one signature
+            for c in range(hN[slot] + 1):
+                cut = c == hN[slot]
+                if cut:
+                    tt, rr, rc, kk, zo = ttype[slot], tR[slot], trc[slot], tk[slot], 0.0
+                else:
+                    tt, rr, rc, kk, zo = FLAT, hR[slot, c], 0.0, 0.0, hZ[slot, c]
                 if _sweep_band(H, bmax, B, jlo, jhi, zfloor, gx, gy, dx, dy,
-                               x0, y0, z0, x1, y1, z1, FLAT, hR[slot, c], 0.0, 0.0,
-                               hZ[slot, c], False, eps):
-                    holder_hit[seg_motion[s]] = 1
-            hit = _sweep_band(H, bmax, B, jlo, jhi, zfloor, gx, gy, dx, dy,
-                              x0, y0, z0, x1, y1, z1, ttype[slot], tR[slot], trc[slot],
-                              tk[slot], 0.0, True, eps)
-            if hit and seg_rapid[s]:
-                rapid_hit[seg_motion[s]] = 1
+                               x0, y0, z0, x1, y1, z1, tt, rr, rc, kk, zo, cut, eps):
+                    if not cut:
+                        holder_hit[seg_motion[s]] = 1
+                    elif seg_rapid[s]:
+                        rapid_hit[seg_motion[s]] = 1

@@ -181,7 +181,7 @@ def rim_search(P0, P1, nr, rr, rh, best, tri, tn, ix, cand, nc, sbuf, out, q):
             A[0] = P0[0] - sg * D[1] / dh * r
             A[1] = P0[1] + sg * D[0] / dh * r
             A[2] = P0[2]
-            nk = 0
+            nk = np.int64(0)     # (not a literal 0: one compiled signature per call)
             for p in range(nc):
                 t = cand[p]
                 u = ray_triangle(A[0], A[1], A[2] + rh[i], D[0], D[1], D[2], tri[t], 1e-300,
@@ -200,7 +200,7 @@ def rim_search(P0, P1, nr, rr, rh, best, tri, tn, ix, cand, nc, sbuf, out, q):
         # within them
         for e in range(2):
             E = P0 if e == 0 else P1
-            nk = 0
+            nk = np.int64(0)
             for p in range(nc):
                 t = cand[p]
                 nx, ny, nz = tn[t, 0], tn[t, 1], tn[t, 2]

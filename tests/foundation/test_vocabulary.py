@@ -64,12 +64,15 @@ def _outcome(op: dict, tmp_path) -> tuple[list[str], list[str], dict | None]:
     return [], [str(w.message) for w in got], job.operations[0][1]
 
 
-@pytest.mark.parametrize("op_type", sorted(STRATEGIES))
-@pytest.mark.parametrize("old,new", sorted(RENAMED.items()))
+#: every (operation type, old name, new name) where the old name is not a key of the
+#: operation type's own (``step`` is one in features)
+RENAMED_IN = [(t, old, new) for t in sorted(STRATEGIES) for old, new in sorted(RENAMED.items())
+              if old not in strategy(t).PARAMS]
+
+
+@pytest.mark.parametrize("op_type,old,new", RENAMED_IN)
 def test_an_old_name_is_its_new_name_in_every_operation_type(op_type, old, new, tmp_path):
     params = strategy(op_type).PARAMS
-    if old in params:
-        pytest.skip(f"'{old}' is a key of its own in {op_type}")
     value = VALUE[new]
     errs_new, warned_new, got_new = _outcome({"type": op_type, new: value}, tmp_path)
     errs_old, warned_old, got_old = _outcome({"type": op_type, old: value}, tmp_path)

@@ -144,6 +144,33 @@ def test_feed_moves_keep_the_tool_inside_the_walls(tmp_path, gp):
     assert d.min() >= 0.125 - 2e-4 - 1e-6
 
 
+#: a star whose corners point into the pocket, with cells near D / sqrt(2): a straight
+#: step between two neighbouring cell centres (both clear of the walls) can pass
+#: within a radius of such a corner
+STAR = [[47.673, 73.308], [36.808, 65.606], [27.926, 61.678], [19.398, 49.992],
+        [26.709, 44.866], [12.657, 37.573], [42.733, 17.183], [53.361, 29.582],
+        [68.633, 30.229], [59.468, 37.878], [65.132, 41.88]]
+
+
+@pytest.mark.parametrize("navigation", ["wall-first", "straight-first"])
+def test_steps_between_neighbouring_cells_keep_clear_of_corners_into_the_pocket(
+        tmp_path, gp, navigation):
+    s = 0.25 / 12.0                 # the star drawn for a 12 mm tool, for the 0.25 in one
+    poly = shapely.Polygon([(x * s, y * s) for x, y in STAR])
+    p = gp.write_job(tmp_path, "tool = 1\n"
+                     f"polygon = {[[x * s, y * s] for x, y in STAR]}\n"
+                     "bottom = { bezier = [[-0.1, -0.1], [-0.1, -0.1]] }\nfeed = 10\nmotion = \"arc\"\nzigzag = true\n"
+                     f"navigation = \"{navigation}\"\n"
+                     f"grid = [{7.929 * s}, {5.399 * s}]\n")
+    job, res = gp.plan_file(p)
+    P = gp.path_points(res.toolpath, 0.002)
+    feed_pts = P[P[:, 2] < 0]
+    d = shapely.distance(poly.exterior, shapely.points(feed_pts[:, :2]))
+    assert shapely.contains_xy(poly, feed_pts[:, 0], feed_pts[:, 1]).all()
+    # the tool's edge stays off the walls (and their corners) within the tolerance
+    assert d.min() >= 0.125 - res.report["pocket"]["tolerance"] - 1e-6
+
+
 @pytest.mark.parametrize("tool", ["flat", "bull"])
 def test_tool_mode_never_gouges_a_steep_bottom_and_surface_mode_does(tmp_path, gp, tool):
     extra = "corner_radius = 0.05\n" if tool == "bull" else ""

@@ -258,11 +258,13 @@ def _cells_xy(grid: PocketGrid, cells) -> np.ndarray:
 
 
 def _path_chunks(grid: PocketGrid, path) -> list[list]:
-    """Split a cell path where a jump would leave the offset outline."""
+    """Split a cell path where the straight move from one cell centre to the next
+    would leave the offset outline (a jump, or a step between neighbours that passes
+    a corner of the walls pointing into the pocket)."""
     chunks: list[list] = []
     cur: list = []
     for c in path:
-        if cur and not adjacent(cur[-1], c):
+        if cur:
             a = _cells_xy(grid, [cur[-1]])[0]
             b = _cells_xy(grid, [c])[0]
             if not grid.segment_inside(a, b):
@@ -382,7 +384,8 @@ def plan_pocket(spec: PocketSpec) -> tuple[Toolpath, dict]:
             for run in runs:
                 if last is not None and (adjacent(last, run[0]) or last == run[0]):
                     run = [last] + run if last != run[0] else run
-                b.cut(_cells_xy(grid, run), -math.inf, spec.finish_feed)
+                for chunk in _path_chunks(grid, run):
+                    b.cut(_cells_xy(grid, chunk), -math.inf, spec.finish_feed)
                 last = run[-1]
     b.retract()
 

@@ -569,12 +569,14 @@ class MeshHeight:
     def height(self, x, y) -> np.ndarray:
         x = np.asarray(x, float)
         y = np.asarray(y, float)
-        xs = np.ascontiguousarray(np.broadcast_to(x, np.broadcast_shapes(x.shape, y.shape)).ravel())
-        ys = np.ascontiguousarray(np.broadcast_to(y, np.broadcast_shapes(x.shape, y.shape)).ravel())
+        shape = np.broadcast_shapes(x.shape, y.shape)
+        # writable C arrays: one compiled signature of the kernel for every caller
+        xs = np.require(np.broadcast_to(x, shape).ravel(), float, ["C", "W"])
+        ys = np.require(np.broadcast_to(y, shape).ravel(), float, ["C", "W"])
         out = np.empty(len(xs))
         ix = self.index
         if len(xs):
             over_range(_height_batch, len(xs), xs, ys, ix.tri, ix.box, ix.ztop, ix.plane,
                        ix.x0, ix.y0, ix.cell, ix.nx, ix.ny, ix.starts, ix.items, out,
                        smallest=PARALLEL_MIN // 2)
-        return out.reshape(np.broadcast_shapes(x.shape, y.shape))
+        return out.reshape(shape)
