@@ -100,7 +100,12 @@ def _plan_one(job: Job, ctx: PlanContext, i: int, op_type: str, params: dict,
     except ValueError as e:
         raise PlanningError(f"operations[{i}]: {e}", job.path) from None
     if carry and ctx.stock is not None:
-        ctx.remaining = advance_stock(job, ctx.stock, ctx.remaining, res.toolpath)
+        from millpath.interpret import InterpreterError
+        try:
+            ctx.remaining = advance_stock(job, ctx.stock, ctx.remaining, res.toolpath)
+        except InterpreterError as e:     # the operation's program, as the control reads it
+            raise MillpathError(f"operations[{i}]: the generated program does not interpret: "
+                                f"line {e.line}: {e.message}", job.path) from None
     return res
 
 

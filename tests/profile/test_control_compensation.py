@@ -9,6 +9,7 @@ import pytest
 import tomllib
 from shapely.geometry import LineString, Point, Polygon
 
+from millpath.errors import MillpathError
 from millpath.interpret import interpret
 from millpath.job.jobfile import load_job
 from millpath.pipeline import fit_job, plan_job, post_job, run_job
@@ -87,3 +88,21 @@ def test_reachable_drops_a_notch_the_tool_cannot_enter():
     # what is left never leaves the square's side of the notch (material left, not cut)
     assert all(q[1] >= -3 for q in out)
     assert reachable(out, 2.0, +1).shape == out.shape
+
+
+@pytest.mark.xfail(strict=True, raises=MillpathError, reason=(
+    "planner defect, open: the rounded corners' chords (about 0.06 mm, turning 0.014 rad) "
+    "leave the control 0.0007 mm of slack where the post's rounding to 4 decimals can turn "
+    "a chord enough to take 0.005 mm; here a 0.014 mm chord at (46.75, 56.68) is refused "
+    "('Straight feed in concave corner cannot be reached')"))
+def test_a_chord_made_short_by_the_posts_rounding_is_reachable_by_the_control(
+        tmp_path, rs274):
+    """A generated job: rounded to the post's decimals, a 0.014 mm chord where a rounded
+    corner meets a wall turns enough that the control cannot reach its corner."""
+    job = JOBS / "control_u_short_chord.toml"
+    res = run_job(job, tmp_path / "out", pictures=False)
+    assert res.report["safety"]["status"] == "ok"
+    program = (tmp_path / "out" / "program.ngc").read_text()
+    assert "G41" in program or "G42" in program
+    r = run_rs274(program, load_job(job).tools)
+    assert r.ok, r.error
