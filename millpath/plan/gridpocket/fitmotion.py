@@ -24,8 +24,9 @@ Arcs are ``clockwise`` as seen from the plane's positive normal, as RS274NGC.
 
 Gouge protection: a chain may carry check points (tip positions the path must not go
 below, with their distance along the chain). A candidate line, arc or cubic in a
-vertical plane is rejected when it passes more than the tolerance below a check point
-inside its span; XY candidates must stay within the tolerance of the point polyline
+vertical plane is rejected when it passes more than half the tolerance below a check
+point inside its span (the other half: the sampling between check points and the
+post's rounding); XY candidates must stay within the tolerance of the point polyline
 (so they never cut corners), or, on the wall pass, inside the offset outline grown by
 the tolerance (so they follow the true round corners but never swing into a wall).
 """
@@ -206,7 +207,7 @@ class Fitter:
                 elif e - i > self.max_span:
                     continue        # curves are tried on at most max_span segments
                 elif plane is not None and self.mode == "arc":
-                    seg = self._arc(chain, i, e, plane, self.tol, self.tol)
+                    seg = self._arc(chain, i, e, plane, self.tol, self.tol / 2.0)
                     if seg is not None:
                         out.append(seg)
                         done = True
@@ -258,7 +259,7 @@ class Fitter:
         Q = chain.pts[i:e + 1]
         if _dist_to_polyline(Q[1:-1], Q[[0, -1]]).max() > tol:
             return False
-        return self._z_ok(chain, i, e, Q[[0, -1]], tol) if plane != "XY" else True
+        return self._z_ok(chain, i, e, Q[[0, -1]], min(tol, self.tol / 2.0)) if plane != "XY" else True
 
     def _arc(self, chain: Chain, i: int, e: int, plane: str, tol: float,
              budget: float, pts: np.ndarray | None = None) -> Seg | None:

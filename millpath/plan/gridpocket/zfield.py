@@ -97,14 +97,17 @@ class ZField:
 
 
 def sample_chain(xy: np.ndarray, zfun: Callable[[np.ndarray, np.ndarray], np.ndarray],
-                 spacing: float | None, gouge_tol: float
+                 spacing: float | None, gouge_tol: float, dense: int = 16,
                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """3D points along the XY polyline ``xy`` (``(n, 2)``) with Z from ``zfun``.
 
     With a ``spacing``, every segment is checked at points about ``spacing`` apart and
     the check point most below the straight line is inserted, repeatedly, until the
-    line is nowhere more than ``gouge_tol`` below the required Z. Without one the
-    polyline's own points are used (thesis behaviour).
+    line is nowhere more than ``gouge_tol`` below the required Z; then every piece is
+    checked again at ``dense`` times that density (the required Z can peak between
+    samples where the tool passes over a crest of the bottom), inserting the worst
+    point of each piece still more than ``gouge_tol`` below, a few rounds. Without a
+    spacing the polyline's own points are used (thesis behaviour).
 
     Returns ``(points (m, 3), their XY distance along the polyline (m,), check points
     (k, 3), their distance along (k,))``; the check points are every sample with its
@@ -120,6 +123,13 @@ def sample_chain(xy: np.ndarray, zfun: Callable[[np.ndarray, np.ndarray], np.nda
         return base, cum, base.copy(), cum.copy()
     counts = np.maximum(0, np.ceil(length / spacing).astype(int) - 1)
     if counts.sum() == 0:
+        if dense > 1:
+            out_a, out_La, extra, extra_L = _refine_dense(base, cum, zfun, spacing / dense,
+                                                          gouge_tol)
+            checks = np.concatenate([base, extra])
+            check_L = np.concatenate([cum, extra_L])
+            order = np.argsort(check_L, kind="stable")
+            return out_a, out_La, checks[order], check_L[order]
         return base, cum, base.copy(), cum.copy()
     t_all = np.concatenate([np.arange(1, c + 1) / (c + 1) for c in counts])
     s_all = np.repeat(np.arange(len(seg)), counts)
@@ -150,7 +160,50 @@ def sample_chain(xy: np.ndarray, zfun: Callable[[np.ndarray, np.ndarray], np.nda
                 out_L.append(cum[k] + length[k] * tk)
         out.append(base[k + 1])
         out_L.append(cum[k + 1])
-    checks = np.concatenate([base, np.column_stack([pts, zs_all])])
-    check_L = np.concatenate([cum, L_all])
+    out_a, out_La = np.array(out), np.array(out_L)
+    extra = np.zeros((0, 3))
+    extra_L = np.zeros(0)
+    if dense > 1:
+        out_a, out_La, extra, extra_L = _refine_dense(out_a, out_La, zfun, spacing / dense,
+                                                      gouge_tol)
+    checks = np.concatenate([base, np.column_stack([pts, zs_all]), extra])
+    check_L = np.concatenate([cum, L_all, extra_L])
     order = np.argsort(check_L, kind="stable")
-    return np.array(out), np.array(out_L), checks[order], check_L[order]
+    return out_a, out_La, checks[order], check_L[order]
+
+
+def _refine_dense(P: np.ndarray, L: np.ndarray, zfun, step: float, gouge_tol: float,
+                  rounds: int = 6):
+    """Insert into the 3D polyline ``P`` (XY distance along it ``L``) the worst point of
+    each piece whose straight line runs more than ``gouge_tol`` below ``zfun`` at points
+    about ``step`` apart; repeated up to ``rounds`` times. Returns the polyline, its
+    distances and the inserted points with theirs."""
+    added, added_L = [], []
+    for _ in range(rounds):
+        d = np.diff(L)
+        n = np.maximum(0, np.ceil(d / step).astype(np.int64) - 1)
+        if n.sum() == 0:
+            break
+        piece = np.repeat(np.arange(len(d)), n)
+        first = np.concatenate([[0], np.cumsum(n)[:-1]])
+        t = (np.arange(len(piece)) - first[piece] + 1) / (n[piece] + 1)
+        q = P[piece] + (P[piece + 1] - P[piece]) * t[:, None]
+        viol = np.asarray(zfun(q[:, 0], q[:, 1]), float) - q[:, 2]
+        has = n > 0
+        worst = np.full(len(d), -np.inf)
+        worst[has] = np.maximum.reduceat(viol, first[has])
+        bad = np.flatnonzero(worst > gouge_tol)
+        if not len(bad):
+            break
+        new_pts, new_L = [], []
+        for k in bad:
+            a = first[k]
+            w = a + int(np.argmax(viol[a:a + n[k]]))
+            new_pts.append([q[w, 0], q[w, 1], q[w, 2] + viol[w]])
+            new_L.append(L[k] + d[k] * t[w])
+        at = bad + 1
+        P = np.insert(P, at, np.array(new_pts), axis=0)
+        L = np.insert(L, at, np.array(new_L))
+        added += new_pts
+        added_L += new_L
+    return P, L, np.array(added).reshape(-1, 3), np.array(added_L)
