@@ -353,10 +353,12 @@ def plan_pocket(spec: PocketSpec) -> tuple[Toolpath, dict]:
     # wall pass: one lap per floor, down to the bottom
     b.begin("wall", "wall pass")
     spacing = min(spec.dx, spec.dy)
-    # the fitted laps may leave the offset outline toward the wall by the tolerance less
-    # the post's rounding of both coordinates (so the written path stays within it)
+    # the fitted laps may leave the offset outline toward the wall by nine tenths of the
+    # tolerance less the post's rounding of both coordinates (the last tenth: a fitted
+    # arc between the points it is checked at)
     rounding = math.sqrt(2.0) * 10.0 ** -_decimals(spec.units)
-    wall_region = grid.region.buffer(max(spec.tolerance - 2.0 * rounding, 0.0), quad_segs=16)
+    wall_region = grid.region.buffer(max(0.9 * spec.tolerance - 2.0 * rounding, 0.0),
+                                     quad_segs=16)
     shapely.prepare(wall_region)
     for floor, path in zip(floors, layer_paths):
         # each lap is entered from a cell its layer cleared to this floor: straight down
