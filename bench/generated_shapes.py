@@ -56,7 +56,7 @@ def _l(rng: np.random.Generator, w: float, h: float, tool_d: float) -> Polygon:
 
 def _neck(rng: np.random.Generator, w: float, h: float, tool_d: float) -> Polygon:
     a = rng.uniform(0.3, 0.45) * w
-    neck = rng.uniform(1.05, 3.0) * tool_d          # at least the tool's width
+    neck = min(rng.uniform(1.05, 3.0) * tool_d, 0.7 * h)   # the tool's width, or most of h
     y0 = rng.uniform(0.1 * h, 0.9 * h - neck)
     return shapely.union_all([box(0, 0, a, h), box(w - a, 0, w, h),
                               box(a - 1, y0, w - a + 1, y0 + neck)])

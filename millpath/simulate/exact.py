@@ -15,7 +15,7 @@ the motion's for that; the material left is exact (to ``accuracy``) at sample po
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Callable
+from typing import Iterator
 
 import numpy as np
 
@@ -24,13 +24,14 @@ from millpath.geometry.index import BoxIndex
 from millpath.model.motion import Motion
 from millpath.model.stock import Stock
 from millpath.model.tool import Tool
+from millpath.progress import QUIET, Progress
 from millpath.simulate.gouge import (GougeResult, ToolShapes, faces_of, gouge_chords, locate,
                                      near_chords)
 from millpath.simulate.leftover import (SweptChords, first_of_each, medial_cap, ray_caps,
                                         sample_keys, sample_triangles, shorten_rays,
                                         swept_chords)
 from millpath.simulate.groups import ChordGroups, chord_groups
-from millpath.simulate.leftpeak import refine_peaks
+from millpath.simulate.leftpeak import peak_rounds, refine_peaks
 from millpath.simulate.path import motion_blocks, motion_segments
 
 
@@ -207,18 +208,98 @@ class _LeftState:
 def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
                  references: list[Reference], *, motion_op: np.ndarray | None = None,
                  accuracy: float = 0.001, spacing: float | None = None,
-                 block: int = MOTION_BLOCK,
-                 progress: Callable[[int, int], None] | None = None) -> ExactResult:
+                 block: int = MOTION_BLOCK, progress: Progress = QUIET) -> ExactResult:
     """Gouge and material left of ``motions`` against ``references`` (see the module
     doc). ``motion_op`` gives each motion's operation (default all 0). Material left is
     measured up to twice the largest tool diameter (more is reported as that). ``spacing`` is
     the distance between material-left sample points (default a quarter of the
     smallest tool radius). Chords are made ``block`` motions at a time, so memory does
-    not grow with the program's length. ``progress(done, total)`` is called before each
-    block with the motions checked so far (a second pass over the chords, when
-    material-left rays need their whole length, counts the motions again) and last,
-    after the material left is measured, with done = total."""
-    tick = progress or (lambda done, total: None)
+    not grow with the program's length. ``progress`` shows two bars: the motions
+    checked (a block's work in about :data:`TICKS` slices of its chords and rays; a
+    second pass over the chords, when material-left rays need their whole length,
+    counts the motions again) and the rounds of the material-left peak search."""
+    with progress.task("verifying exactly: motions checked", total=len(motions)) as bar:
+        out = _check(motions, tools, stock, references, motion_op, accuracy, spacing, block,
+                     bar.update)
+    best_g, g_at, motion_g, mop, states, refs, lut, shapes, spacing, nchords, reach, \
+        margin, chord = out
+    best_l, l_at = 0.0, None
+    op_left: dict[int, float] = {}
+    samples: list[tuple[list[int] | None, np.ndarray, np.ndarray]] = []
+    rounds = peak_rounds(float(spacing), accuracy) + 1
+    with progress.task("verifying exactly: material-left peaks",
+                       total=rounds * len(refs)) as bar:
+        for (ref, tri, idx, _), st in zip(refs, states):
+            left = medial_cap(st.pts, st.nrm, st.own, tri, idx, margin, st.out)
+            if not len(left):
+                bar.advance(rounds)
+                continue
+            left = np.where(left >= accuracy / 2, left, 0.0)
+            # between the samples: the peaks near the highest ones
+            measure = _LeftMeasure(motions, mop, lut, chord, block, shapes, stock, tri, idx,
+                                   reach, margin, accuracy)
+            done = bar.completed
+            lq, X, w = refine_peaks(st.pts, st.own, left, st.who, tri, _unit_normals(tri),
+                                    measure, float(spacing), accuracy,
+                                    on_round=lambda: bar.advance())
+            bar.update(completed=done + rounds)
+            area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0],
+                                                 tri[:, 2] - tri[:, 0]), axis=1)
+            per = np.bincount(st.own, minlength=len(tri))
+            samples.append((ref.ops, left.astype(np.float32),
+                            (area[st.own] / per[st.own]).astype(np.float32)))
+            for o in (ref.ops if ref.ops is not None else sorted(set(mop.tolist())) or [0]):
+                op_left[o] = max(op_left.get(o, 0.0), lq)
+            if lq > best_l:
+                best_l = lq
+                l_at = {"x": float(X[0]), "y": float(X[1]), "z": float(X[2]),
+                        "line": int(motions[w].line) if w >= 0 else None,
+                        "operation": int(mop[w]) if w >= 0 else None}
+    gouging = motion_g > accuracy
+    op_g: dict[int, float] = {}
+    op_n: dict[int, int] = {}
+    for o in sorted(set(mop.tolist())):
+        m = mop == o
+        op_g[o] = float(motion_g[m].max(initial=0.0))
+        op_n[o] = int(gouging[m].sum())
+    return ExactResult(best_g, best_l, int(gouging.sum()), g_at, l_at, motion_g, op_g, op_n,
+                       op_left, [r.name for r in references], accuracy, float(spacing),
+                       nchords, reach, samples)
+
+
+#: slices of a block's work between two progress updates, each at least this many
+#: chords (gouge) or rays (material left)
+TICKS = 20
+LEAST_CHORDS = 2000
+LEAST_RAYS = 5000
+
+
+def _slices(n: int, least: int) -> list[slice]:
+    """``range(n)`` in about :data:`TICKS` slices of at least ``least``."""
+    size = max(least, -(-n // TICKS))
+    return [slice(a, min(a + size, n)) for a in range(0, n, size)]
+
+
+def _group_slices(count: np.ndarray, flag: np.ndarray, least: int) -> Iterator[np.ndarray]:
+    """The flagged groups (a boolean per group) in pieces of about ``1 / TICKS`` of
+    their chords (at least ``least``), whole groups each."""
+    f = np.flatnonzero(flag)
+    if not len(f):
+        return
+    cum = np.cumsum(count[f])
+    size = max(least, -(-int(cum[-1]) // TICKS))
+    cut = np.searchsorted(cum, np.arange(size, int(cum[-1]), size), side="left") + 1
+    for piece in np.split(f, cut):
+        if len(piece):
+            sel = np.zeros(len(flag), bool)
+            sel[piece] = True
+            yield sel
+
+
+def _check(motions, tools, stock, references, motion_op, accuracy, spacing, block,
+           tick):
+    """The chord pass(es) of :func:`verify_exact`: gouge and the material-left rays;
+    ``tick(completed=, total=)`` in motions."""
     nm = len(motions)
     mop = np.zeros(nm, np.int64) if motion_op is None else np.asarray(motion_op, np.int64)
     numbers = sorted({int(m.tool) for m in motions if m.tool != 0 and m.kind != "dwell"})
@@ -235,7 +316,8 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
     chord = accuracy / 4.0
     group_len = 2.0 * min((tools[t].radius for t in numbers), default=1.0)
     motion_g = np.zeros(nm)
-    best_g, g_at, worst = 0.0, None, None
+    top: list = [0.0, None]         # the deepest gouge so far, what locates it
+    g_at = None
     refs = []
     for ref in references:
         tri = np.ascontiguousarray(ref.triangles, float)
@@ -259,8 +341,10 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
     nblocks, only = 0, None     # a program of one block keeps it for the second pass
     for ch, grp, cidx in _chord_blocks(motions, mop, lut, chord, block, accuracy, group_len,
                                        shapes):
-        tick(nm - 1 - int(ch.motion.max()), nm)     # the motions after it (blocks come
-                                                    # last first)
+        # the motions after the block (blocks come last first), then its share per slice
+        base = nm - 1 - int(ch.motion.max())
+        span = (int(ch.motion.max()) - int(ch.motion.min()) + 1) / max(len(refs), 1)
+        tick(completed=base, total=nm)
         nchords += len(ch.S)
         nblocks += 1
         only = (ch, grp, cidx) if nblocks == 1 else None
@@ -269,7 +353,7 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
         gdev = (np.maximum.reduceat(ch.dev, grp.start[:-1]) if len(ch.dev)
                 else np.zeros(0))           # each group's largest chord bound
         single = grp.count == 1
-        for (ref, tri, idx, fc), st in zip(refs, states):
+        for r, ((ref, tri, idx, fc), st) in enumerate(zip(refs, states)):
             gsel = np.ones(len(gop), bool) if ref.ops is None else np.isin(gop, ref.ops)
             flag = gsel & single
             test = np.flatnonzero(gsel & ~single)
@@ -279,30 +363,23 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
                 flag[test] = near_chords(grp.S[test], grp.E[test], gslot[test], shapes, tri,
                                          idx, accuracy,
                                          grp.dev[test] + 2.0 * gdev[test] + 1e-9, fc)
-            cs = grp.chords(flag)
-            if len(cs):
-                # the flagged groups, renumbered over the chords cs
-                runs = (np.concatenate([[0], np.cumsum(grp.count[flag])]), grp.S[flag],
-                        grp.E[flag], grp.dev[flag] + 1e-9)
-                res = gouge_chords(ch.S[cs], ch.E[cs], ch.slot[cs], shapes, tri, idx,
-                                   accuracy, fc, runs, ch.dev[cs])
-                g = np.maximum(res.gouge, 0.0)
-                np.maximum.at(motion_g, ch.motion[cs], g)
-                c = int(np.argmax(g))
-                if g[c] > best_g:
-                    # where: located once, for the worst chord of all (below)
-                    best_g = float(g[c])
-                    worst = (ch.S[cs[c]:cs[c] + 1].copy(), ch.E[cs[c]:cs[c] + 1].copy(),
-                             ch.slot[cs[c]:cs[c] + 1].copy(), float(ch.dev[cs[c]]), tri, idx,
-                             GougeResult(*(None if v is None else v[c:c + 1].copy()
-                                           for v in (res.gouge, res.triangle, res.shape,
-                                                     res.rim, res.point))),
-                             int(ch.motion[cs[c]]), int(ch.op[cs[c]]))
+            parts = list(_group_slices(grp.count, flag, LEAST_CHORDS))
+            rays = _slices(len(st.pts), LEAST_RAYS)
+            step = span / max(len(parts) + len(rays), 1)
+            at = base + r * span
+            for part in parts:
+                at += step
+                _gouge_part(grp, part, ch, shapes, tri, idx, accuracy, fc, motion_g, top)
+                tick(completed=at)
             # material left on this reference, by all cutting chords: the rays near
             # the design first
-            _shorten(st, np.arange(len(st.pts)), ch, cidx, shapes, accuracy)
-    tick(nm, nm)
+            for sl in rays:
+                at += step
+                _shorten(st, np.arange(len(st.pts))[sl], ch, cidx, shapes, accuracy)
+                tick(completed=at)
+    tick(completed=nm)
     total = nm
+    best_g, worst = top
     if worst is not None:
         S, E, slot, dv, tri, idx, res, w, o = worst
         _, X = locate(S, E, slot, shapes, tri, res, 0, accuracy, idx, dv)
@@ -321,47 +398,44 @@ def verify_exact(motions: list[Motion], tools: dict[int, Tool], stock: Stock,
         again = [only] if only is not None else _chord_blocks(motions, mop, lut, chord, block,
                                                                accuracy, group_len, shapes)
         total = 2 * nm
+        tick(completed=nm, total=total)
         for ch, _, cidx in again:
-            tick(total - 1 - int(ch.motion.max()), total)
-            for st, f in zip(states, far):
-                if len(f):
-                    _shorten(st, f, ch, cidx, shapes, accuracy)
-    best_l, l_at = 0.0, None
-    op_left: dict[int, float] = {}
-    samples: list[tuple[list[int] | None, np.ndarray, np.ndarray]] = []
-    for (ref, tri, idx, _), st in zip(refs, states):
-        left = medial_cap(st.pts, st.nrm, st.own, tri, idx, margin, st.out)
-        if not len(left):
-            continue
-        left = np.where(left >= accuracy / 2, left, 0.0)
-        # between the samples: the peaks near the highest ones
-        measure = _LeftMeasure(motions, mop, lut, chord, block, shapes, stock, tri, idx,
-                               reach, margin, accuracy)
-        lq, X, w = refine_peaks(st.pts, st.own, left, st.who, tri, _unit_normals(tri),
-                                measure, float(spacing), accuracy)
-        area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]),
-                                    axis=1)
-        per = np.bincount(st.own, minlength=len(tri))
-        samples.append((ref.ops, left.astype(np.float32),
-                        (area[st.own] / per[st.own]).astype(np.float32)))
-        for o in (ref.ops if ref.ops is not None else sorted(set(mop.tolist())) or [0]):
-            op_left[o] = max(op_left.get(o, 0.0), lq)
-        if lq > best_l:
-            best_l = lq
-            l_at = {"x": float(X[0]), "y": float(X[1]), "z": float(X[2]),
-                    "line": int(motions[w].line) if w >= 0 else None,
-                    "operation": int(mop[w]) if w >= 0 else None}
-    tick(total, total)
-    gouging = motion_g > accuracy
-    op_g: dict[int, float] = {}
-    op_n: dict[int, int] = {}
-    for o in sorted(set(mop.tolist())):
-        m = mop == o
-        op_g[o] = float(motion_g[m].max(initial=0.0))
-        op_n[o] = int(gouging[m].sum())
-    return ExactResult(best_g, best_l, int(gouging.sum()), g_at, l_at, motion_g, op_g, op_n,
-                       op_left, [r.name for r in references], accuracy, float(spacing),
-                       nchords, reach, samples)
+            base = total - 1 - int(ch.motion.max())
+            span = (int(ch.motion.max()) - int(ch.motion.min()) + 1) / max(len(refs), 1)
+            for r, (st, f) in enumerate(zip(states, far)):
+                rays = _slices(len(f), LEAST_RAYS)
+                for k, sl in enumerate(rays):
+                    _shorten(st, f[sl], ch, cidx, shapes, accuracy)
+                    tick(completed=base + span * (r + (k + 1) / len(rays)))
+    tick(completed=total)
+    return (best_g, g_at, motion_g, mop, states, refs, lut, shapes, spacing, nchords, reach,
+            margin, chord)
+
+
+def _gouge_part(grp: ChordGroups, part: np.ndarray, ch: "_Chords", shapes: ToolShapes,
+                tri, idx, accuracy: float, fc, motion_g: np.ndarray, top: list) -> None:
+    """Gouge of the chords of the groups ``part`` (a boolean per group) into
+    ``motion_g``; ``top`` = [deepest so far, what locates it] is updated."""
+    cs = grp.chords(part)
+    if len(cs):
+        flag = part
+        # the groups of the part, renumbered over the chords cs
+        runs = (np.concatenate([[0], np.cumsum(grp.count[flag])]), grp.S[flag], grp.E[flag],
+                grp.dev[flag] + 1e-9)
+        res = gouge_chords(ch.S[cs], ch.E[cs], ch.slot[cs], shapes, tri, idx, accuracy, fc,
+                           runs, ch.dev[cs])
+        g = np.maximum(res.gouge, 0.0)
+        np.maximum.at(motion_g, ch.motion[cs], g)
+        c = int(np.argmax(g))
+        if g[c] > top[0]:
+            # where: located once, for the worst chord of all (see _check)
+            top[0] = float(g[c])
+            top[1] = (ch.S[cs[c]:cs[c] + 1].copy(), ch.E[cs[c]:cs[c] + 1].copy(),
+                      ch.slot[cs[c]:cs[c] + 1].copy(), float(ch.dev[cs[c]]), tri, idx,
+                      GougeResult(*(None if v is None else v[c:c + 1].copy()
+                                    for v in (res.gouge, res.triangle, res.shape, res.rim,
+                                              res.point))),
+                      int(ch.motion[cs[c]]), int(ch.op[cs[c]]))
 
 
 class _LeftMeasure:

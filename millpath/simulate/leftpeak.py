@@ -11,7 +11,7 @@ not seen: that width is the sample spacing, reported with the figure. Program un
 
 from __future__ import annotations
 
-from typing import Protocol
+from typing import Callable, Protocol
 
 import numpy as np
 
@@ -75,13 +75,26 @@ def triangle_grids(points: np.ndarray, owners: np.ndarray, tri: np.ndarray,
     return closest_on_triangles(G, tri[own]), own
 
 
+def peak_rounds(spacing: float, accuracy: float, n: int = 9) -> int:
+    """How many grids :func:`refine_peaks` measures (the first ``spacing`` wide, each
+    next ``(n - 1) / 2`` times finer, the last with steps of at most ``accuracy``)."""
+    half, k = spacing, 1
+    while 2.0 * half / (n - 1) > accuracy and k < 1000:
+        half, k = 2.0 * half / (n - 1), k + 1
+    return k
+
+
 def refine_peaks(pts: np.ndarray, own: np.ndarray, left: np.ndarray, who: np.ndarray,
                  tri: np.ndarray, normals: np.ndarray, measure: Measure, spacing: float,
-                 accuracy: float, top: int = 32, keep: int = 8,
-                 n: int = 9) -> tuple[float, np.ndarray | None, int]:
+                 accuracy: float, top: int = 32, keep: int = 8, n: int = 9,
+                 on_round: Callable[[], None] | None = None
+                 ) -> tuple[float, np.ndarray | None, int]:
     """The highest material left near the ``top`` highest samples (those at least
     ``accuracy / 2``): (figure, design point or None, bounding motion). ``normals`` are
-    the unit normals of ``tri``; ``measure`` measures points as the samples were."""
+    the unit normals of ``tri``; ``measure`` measures points as the samples were.
+    ``on_round()`` is called once the measure is prepared and after each of the
+    :func:`peak_rounds` grids."""
+    done = on_round or (lambda: None)
     if not len(left):
         return 0.0, None, -1
     q = int(np.argmax(left))
@@ -94,9 +107,11 @@ def refine_peaks(pts: np.ndarray, own: np.ndarray, left: np.ndarray, who: np.nda
     half = spacing
     # later grids stay within half * (1 + 1/4 + 1/16 + ...) * sqrt(2) of the first centres
     measure.prepare(P, normals[O], 2.0 * half)
+    done()
     while True:
         G, gown = triangle_grids(P, O, tri, half, n)
         gl, gw = measure(G, normals[gown], gown)
+        done()
         if len(gl):
             j = int(np.argmax(gl))
             if gl[j] > best:

@@ -290,7 +290,7 @@ def _lift_start(motions: list[Motion], stock: Stock) -> list[Motion]:
 def _exact(res: SimResult, motions, tools, stock, design, references, motion_op,
            accuracy, progress: "bool | Progress" = False) -> SimResult:
     """Run the grid-free check (when a design or references are given) into ``res``,
-    with a bar of the motions checked."""
+    with bars of the motions checked and the material-left peak search."""
     nm = len(motions)
     mop = np.zeros(nm, np.int64) if motion_op is None else np.asarray(motion_op, np.int64)
     res.motion_op = mop
@@ -302,10 +302,8 @@ def _exact(res: SimResult, motions, tools, stock, design, references, motion_op,
         references = [Reference(design_triangles(design, stock, accuracy, size), "design")]
     if references:
         bars = progress if isinstance(progress, Progress) else Progress(bool(progress))
-        with bars.task("verifying exactly: motions checked", total=nm) as bar:
-            res.exact = verify_exact(
-                motions, tools, stock, references, motion_op=mop, accuracy=accuracy,
-                progress=lambda done, total: bar.update(completed=done, total=total))
+        res.exact = verify_exact(motions, tools, stock, references, motion_op=mop,
+                                 accuracy=accuracy, progress=bars)
         ga, la = res.exact.gouge_at, res.exact.left_at
         res.gouge_at = (ga["x"], ga["y"]) if ga else None
         res.left_at = (la["x"], la["y"]) if la else None

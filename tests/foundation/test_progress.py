@@ -20,7 +20,8 @@ MOULD = ROOT / "millpath" / "examples" / "surface-mould" / "job.toml"
 #: stage label -> how many times it must show a completed count "n/n"
 STAGES = ("reading the job", "planning operations", "fitting and posting",
           "interpreting the program", "simulating: motions swept",
-          "verifying exactly: motions checked", "rendering pictures and viewer")
+          "verifying exactly: motions checked", "verifying exactly: material-left peaks",
+          "rendering pictures and viewer")
 
 
 def _run(job: Path, out: Path, *extra: str) -> subprocess.CompletedProcess:
@@ -89,8 +90,10 @@ def test_surface_mould_run_shows_every_stage(tmp_path):
 
 
 def test_exact_check_reports_motions_checked_up_to_its_total():
-    """verify_exact's progress: one call per block of motions, counts that never go
-    back nor past their total, the last one total/total."""
+    """verify_exact's progress: at least one update per block of motions, counts that
+    never go back nor past their total, the last one total/total."""
+    from contextlib import contextmanager
+
     import numpy as np
 
     from millpath.model import Stock, Tool
@@ -101,9 +104,27 @@ def test_exact_check_reports_motions_checked_up_to_its_total():
     plate = np.array([[(-12, -5, -2), (12, -5, -2), (12, 5, -2)],
                       [(-12, -5, -2), (12, 5, -2), (-12, 5, -2)]], float)
     calls: list[tuple[int, int]] = []
+
+    class Bar:
+        def __init__(self, label, total):
+            self.label, self.completed, self.total = label, 0.0, total
+
+        def update(self, *, completed=None, total=None):
+            self.completed = self.completed if completed is None else completed
+            self.total = self.total if total is None else total
+            if "motions" in self.label:
+                calls.append((self.completed, self.total))
+
+        def advance(self, n=1.0):
+            self.update(completed=self.completed + n)
+
+    class Bars:
+        @contextmanager
+        def task(self, label, total=None):
+            yield Bar(label, total)
+
     verify_exact(prog, {1: Tool(1, "flat", 2.0)}, Stock(-12, -5, -3, 12, 5, 0),
-                 [Reference(plate, "plate")], block=7,
-                 progress=lambda done, total: calls.append((done, total)))
+                 [Reference(plate, "plate")], block=7, progress=Bars())
     assert len(calls) >= 40 // 7 + 1
     done = [d for d, _ in calls]
     assert done == sorted(done) and all(d <= t for d, t in calls)
