@@ -22,8 +22,7 @@ from __future__ import annotations
 from math import acos, asin, atan2, cos, hypot, pi, sin, tan
 
 from millpath.interpret.errors import GCodeError
-
-SMALL = 0.05                    # radians: LinuxCNC's TOLERANCE_CONCAVE_CORNER
+from millpath.model.control import CONCAVE_CORNER as SMALL
 HALF_PI = pi / 2.0
 TWO_PI = 2 * pi
 # the bounds the corner angle is compared with, computed once

@@ -58,6 +58,7 @@ from shapely.geometry.polygon import orient
 from millpath.errors import JobError, PlanningError
 from millpath.io.schema import Param
 from millpath.model import Operation, Toolpath
+from millpath.model.control import CONCAVE_CORNER
 from millpath.model.units import default
 from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.twod.contours import (SELECT_PARAMS, layer_polygons, material, order,
@@ -251,7 +252,12 @@ class _Cut:
         if side < 0:
             ring = ring[::-1]
         if control:
-            ring = reachable(ring, R + 0.5 * margin, side)
+            # as the post writes it (the control's corners are those of the written
+            # numbers), then only corners the control reaches
+            grain = 10.0 ** -int(default("decimals", self.ctx.units))
+            ring = reachable(on_grain(ring, grain), R + 0.5 * margin, side)
+            # tab ramps split segments: into pieces the corners beside them leave room on
+            reach = 2.0 * corner_reach(ring, R + 0.5 * margin, side) + 4.0 * grain
         ring0 = ring
         centre = offset(contour, R if outside else -R, self.quad_segs)
         cpolys = polygons(centre)
@@ -347,7 +353,8 @@ class _Cut:
             if tabs and z < z_tab - 1e-9:
                 if control:
                     # tabs are measured on the tool-centre path; map by arc length
-                    pts = _with_tabs(loop, z, z_tab, _scale(tabs, L, _length(loop)), tol * 10)
+                    pts = _with_tabs(loop, z, z_tab, _scale(tabs, L, _length(loop)),
+                                     max(tol * 10, reach))
                 else:
                     pts = _with_tabs(loop, z, z_tab, tabs, tol * 10)
                 for q in pts[1:]:
@@ -368,56 +375,98 @@ class _Cut:
         return "ramp" if Lc is None else "lead"
 
 
+#: chords of the corners rounded for the control: 8 to 11 a quarter circle, so each
+#: turns by at least about 0.1 rad (GEOS splits a corner in equal parts of at least three
+#: quarters of a quarter circle over this): on finer chords the control's offset leaves
+#: each (radius - tool radius) x turn of room, less than the post's rounding takes
+FILLET_SEGS = (8, 11)
+
+
 def followable(contour, r: float, outside: bool, eps: float):
     """The contour a tool of radius ``r`` can stay tangent to all along: ``contour``
     (a polygon) opened on its air side (outside if ``outside``, else inside) by a disc
-    of radius ``r``: concave corners rounded to radius ``r`` (chords within ``eps`` of
-    the arcs), notches narrower than ``2 r`` closed over, convex corners kept (outside:
-    exactly; inside: within ``eps``, on the air side), points within ``eps`` of a line
-    merged. Never on the material's side of ``contour``. None
-    if no tool of radius ``r`` fits (inside), or the polygon it fits in splits in
-    several (a neck)."""
-    segs = max(8, int(math.ceil(0.5 * math.pi / (2 * math.acos(max(1.0 - eps / r, -1.0))))))
+    of radius ``r``: concave corners rounded to radius ``r`` by chords of
+    :data:`FILLET_SEGS` a quarter circle (on the air side of the arc: material left),
+    notches narrower than ``2 r`` closed over, convex corners kept (outside: exactly;
+    inside: within ``eps``, on the air side), points within ``eps`` of a line merged.
+    Never on the material's side of ``contour``. None if no tool of radius ``r`` fits
+    (inside), or the polygon it fits in splits in several (a neck)."""
+    fine = max(8, int(math.ceil(0.5 * math.pi / (2 * math.acos(max(1.0 - eps / r, -1.0))))))
+    coarse = min(max(fine, FILLET_SEGS[0]), FILLET_SEGS[1])
     if outside:
-        grown = polygons(offset(contour, r, segs))
+        grown = polygons(offset(contour, r, fine))
         if not grown:
             return None
         grown = Polygon(max(grown, key=lambda g: g.area).exterior)
-        back = polygons(offset(grown, -r, segs).union(contour))
+        back = polygons(offset(grown, -r, coarse).union(contour))
     else:
-        shrunk = polygons(offset(contour, -r, segs))
+        shrunk = polygons(offset(contour, -r, fine))
         if len(shrunk) != 1:
             return None
-        back = polygons(offset(shrunk[0], r, segs))
+        back = polygons(offset(shrunk[0], r, coarse))
     if not back:
         return None
     return Polygon(max(back, key=lambda g: g.area).exterior).simplify(eps)
 
 
+def _corners(P: np.ndarray, r: float, side: int):
+    """Of the closed ring ``P`` (see :func:`reachable`): each segment's length (segment
+    k: P[k] -> P[k+1]), whether each vertex is concave, and how much of the segment
+    ending at it (``back``) and of the one starting at it (``ahead``) the control's
+    offset takes there."""
+    d = np.roll(P, -1, axis=0) - P
+    L = np.hypot(d[:, 0], d[:, 1])
+    t = d / np.maximum(L, 1e-300)[:, None]
+    tin = np.roll(t, 1, axis=0)                          # segment ending at vertex k
+    cross = tin[:, 0] * t[:, 1] - tin[:, 1] * t[:, 0]
+    dot = np.einsum("ij,ij->i", tin, t)
+    concave = side * cross > 1e-12
+    turn = np.arctan2(np.abs(cross), dot)
+    corner = concave & (turn >= CONCAVE_CORNER * (1.0 - 1e-3))   # may be a corner
+    join = concave & (turn <= CONCAVE_CORNER * (1.0 + 1e-3))     # may be a join
+    # at a corner the offsets meet r * tan(turn / 2) back along each segment
+    back = np.where(corner, r * np.abs(cross) / np.maximum(1.0 + dot, 1e-12), 0.0)
+    ahead = np.maximum(back, np.where(join, r * np.abs(cross), 0.0))
+    return L, concave, back, ahead
+
+
+def corner_reach(ring: np.ndarray, r: float, side: int) -> float:
+    """The most any corner of ``ring`` takes of a segment next to it under the control's
+    offset (see :func:`reachable`): pieces of a segment at least this long plus the
+    post's rounding are reachable."""
+    if len(ring) < 3:
+        return 0.0
+    _, _, back, ahead = _corners(np.asarray(ring, float)[:, :2], r, side)
+    return float(max(back.max(), ahead.max()))
+
+
+def on_grain(ring: np.ndarray, grain: float) -> np.ndarray:
+    """``ring`` (n, 2, not closed) rounded to multiples of ``grain`` (the post's last
+    decimal), points that round onto the one before dropped."""
+    P = np.round(np.asarray(ring, float) / grain) * grain
+    keep = np.any(np.abs(P - np.roll(P, 1, axis=0)) > 0.5 * grain, axis=1)
+    return P[keep] if keep.any() else P[:1]
+
+
 def reachable(ring: np.ndarray, r: float, side: int) -> np.ndarray:
     """``ring`` (n, 2, not closed, followed with the tool on side ``side``: +1 left)
     with the concave vertices dropped that a tool of radius ``r`` offset by the control
-    cannot reach: LinuxCNC offsets each segment by ``r``, meets the next one at a
-    concave vertex where the two offsets intersect, and refuses a segment whose
-    offset runs backwards. Dropping a concave vertex replaces two segments by their
-    chord, on the tool's side: material left, never cut."""
+    cannot reach. LinuxCNC offsets each segment by ``r``; at a corner turning towards
+    the tool by more than :data:`CONCAVE_CORNER` it ends the segment before where the
+    two offsets meet, ``r tan(turn / 2)`` back along each; at a smaller turn towards
+    the tool (a tangent join) the next segment starts where the last offset ended,
+    ``r sin(turn)`` along it. A segment whose offset would run backwards is refused.
+    Turns within a thousandth of the threshold are taken both ways. Dropping a concave
+    vertex replaces two segments by their chord, on the tool's side: material left,
+    never cut."""
     pts = [np.asarray(q, float) for q in ring]
     for _ in range(4 * len(pts) + 4):
         n = len(pts)
         if n < 3:
             break
         P = np.asarray(pts)
-        d = np.roll(P, -1, axis=0) - P                       # segment k: P[k] -> P[k+1]
-        L = np.hypot(d[:, 0], d[:, 1])
-        t = d / np.maximum(L, 1e-300)[:, None]
-        nrm = side * np.column_stack([-t[:, 1], t[:, 0]])
-        tin = np.roll(t, 1, axis=0)                          # segment ending at vertex k
-        cross = tin[:, 0] * t[:, 1] - tin[:, 1] * t[:, 0]
-        dot = np.einsum("ij,ij->i", tin, t)
-        concave = side * cross > 1e-12
-        # at a concave vertex the offsets meet r * tan(turn / 2) back along each segment
-        back = np.where(concave, r * np.abs(cross) / np.maximum(1.0 + dot, 1e-12), 0.0)
-        bad = (L - back - np.roll(back, -1)) <= 0.0          # segment k too short
+        L, concave, back, ahead = _corners(P, r, side)
+        bad = (L - ahead - np.roll(back, -1)) <= 0.0          # segment k too short
         drop = set()
         for k in np.flatnonzero(bad):
             j = (k + 1) % n if concave[(k + 1) % n] else k
