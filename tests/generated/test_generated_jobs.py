@@ -146,3 +146,34 @@ def test_open_wall_pass_gouge(rs274, tmp_path):
                       tol=0.0132 + 0.001, region=poly, side="inside")
     o = _run_folder(JOBS / "open-wall-gouge", tmp_path, geo)
     assert o.kind == "written", o.message
+
+
+#: generated jobs the proof once refused after planning: what each exercised
+FOUND = {
+    "seed303-pocket-140": "offset rings 2.757 apart with a 2.5 mm radius: the innermost "
+                          "ring left a core standing, and the finish's floor entry came "
+                          "down on it",
+    "seed303-pocket-114": "an L pocket whose floor finish starts on the wall ring: the "
+                          "walls' allowance stands to the last wall level there",
+    "seed303-profile-097": "control compensation round a rounded corner whose chords "
+                           "turn either side of the control's 0.05 rad corner threshold",
+    "seed303-profile-157": "control compensation with tabs: the tab ramps split "
+                           "segments next to concave corners",
+}
+
+
+@pytest.mark.parametrize("name", list(FOUND))
+def test_found_jobs_are_written_and_proven(name, rs274, tmp_path):
+    """Each job is written and proven, and rs274's motion stays in its region within the
+    operation's tolerance + 0.001 mm."""
+    import tomllib
+    g = _bench("generated_jobs")
+    job = tomllib.loads((JOBS / name / "job.toml").read_text())
+    op = job["operations"][0]
+    region = Polygon(op["polygon"], op.get("islands", []))
+    side = "inside" if op["type"] == "pocket" else op.get("side", "outside")
+    geo = g._centre_geometry(job["tools"][0], op.get("tolerance", 0.01), region, side,
+                             floor=-op["depth"])
+    o = _run_folder(JOBS / name, tmp_path, geo)
+    assert o.kind == "written", f"{FOUND[name]}: {o.message}"
+    assert o.check.ok, o.check.problems

@@ -41,7 +41,7 @@ from millpath.model import Operation, Toolpath
 from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.pocket.design import PocketDesign
 from millpath.plan.pocket.emit import Emitter
-from millpath.plan.pocket.passes import Cut, offset_cuts, order_nearest, zigzag_cuts
+from millpath.plan.pocket.passes import Cut, cusp, offset_cuts, order_nearest, zigzag_cuts
 from millpath.plan.twod.contours import (SELECT_PARAMS, layer_polygons, pocket_regions,
                                          selecting)
 from millpath.plan.twod.field import MaterialField, Raster, stock_heights
@@ -149,11 +149,13 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         free = offset(reg.polygon, -(R + allow))
         check_fit(reg, free, tool, params["dxf"] or file)
         frees.append(free)
+    # offset and zigzag passes leave ridges between them, up to this high
+    ridge = cusp(stepover, tool) if strategy != "adaptive" else 0.0
     for reg, free in zip(regions, frees):
         z_prev = None
         for z in rough_levels:
             z_from = upper + clearance if z_prev is None else min(upper + clearance,
-                                                                  z_prev + clearance)
+                                                                  z_prev + ridge + clearance)
             if strategy == "adaptive":
                 from millpath.plan.pocket.adaptive import adaptive_level
                 left = adaptive_level(w, em, ctx, reg.polygon, free, tool, z, z_from,
@@ -163,7 +165,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
             else:
                 field = _field(ctx, free, R, z, threshold, stock_top, top)
                 if strategy == "offset":
-                    cuts = offset_cuts(free, stepover, climb)
+                    cuts = offset_cuts(free, stepover, climb, level_reach(tool, stepover))
                 else:
                     cuts = zigzag_cuts(free, stepover, params["angle"], climb)
                 cuts = order_nearest(cuts, w.pos[:2] if w.pos else None)
@@ -175,13 +177,23 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     op.info["entry_moves"] = list(em.entry_ranges)
     op.info["entries"] = dict(w.entries)
     if allow > 0:
+        # offset and zigzag clear the whole free area to the floor's allowance; adaptive
+        # clearing may leave cells (left_cells)
         _finish(tp, ctx, params, regions, tool, top, floor, safe, upper, clearance, stepover,
-                feed, plunge, climb, rest, tol, hr, stock_top)
+                feed, plunge, climb, rest, tol, hr, stock_top,
+                cleared=strategy != "adaptive" or report["left_cells"] == 0)
     op.info["regions"] = report["regions"]
     op.info["left_cells"] = report["left_cells"]
     design = PocketDesign([r.polygon for r in regions], floor,
                           stock_top if stock_top is not None else top)
     return PlanResult(tp, design=design)
+
+
+def level_reach(tool, stepover: float) -> float:
+    """How far from a pass ``tool`` cuts the level to within the ridge that passes
+    ``stepover`` apart leave (:func:`millpath.plan.pocket.passes.cusp`): its flat
+    bottom's radius, or half the stepover where that is more."""
+    return max(tool.radius - tool.corner_radius, 0.5 * stepover)
 
 
 def _field(ctx, free, R, z, threshold, stock_top, top) -> MaterialField | None:
@@ -196,8 +208,11 @@ def _field(ctx, free, R, z, threshold, stock_top, top) -> MaterialField | None:
 
 
 def _finish(tp, ctx, params, regions, tool, top, floor, safe, upper, clearance, stepover,
-            feed, plunge, climb, rest, tol, hr, stock_top) -> None:
-    """Walls at every level and the floor, to size (the allowance left by clearing)."""
+            feed, plunge, climb, rest, tol, hr, stock_top, cleared: bool) -> None:
+    """Walls at every level and the floor, to size (the allowance left by clearing);
+    ``cleared``: the clearing took the whole free area down to the floor's allowance
+    (rings well inside it are entered from just above that; otherwise every entry
+    starts above the stock)."""
     R = tool.radius
     op = Operation("pocket", "pocket finish" + (" rest" if rest else ""), tool.number,
                    spindle=params["spindle"], tolerance=tol, info={"strategy": "finish", "rest": rest})
@@ -207,21 +222,32 @@ def _finish(tp, ctx, params, regions, tool, top, floor, safe, upper, clearance, 
     em = Emitter(w, radius=R, helix_radius=hr, entry="ramp", clearance=clearance)
     allow = params["allowance"]
     thr = max(allow, tol) if rest else tol
+    ridge = cusp(stepover, tool)
     for reg in regions:
         free0 = offset(reg.polygon, -R)
         wall_levels = levels(top, floor, params["stepdown"])
         z_prev = None
         for z in wall_levels:
-            z_from = upper + clearance if z_prev is None else z_prev + clearance
+            # (where clearing left cells, every entry starts above the stock)
+            z_from = (upper + clearance if z_prev is None or not cleared
+                      else z_prev + clearance)
             field = _field(ctx, free0, R, z, thr, stock_top, top) if rest else None
             if z > floor + 1e-9:
                 cuts = [Cut(r if climb else r[::-1], True, p)
                         for p in polygons(free0) for r in rings(p)]
             else:
-                cuts = offset_cuts(free0, stepover, climb)
+                cuts = offset_cuts(free0, stepover, climb, level_reach(tool, stepover))
             cuts = order_nearest(cuts, w.pos[:2] if w.pos else None)
-            em.level(cuts, z, min(z_from, z + allow + clearance) if z <= floor + 1e-9
-                     else z_from, field)
+            if z > floor + 1e-9:
+                em.level(cuts, z, z_from, field)
+            else:
+                # the floor: clearing left the allowance and ridges between its passes;
+                # the walls' allowance stands to the last wall level, so a ring whose
+                # entry may reach it starts from there
+                deep = min(z_from, z + allow + ridge + clearance)
+                for c in cuts:
+                    em.level([c], z, deep if cleared and c.inset >= R + allow + 2 * hr
+                             else z_from, field)
             z_prev = z
     w.retract()
     op.info["entry_moves"] = list(em.entry_ranges)
