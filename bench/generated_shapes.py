@@ -72,7 +72,8 @@ def _rounded(rng: np.random.Generator, w: float, h: float, tool_d: float) -> Pol
 def polygon(rng: np.random.Generator, kind: str, origin: tuple[float, float], w: float,
             h: float, tool_d: float) -> list[list[float]]:
     """A simple polygon of ``kind`` (see KINDS) in the box ``origin`` + (w, h), turned by
-    a random angle about its centre (and kept in the box's bounding circle)."""
+    a random angle about its centre (and kept in the box's bounding circle); the box
+    itself if 50 draws give none wide enough for the tool."""
     for _ in range(50):
         if kind == "convex":
             p = _convex(rng, w, h)
@@ -92,7 +93,8 @@ def polygon(rng: np.random.Generator, kind: str, origin: tuple[float, float], w:
         q = _valid(pts)
         if q is not None and q.buffer(-0.6 * tool_d).area > 0.1 * q.area:
             return pts
-    raise RuntimeError(f"no valid {kind} polygon drawn")
+    # (a tool too large for this kind of shape at this size): the box
+    return _coords(orient(box(origin[0], origin[1], origin[0] + w, origin[1] + h), 1.0))
 
 
 def islands(rng: np.random.Generator, outer: list[list[float]], tool_d: float,
