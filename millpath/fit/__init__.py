@@ -30,7 +30,7 @@ import numpy as np
 from millpath.fit.arcs import LINUXCNC_ARC_ABS_INCH, LINUXCNC_ARC_ABS_MM
 from millpath.fit.segment import PLANE_NAMES, PLANES, segment
 from millpath.model.toolpath import Move, Toolpath
-from millpath.model.units import default
+from millpath.model.units import as_written, default
 
 __all__ = ["fit_toolpath", "fit_program", "fit_points", "FitSettings", "MODES"]
 
@@ -85,12 +85,13 @@ def _dedupe(P: np.ndarray) -> np.ndarray:
 def fit_points(points: np.ndarray, s: FitSettings):
     """Fit one polyline ``points`` ((n, 3), start point first, job units).
 
-    Returns ``(P, idx, kinds, ends, params)``: the grid-rounded, de-duplicated points,
+    Returns ``(P, idx, kinds, ends, params)``: the points as the post writes them
+    (:func:`~millpath.model.units.as_written`), de-duplicated,
     the index of each in ``points``, and the primitives of
     :func:`millpath.fit.segment.segment` (ends index ``P``).
     """
     pts = np.asarray(points, dtype=float)
-    R = np.round(pts / s.q) * s.q
+    R = as_written(pts, s.decimals)             # the grid as the post writes it
     idx = _dedupe(R)
     P = np.ascontiguousarray(R[idx])
     if len(P) < 2:

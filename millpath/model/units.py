@@ -4,12 +4,15 @@ the strategies, the fitter, the post and the job loader, and quoted by the keys'
 descriptions (``millpath keys``).
 
 ``DEFAULTS[name](units)`` is the value for a job in ``units`` ("mm" or "inch");
-``str(DEFAULTS[name])`` is "5 mm / 0.2 in" for documentation.
+``str(DEFAULTS[name])`` is "5 mm / 0.2 in" for documentation. :func:`as_written` is
+a coordinate as a program with ``DEFAULTS["decimals"]`` digits gives it back.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+
+import numpy as np
 
 
 @dataclass(frozen=True)
@@ -72,3 +75,27 @@ def length_scale(from_units: str, to_units: str) -> float:
     if from_units == to_units:
         return 1.0
     return MM_PER_INCH if from_units == "inch" else 1.0 / MM_PER_INCH
+
+
+def as_written(values, decimals: int) -> np.ndarray:
+    """``values`` (any shape, any length unit) as a program written with ``decimals``
+    digits after the point gives them back: each the float of Python's
+    ``format(v, f".{decimals}f")``, the post-processor's text (the exact binary value
+    rounded to the nearest multiple of ``10 ** -decimals``, an exact tie to even).
+
+    ``np.round(v / q) * q`` is not that: the division rounds, so a value just above a
+    half step (27.00625 is 27.006250000000001...) can go down where the text goes up."""
+    a = np.asarray(values, dtype=float)
+    scale = 10.0 ** decimals                    # exact for the decimals in use
+    x = a * scale
+    out = np.round(x) / scale                   # k / 10**d: the float the text reads as
+    # within a millionth of a step of a half step the product's own rounding may decide
+    # (its error stays below that up to 10**9 steps): those few are rounded as the text is
+    near = np.flatnonzero(np.abs(x - np.floor(x) - 0.5) < 1e-6)
+    if len(near):
+        spec = f".{decimals}f"
+        flat, src = out.reshape(-1), a.reshape(-1)
+        for k in near:
+            flat[k] = float(format(float(src[k]), spec))
+        out = flat.reshape(a.shape)
+    return out + 0.0                            # never -0.0

@@ -15,6 +15,7 @@ from pathlib import Path
 import pytest
 
 from millpath.interpret import interpret
+from millpath.interpret.errors import InterpreterError
 from millpath.io.schema import validate
 from millpath.model import Machine, Stock, Tool, Toolpath
 from millpath.model.toolpath import Operation
@@ -22,6 +23,7 @@ from millpath.plan.base import PlanContext
 from millpath.plan.profile import operation as profile
 from millpath.post.linuxcnc import post_with_lines
 from millpath.verify.roundtrip import compare_toolpath
+from millpath.verify.rs274 import run_rs274
 
 TOL = 2e-4              # mm: the round trip's tolerance (post rounds to 0.0001)
 L_SHAPE = [[0, 0], [60, 0], [60, 40], [30, 40], [30, 25], [0, 25]]
@@ -55,8 +57,23 @@ def test_a_wrong_tool_diameter_is_seen():
     tp, prog, lines = _profile("outside")
     assert _check(tp, prog, lines, diameter=6.0 + 2 * 0.0003) != []     # 0.0003 off
     assert _check(tp, prog, lines, diameter=6.0 + 2 * 0.0001) == []     # within 0.0002
-    diffs = _check(tp, prog, lines, diameter=6.2)
-    assert diffs and "G41 D3" in diffs[0] or "G42 D3" in diffs[0]
+    diffs = _check(tp, prog, lines, diameter=5.8)
+    assert diffs and ("G41 D3" in diffs[0] or "G42 D3" in diffs[0])
+
+
+def test_a_tool_wider_than_the_wear_margin_is_refused_as_linuxcnc_refuses_it(rs274):
+    """The concave corner is rounded to the tool radius plus the wear margin (0.1 mm):
+    a tool 0.2 mm wider than the program's cannot follow it; LinuxCNC refuses the
+    program and so does the interpreter, at the same line."""
+    tp, prog, lines = _profile("outside")
+    wide = {3: Tool(3, "flat", 6.4, flute_length=20, stickout=30)}
+    ref = run_rs274(prog, wide)
+    assert not ref.ok and "concave corner cannot be reached" in ref.error
+    with pytest.raises(InterpreterError) as e:
+        interpret(prog, wide, machine_units="mm")
+    assert "concave corner cannot be reached" in str(e.value)
+    assert e.value.line == ref.error_line
+    assert _check(tp, prog, lines, diameter=6.0 + 2 * 0.09) != []      # within the margin
 
 
 def _move_line(prog: str, lineno: int, axis: str, by: float, modal: float = 0.0) -> str:
@@ -94,7 +111,7 @@ def test_a_contour_point_moved_normal_to_the_contour_is_seen():
 
 def test_compensation_without_radii_is_not_compared():
     tp, prog, lines = _profile("outside")
-    motions = interpret(prog, {3: Tool(3, "flat", 6.2)}, machine_units="mm")
+    motions = interpret(prog, {3: Tool(3, "flat", 5.8)}, machine_units="mm")
     assert compare_toolpath(tp, lines, motions, TOL) == []
 
 
