@@ -1,6 +1,6 @@
 """Planners proven on generated jobs: jobs a user could write, run through the pipeline.
 
-For each operation type (grid-pocket, pocket, profile) this draws random jobs from a
+For each operation type (grid-pocket, pocket, profile, die-cavity) this draws random jobs from a
 fixed seed (numpy's Generator: the same seed gives the same jobs), writes each as a job
 file in a temp folder and runs it with :func:`millpath.pipeline.run_job`, as
 ``millpath run`` does. Each job ends as one of:
@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import re
 import shutil
 import sys
@@ -36,7 +37,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import generated_check as gc  # noqa: E402
 import generated_shapes as gs  # noqa: E402
 
-TYPES = ("grid-pocket", "pocket", "profile")
+TYPES = ("grid-pocket", "pocket", "profile", "die-cavity")
 #: messages of errors found after planning (the program is bad, not the request)
 AFTER_PLANNING = ("does not interpret", "differs from the planned")
 #: errors of the interpreter: a planned program the control refuses
@@ -229,7 +230,91 @@ def profile_job(rng) -> Job:
     return Job(job, _centre_geometry(tool, tol, region, op["side"], floor=-op["depth"]))
 
 
-MAKERS = {"grid-pocket": grid_pocket_job, "pocket": pocket_job, "profile": profile_job}
+#: the four-point basis (u = 0, 1/3, 2/3, 1), rows L1..L4, columns u^3, u^2, u, 1, and
+#: the end derivatives of a segment through P1..P4, as the die-cavity document gives them
+_LAGRANGE = np.array([[-4.5, 9.0, -5.5, 1.0], [13.5, -22.5, 9.0, 0.0],
+                      [-13.5, 18.0, -4.5, 0.0], [4.5, -4.5, 1.0, 0.0]])
+
+
+def four_point_outline(points: np.ndarray, n: int = 400) -> np.ndarray:
+    """The closed die-cavity outline through ``points`` (4k, 2), evaluated here from the
+    document's definitions (Mohamed 2006): each four points a cubic through them at
+    u = 0, 1/3, 2/3, 1; a gap between one segment's end and the next one's start is
+    a cubic through the two ends whose derivatives (per u) equal the neighbours'."""
+    segs = [points[k:k + 4] for k in range(0, len(points), 4)]
+    u = np.linspace(0.0, 1.0, n)
+    basis = np.column_stack([u ** 3, u ** 2, u, np.ones_like(u)]) @ _LAGRANGE.T
+    d0 = lambda q: -5.5 * q[0] + 9 * q[1] - 4.5 * q[2] + q[3]        # noqa: E731
+    d1 = lambda q: -q[0] + 4.5 * q[1] - 9 * q[2] + 5.5 * q[3]         # noqa: E731
+    out = []
+    for i, a in enumerate(segs):
+        out.append(basis @ a)
+        c = segs[(i + 1) % len(segs)]
+        if np.hypot(*(a[3] - c[0])) > 1e-9:
+            # the blend B from B1 = a's end to B4 = c's start, its inner points B2, B3
+            # from B'(0) = a'(1) and B'(1) = c'(0)
+            b1, b4 = a[3], c[0]
+            m = np.array([[9.0, -4.5], [4.5, -9.0]])
+            rhs = np.array([d1(a) + 5.5 * b1 - b4, d0(c) + b1 - 5.5 * b4])
+            b2, b3 = np.linalg.solve(m, rhs)
+            out.append(basis @ np.array([b1, b2, b3, b4]))
+    return np.concatenate(out)
+
+
+def die_cavity_job(rng) -> Job:
+    """A die-cavity: a smooth random closed outline given as 2 to 4 four-point
+    segments (blended), in a plate; blind or through; CAM or control compensation."""
+    plate = round(float(rng.uniform(6.0, 30.0)), 1)
+    through = rng.random() < 0.3
+    depth = plate if through else round(float(rng.uniform(1.0, plate - 0.5)), 2)
+    tool = _tool(rng, ("flat",), depth)
+    d = tool["diameter"]
+    r0 = float(rng.uniform(max(3.0 * d, 15.0), 70.0))
+    k = np.arange(2, 5)
+    amp, ph = rng.uniform(0.0, 0.12, 3), rng.uniform(0, 2 * math.pi, 3)
+    nseg = int(rng.integers(2, 5))
+    # each segment's span of angle, and the gap the blend crosses after it
+    spans = rng.uniform(0.5, 1.0, nseg)
+    gaps = rng.uniform(0.1, 0.6, nseg)
+    scale = 2 * math.pi / float(spans.sum() + gaps.sum())
+    spans, gaps = spans * scale, gaps * scale
+    ang, a0 = [], float(rng.uniform(0, 2 * math.pi))
+    for sp, gp in zip(spans, gaps):
+        ang += list(a0 + sp * np.arange(4) / 3.0)
+        a0 += sp + gp
+    ang = np.asarray(ang)
+    rad = r0 * (1.0 + (amp[:, None] * np.cos(k[:, None] * ang[None, :] + ph[:, None])).sum(0))
+    c = r0 * 1.25 + 20.0
+    pts = np.round(np.column_stack([c + rad * np.cos(ang), c + rad * np.sin(ang)]), 3)
+    if rng.random() < 0.5:
+        pts = pts[::-1].copy()                   # clockwise, segments reversed too
+    outline = four_point_outline(pts)
+    region = Polygon(outline)
+    if not region.is_valid:
+        region = region.buffer(0)
+    op = {"type": "die-cavity", "tool": tool["number"], "points": pts.tolist(),
+          "close": True, "tolerance": round(float(10 ** rng.uniform(-3.5, -1.5)), 5),
+          "depth": depth, "stepdown": round(float(rng.uniform(0.2, 1.0)) * min(depth, 10.0), 2),
+          "allowance": round(float(rng.uniform(0.0, 0.5)), 2), **_cutting(rng),
+          "compensation": str(rng.choice(["cam", "control"]))}
+    if rng.random() < 0.5:
+        op["stepover"] = round(float(rng.uniform(0.2, 0.7)) * d, 3)
+    if op["compensation"] == "control" and rng.random() < 0.5:
+        op["entry"] = "arc"
+    if through:
+        op["breakthrough"] = round(float(rng.uniform(0.2, 2.0)), 2)
+    side = 2 * c
+    job = {"units": "mm", "name": f"generated die-cavity ({nseg} segments"
+                                  f"{', through' if through else ''})",
+           "stock": {"box": [0.0, 0.0, 0.0, round(side, 1), round(side, 1), plate]},
+           "tools": [tool], "operations": [op]}
+    floor = -op.get("breakthrough", 0.0) if through else plate - depth
+    return Job(job, _centre_geometry(tool, op["tolerance"], region, "inside", top=plate,
+                                     floor=floor))
+
+
+MAKERS = {"grid-pocket": grid_pocket_job, "pocket": pocket_job, "profile": profile_job,
+          "die-cavity": die_cavity_job}
 
 
 @dataclass

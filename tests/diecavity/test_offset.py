@@ -10,8 +10,8 @@ import shapely
 from shapely.geometry import LineString, Polygon
 
 from millpath.model import Tool
-from millpath.part.curve.offset import (CompensationError, compensate, reachable_contour,
-                                        sample_elements)
+from millpath.part.curve.offset import (CompensationError, chords_on_offset, compensate,
+                                        reachable_contour, sample_elements)
 
 
 def _program(start, pts, side="left", feed=500.0):
@@ -113,3 +113,56 @@ def test_reachable_contour_cuts_a_sharp_corner_and_stays_loop_free():
     lap = [e for e in el if 10 <= e.index <= len(q)]
     first = [e for e in el if e.index < 10][-1].end
     assert LineString(sample_elements(first, lap, 0.2)).is_simple
+
+
+def _mouth(r0=32.0, half=0.3, turn=0.0185):
+    """A round cavity of chords turning ``turn`` (under LinuxCNC's 0.05 rad: each a
+    near-straight join) with a wedge of material cut in to its centre: the arc meets
+    the wedge's sides in corners concave for the tool inside."""
+    n = int((2 * np.pi - 2 * half) / turn)
+    a = np.linspace(half, 2 * np.pi - half, n + 1)
+    arc = np.stack([r0 * np.cos(a), r0 * np.sin(a)], 1)
+    return np.round(np.vstack([arc, [[0.0, 0.0]]]), 4)
+
+
+def _from_longest(q: np.ndarray) -> np.ndarray:
+    """The closed contour ``q`` rolled to start at its longest chord (entered at its
+    middle: room for LinuxCNC's corners at both its ends)."""
+    k = int(np.argmax(np.hypot(*(np.roll(q, -1, axis=0) - q).T)))
+    return np.roll(q, -k, axis=0)
+
+
+@pytest.mark.parametrize("start", [0, 1, 2, 5, 7, 60, 290, 298, 299, 300, 306, 307, 308])
+def test_reachable_contour_is_compensated_from_any_start_chord(start):
+    """Whatever chord it starts from (next to the wedge's corners included, or one the
+    tool cannot follow), the contour kept has a length left on every move once
+    LinuxCNC's corners and joins are taken, the start chord's join with the last chord
+    included: compensated by the same rules, entered from inside, it raises no
+    concave-corner error. The chords tried are those the die-cavity planner tries
+    (their offset on the eroded cavity's boundary)."""
+    v = _mouth()
+    r = 4.0
+    keep = chords_on_offset(v, r, "left", Polygon(v).buffer(-r, quad_segs=64), 2e-3)
+    rc = reachable_contour(v, r, "left", start=start, keep=keep)
+    q = _from_longest(rc.points)
+    t = (q[1] - q[0]) / np.hypot(*(q[1] - q[0]))
+    m = 0.5 * (q[0] + q[1])
+    entry = m + 2.5 * r * np.array([-t[1], t[0]]) - 2.0 * r * t
+    compensate(entry, [m] + list(q[1:]) + [q[0], m], r, "left")
+
+
+def test_reachable_contour_start_next_to_a_corner_is_accepted_by_rs274(rs274):
+    """The contour kept from a start chord just before the wedge's corner, written
+    under G41 with LinuxCNC's own rs274: accepted, no concave-corner error."""
+    from millpath.verify.rs274 import run_rs274
+    v = _mouth()
+    r = 4.0
+    keep = chords_on_offset(v, r, "left", Polygon(v).buffer(-r, quad_segs=64), 2e-3)
+    rc = reachable_contour(v, r, "left", start=len(v) - 3, keep=keep)
+    q = _from_longest(np.round(rc.points, 4))
+    t = (q[1] - q[0]) / np.hypot(*(q[1] - q[0]))
+    m = np.round(0.5 * (q[0] + q[1]), 4)
+    entry = m + 2.5 * r * np.array([-t[1], t[0]])
+    res = run_rs274(_program(entry, [m] + list(q[1:]) + [q[0], m]),
+                    {1: Tool(1, "flat", 2 * r, flute_length=10, stickout=30)})
+    assert res.ok, res.error

@@ -317,6 +317,26 @@ def test_an_outline_crossing_itself_is_a_geometry_error(tmp_path):
         _plan_file(_square_job(tmp_path, bowtie))
 
 
+#: a generated outline whose blend from the first segment to the second loops back
+#: over itself: a tongue 1.3 mm long stands in the cavity where the tool passes
+TONGUE = [[41.276, 36.771], [30.159, 51.289], [28.473, 69.985], [39.104, 85.189],
+          [44.831, 89.902], [54.95, 95.327], [66.652, 96.375], [77.505, 91.969],
+          [93.032, 74.643], [95.844, 55.883], [86.015, 39.856], [70.726, 29.067]]
+
+
+def test_a_loop_the_tool_reaches_is_a_geometry_error_one_it_cannot_is_dropped(tmp_path):
+    """A loop of the outline the tool would pass (the blend's tongue: the planner once
+    cut through it and the proof refused a 0.098 gouge) is refused before planning,
+    naming where; at the published cavity's tip the two segments cross in a loop
+    0.5 mm long that the 10 mm tool cannot come near: dropped, the job planned."""
+    text = _job_text(f"points = {TONGUE}").replace("diameter = 10.0", "diameter = 8.0")
+    (tmp_path / "job.toml").write_text(text)
+    with pytest.raises(GeometryError, match=r"crosses itself \(a loop round \(4[45]\.\d+, 8[89]\."):
+        _plan_file(tmp_path / "job.toml")
+    res = _plan_file(EXAMPLES / "die-published" / "job.toml")
+    assert res.report["curve"]["self_intersecting"]
+
+
 def test_sharp_cornered_cavity_control_matches_cam_with_arcs_and_trims(tmp_path, rs274):
     """Square corners: the contour is trimmed at inside corners and rounded with arcs
     round the outside ones, by the control and by the CAM offset alike."""

@@ -22,7 +22,7 @@ from shapely.geometry import Point, Polygon, box
 BENCH = Path(__file__).resolve().parents[2] / "bench"
 JOBS = Path(__file__).resolve().parent / "jobs"
 SEED = 7
-SAMPLE = {"grid-pocket": 2, "pocket": 2, "profile": 3}
+SAMPLE = {"grid-pocket": 2, "pocket": 2, "profile": 3, "die-cavity": 2}
 
 
 def _bench(name: str):
@@ -159,6 +159,11 @@ FOUND = {
                            "turn either side of the control's 0.05 rad corner threshold",
     "seed303-profile-157": "control compensation with tabs: the tab ramps split "
                            "segments next to concave corners",
+    "seed1-die-cavity-000": "a through cavity: the design's walls ended 1 mm under the "
+                            "block, above the breakthrough, and their lower edge read as "
+                            "a 0.014 gouge",
+    "seed1-die-cavity-002": "a finish path 0.00068 from the wall at a 0.0007 tolerance: "
+                            "the post's rounding took it over",
 }
 
 
@@ -170,10 +175,19 @@ def test_found_jobs_are_written_and_proven(name, rs274, tmp_path):
     g = _bench("generated_jobs")
     job = tomllib.loads((JOBS / name / "job.toml").read_text())
     op = job["operations"][0]
-    region = Polygon(op["polygon"], op.get("islands", []))
-    side = "inside" if op["type"] == "pocket" else op.get("side", "outside")
-    geo = g._centre_geometry(job["tools"][0], op.get("tolerance", 0.01), region, side,
-                             floor=-op["depth"])
+    if op["type"] == "die-cavity":
+        region = Polygon(g.four_point_outline(np.asarray(op["points"], float)))
+        top = job["stock"]["box"][5]
+        through = op["depth"] >= top - job["stock"]["box"][2]
+        floor = job["stock"]["box"][2] - op.get("breakthrough", 0.0) if through \
+            else top - op["depth"]
+        geo = g._centre_geometry(job["tools"][0], op["tolerance"], region, "inside",
+                                 top=top, floor=floor)
+    else:
+        region = Polygon(op["polygon"], op.get("islands", []))
+        side = "inside" if op["type"] == "pocket" else op.get("side", "outside")
+        geo = g._centre_geometry(job["tools"][0], op.get("tolerance", 0.01), region, side,
+                                 floor=-op["depth"])
     o = _run_folder(JOBS / name, tmp_path, geo)
     assert o.kind == "written", f"{FOUND[name]}: {o.message}"
     assert o.check.ok, o.check.problems

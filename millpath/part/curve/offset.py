@@ -30,8 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-#: LinuxCNC's TOLERANCE_CONCAVE_CORNER (radians)
-SMALL = 0.05
+from millpath.model.control import CONCAVE_CORNER as SMALL
 
 
 class CompensationError(ValueError):
@@ -176,26 +175,78 @@ def reachable_contour(vertices, radius: float, side: str = "left", start: int = 
     Works like a stack: each chord is pushed after checking the corner with the chord
     below it (LinuxCNC's corner rules); when the corner would move the lower chord's
     offset end back past its start (a loop), the lower chord is popped and the corner
-    is tried again with the one under it. ``start`` is a chord known to be reachable.
-    ``keep`` (bool per chord) limits the chords tried, e.g. to those whose offset lies
-    on the boundary of the eroded cavity (see :func:`chords_on_offset`).
+    is tried again with the one under it. ``start`` is a chord thought reachable; when
+    the contour closes, its offset start is where the corner with the last chord puts
+    it (a near-straight join starts it where the last offset ended, not on its own
+    offset), and if that leaves it no length the whole is redone from the kept chord
+    with the most room. ``keep`` (bool per chord) limits the chords tried, e.g. to
+    those whose offset lies on the boundary of the eroded cavity (see
+    :func:`chords_on_offset`).
     """
     v = np.asarray(vertices, float)
     n = len(v)
-    sgn = 1.0 if side == "left" else -1.0
-    r = float(radius)
-    min_len = 1e-6 * r          # a kept move must keep a positive length after trimming
-    order = [(start + k) % n for k in range(n)
-             if keep is None or keep[(start + k) % n] or k == 0] + [start]
     t = np.roll(v, -1, axis=0) - v
     lens = np.hypot(t[:, 0], t[:, 1])
     if np.any(lens == 0):
         raise ValueError("contour has repeated vertices")
     t = t / lens[:, None]
+    sgn = 1.0 if side == "left" else -1.0
     nrm = sgn * np.stack([-t[:, 1], t[:, 0]], axis=1)      # toward the tool side
+    r = float(radius)
+    tried: set[int] = set()
+    fallback = [int(c) for c in np.argsort(-lens) if keep is None or keep[c]]
+    for _ in range(8):
+        tried.add(start)
+        try:
+            stack, room = _reach_from(v, t, nrm, r, sgn, start, small, keep)
+        except CompensationError:
+            stack, room = [], np.zeros(0)            # the start chord itself is cut off
+        if len(room) and room[0] > 0.0:
+            break
+        # the start chord has no length once the closing corner is known, or it is
+        # not reachable: start again from the chord with the most room (its neighbours
+        # are settled), else from the longest not yet tried
+        best = [stack[k][0] for k in np.argsort(-room) if stack[k][0] not in tried]
+        best += [c for c in fallback if c not in tried]
+        if not best:
+            break
+        start = int(best[0])
+    else:
+        best = []
+    if not len(room) or room[0] <= 0.0:
+        raise CompensationError("the tool cannot follow the contour here: the "
+                                "cavity is too narrow for it", int(start))
+    # stack[0] and stack[-1] are both the start chord; programmed corner points follow
+    kept = [e[0] for e in stack[:-1]]
+    pts = np.array([stack[-1][1]] + [e[1] for e in stack[1:-1]])
+    kept_set = set(kept)
+    removed: list[list[int]] = []
+    run: list[int] = []
+    for idx in [(start + k) % n for k in range(n)]:
+        if idx in kept_set:
+            if run:
+                removed.append(run)
+                run = []
+        else:
+            run.append(idx)
+    if run:
+        removed.append(run)
+    return ReachableContour(pts, kept, removed)
 
-    # stack entries: (chord index, programmed start point, offset start point)
+
+def _reach_from(v, t, nrm, r: float, sgn: float, start: int, small: float, keep):
+    """One pass of :func:`reachable_contour` from chord ``start``: the stack of
+    (chord, programmed start point, offset start point), the start chord again last,
+    and the room (offset length less the least kept, ``min_len``) of each chord in it
+    but the last, the start chord's with its offset start from the closing corner."""
+    n = len(v)
+    min_len = 1e-6 * r          # a kept move must keep a positive length after trimming
+    order = [(start + k) % n for k in range(n)
+             if keep is None or keep[(start + k) % n] or k == 0] + [start]
+    # stack entries: (chord index, programmed start point, offset start point); ends[i]:
+    # the offset end of stack[i]'s chord, known once the chord above it is pushed
     stack: list[tuple[int, np.ndarray, np.ndarray]] = []
+    ends: list[np.ndarray] = []
     s0 = order[0]
     stack.append((s0, v[s0], v[s0] + r * nrm[s0]))
     for b in order[1:]:
@@ -227,28 +278,19 @@ def reachable_contour(vertices, radius: float, side: str = "left", start: int = 
                     ok = np.dot(end_a - sa, t[a]) >= min_len
                     start_b = end_a
             if ok:
+                ends.append(end_a)
                 stack.append((b, corner, start_b))
                 break
             if len(stack) <= 1:
                 raise CompensationError("the tool cannot follow the contour here: the "
                                         "cavity is too narrow for it", int(b))
             stack.pop()
-    # stack[0] and stack[-1] are both the start chord; programmed corner points follow
-    kept = [e[0] for e in stack[:-1]]
-    pts = np.array([stack[-1][1]] + [e[1] for e in stack[1:-1]])
-    kept_set = set(kept)
-    removed: list[list[int]] = []
-    run: list[int] = []
-    for idx in [(start + k) % n for k in range(n)]:
-        if idx in kept_set:
-            if run:
-                removed.append(run)
-                run = []
-        else:
-            run.append(idx)
-    if run:
-        removed.append(run)
-    return ReachableContour(pts, kept, removed)
+            ends.pop()
+    room = np.array([float(np.dot(ends[i] - stack[i][2], t[stack[i][0]])) - min_len
+                     for i in range(len(stack) - 1)])
+    if len(room):
+        room[0] = float(np.dot(ends[0] - stack[-1][2], t[s0])) - min_len
+    return stack, room
 
 
 def sample_elements(start, elements: list[Element], step: float) -> np.ndarray:

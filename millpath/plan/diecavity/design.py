@@ -10,13 +10,16 @@ from shapely.geometry import Polygon
 
 class CavityDesign:
     """``height(x, y)``: ``top`` outside ``outline`` (a shapely Polygon of the true
-    curve, densely sampled), ``floor`` inside it."""
+    curve, densely sampled), ``floor`` inside it. ``deepest``: the lowest the tool goes
+    (a through cavity's breakthrough), above which its walls are whole."""
 
-    def __init__(self, outline: Polygon, top: float, floor: float):
+    def __init__(self, outline: Polygon, top: float, floor: float,
+                 deepest: float | None = None):
         self.outline = outline
         shapely.prepare(self.outline)
         self.top = float(top)
         self.floor = float(floor)
+        self.deepest = None if deepest is None else float(deepest)
 
     def height(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
         x = np.asarray(x, float)
@@ -28,13 +31,17 @@ class CavityDesign:
         """Triangles (n, 3, 3), normals out of the material: the floor, the walls along
         the outline's edges (points on the true curve) and, given the stock ``box``
         (xmin, ymin, zmin, xmax, ymax, zmax), the top around the cavity. A through cavity
-        (``-inf`` floor) has its walls run down to below the box."""
+        (``-inf`` floor) has its walls run down to 1 unit below the box and below the
+        deepest cut: a wall's lower edge within the tool's reach would be a rim the
+        tool passes under, not the part."""
         from shapely.geometry import box as shp_box
         from shapely.geometry.polygon import orient
         poly = orient(self.outline, 1.0)
         floor = self.floor
         if not np.isfinite(floor):
-            floor = (box[2] - 1.0) if box is not None else self.top - 1e3
+            low = [z for z in (box[2] if box is not None else None, self.deepest)
+                   if z is not None]
+            floor = (min(low) - 1.0) if low else self.top - 1e3
         out = []
 
         def flat(geom, z):

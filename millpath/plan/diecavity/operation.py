@@ -81,12 +81,20 @@ PARAMS = {
 #: the post-processor writes 4 decimals in mm and 5 in inch; the programmed contour is
 #: rounded to that grid first so that CAM and control offsets start from the same points
 GRID = {"mm": 1e-4, "inch": 1e-5}
+#: how far, in grid steps, the post's rounding of the tool-centre path (half a step on
+#: each axis) can bring it nearer the wall
+ROUNDING = 0.5 * math.sqrt(2.0)
 
 
-def _region(pts: np.ndarray, file=None) -> tuple[Polygon, bool]:
+def _region(pts: np.ndarray, tol: float, r: float, file=None) -> tuple[Polygon, bool]:
     """The cavity as a valid polygon of the linearized curve; True if the curve
-    crossed itself in negligible loops (dropped: the largest part is kept).
-    GeometryError if the loops are not negligible."""
+    crossed itself in negligible loops (dropped: the largest part is kept). A loop is
+    negligible when none of it lies more than ``tol`` from the kept part's outline, or
+    when it is small (a ten-thousandth of the area) and a tool of radius ``r`` cannot
+    come within ``tol`` of it (in a corner too sharp for the tool, as where two
+    segments meet at a point); GeometryError
+    otherwise (a loop a blend makes between badly placed segments is a sliver of wall
+    the tool would have to cut through or go round)."""
     poly = Polygon(pts)
     if poly.is_valid:
         return poly, False
@@ -95,12 +103,26 @@ def _region(pts: np.ndarray, file=None) -> tuple[Polygon, bool]:
     if not parts:
         raise GeometryError("the outline does not enclose an area", file)
     main = max(parts, key=lambda g: g.area)
-    rest = sum(g.area for g in parts) - main.area
-    if rest > 1e-4 * main.area:
-        other = max((g for g in parts if g is not main), key=lambda g: g.area)
-        x, y = other.representative_point().coords[0]
-        raise GeometryError(f"the outline crosses itself (a loop round ({x:.3f}, {y:.3f})); "
-                            "check the points and their order", file)
+    # every face the outline encloses, split where it crosses itself: all but the
+    # kept part are loops
+    ring = shapely.linearrings(np.asarray(pts, float))
+    faces = list(shapely.get_parts(shapely.polygonize([shapely.node(ring)])))
+    big = max(faces, key=lambda g: g.intersection(main).area) if faces else main
+    rim = main.exterior
+    reach = None
+    for other in faces:
+        if other is big:
+            continue
+        far = shapely.distance(rim, shapely.points(np.asarray(other.exterior.coords)))
+        if far.max() <= tol:
+            continue
+        if reach is None:
+            reach = main.buffer(-r, quad_segs=16).buffer(r, quad_segs=16)
+        if other.area > 1e-4 * main.area or shapely.distance(reach, other) <= tol:
+            x, y = other.representative_point().coords[0]
+            raise GeometryError(f"the outline crosses itself (a loop round ({x:.3f}, "
+                                f"{y:.3f}) reaching {far.max():.3g} from the rest of "
+                                "it); check the points and their order", file)
     return main, True
 
 
@@ -338,7 +360,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     chord_tol = tol
     for attempt in range(CHORD_ATTEMPTS):
         lin = linearize_curve(curve, chord_tol)
-        region, crossed = _region(lin.polyline(), src)
+        region, crossed = _region(lin.polyline(), tol, r, src)
         grid = GRID[ctx.units]
         # the contour of the valid cavity (small self-crossing loops cut off), CCW
         ring = np.asarray(orient(region, 1.0).exterior.coords)[:-1]
@@ -397,15 +419,23 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         path = sample_elements(S, elements, max(tol, r / 50))
         # ... measured against the true curve, sampled 4 times finer than the chords
         per = 4 * max(sl.chords for sl in lin.segments)
-        true, _ = _region(curve.sample(per), src)
+        true, _ = _region(curve.sample(per), tol, r, src)
         shapely.prepare(true)
         gap = boundary_distance(true, path)
         inside = shapely.contains_xy(true, path[:, 0], path[:, 1])
         clearance = np.where(inside, gap, -gap) - r
+        if inside.all():
+            # nearest approach between the samples too (lines exactly; an arc's chords
+            # lie nearer the wall than the arc)
+            clearance = np.append(clearance, shapely.distance(
+                true.exterior, shapely.linestrings(path)) - r)
         undercut = float(max(0.0, -clearance.min()))
-        if undercut <= tol or chord_tol <= grid or attempt == CHORD_ATTEMPTS - 1:
+        # the post moves every point of the path by up to half a grid step on each axis
+        if undercut + ROUNDING * grid <= tol or chord_tol <= grid \
+                or attempt == CHORD_ATTEMPTS - 1:
             break                # within the tolerance, or chords at the number grid
-        chord_tol = max(grid, chord_tol * max(0.25, 0.9 * tol / undercut))
+        room = max(tol - ROUNDING * grid, 0.25 * tol)
+        chord_tol = max(grid, chord_tol * max(0.25, 0.9 * room / undercut))
 
     # layers
     st = ctx.stock
@@ -538,5 +568,5 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
                                     else [float(q[0][0]), float(q[0][1])])},
     })
     floor = -math.inf if through else bottom
-    design = CavityDesign(true, top, floor)
+    design = CavityDesign(true, top, floor, deepest=bottom)
     return PlanResult(tp, design=design, report={"curve": report})
