@@ -273,9 +273,11 @@ def die_cavity_job(rng) -> Job:
     k = np.arange(2, 5)
     amp, ph = rng.uniform(0.0, 0.12, 3), rng.uniform(0, 2 * math.pi, 3)
     nseg = int(rng.integers(2, 5))
-    # each segment's span of angle, and the gap the blend crosses after it
+    # each segment's span of angle, and the gap the blend crosses after it: about as
+    # long as the segments beside it (a blend much shorter than its neighbours must
+    # turn their end speeds round within it and loops; a user's outline does not)
     spans = rng.uniform(0.5, 1.0, nseg)
-    gaps = rng.uniform(0.1, 0.6, nseg)
+    gaps = rng.uniform(0.6, 1.2, nseg) * 0.5 * (spans + np.roll(spans, -1))
     scale = 2 * math.pi / float(spans.sum() + gaps.sum())
     spans, gaps = spans * scale, gaps * scale
     ang, a0 = [], float(rng.uniform(0, 2 * math.pi))

@@ -173,3 +173,47 @@ def test_the_check_measures_distance_normal_to_arcs():
         diffs = compare_toolpath(tp, lines, interpret(other, TOOLS, machine_units="mm"),
                                  TOL, {3: 3.0})
         assert diffs and "of the contour" in diffs[0], diffs
+
+
+def _short_arc_program():
+    """A clockwise arc of radius 3 about a grid point over a 0.17 mm chord, its start
+    off the grid (as an offset path's is): the post places the centre on the written
+    chord's bisector, 0.0011 from the planned one."""
+    tp = Toolpath("mm")
+    tp.begin(Operation("test", "short arc", 3, 1000.0, "off"))
+    tp.rapid(130.0, 52.0, 5)
+    tp.line(130.0, 52.0, 3.5, 300)
+    tp.line(138.85229986512462, 52.59165357804554, 3.5, 600)
+    tp.arc((139.01630984200406, 52.6398261469145, 3.5), (139.7794, 49.7385, 3.5), True, 600)
+    tp.line(140.9584, 53.1506, 3.5, 600)
+    tp.rapid(140.9584, 53.1506, 5)
+    prog, lines = post_with_lines(tp, TOOLS)
+    return tp, prog, lines
+
+
+def test_a_short_arc_is_compared_by_where_it_runs_not_by_its_centre(rs274):
+    """rs274 runs the short arc within 0.0002 of the planned one although its centre is
+    0.0011 away: the round trip passes. A half circle of radius 10 with its centre
+    written 0.0005 off (the arc itself moved by about that) is seen."""
+    from millpath.verify.rs274 import run_rs274
+    tp, prog, lines = _short_arc_program()
+    ref = run_rs274(prog, TOOLS)
+    assert ref.ok, ref.error
+    arc = [m for m in ref.motions if m.kind == "arc"][0]
+    assert abs(arc.center[0] - 139.7794) > 0.001 - 1e-9
+    assert compare_toolpath(tp, lines, ref.motions, TOL) == []
+    assert compare_toolpath(tp, lines, interpret(prog, TOOLS, machine_units="mm"), TOL) == []
+
+    tp = Toolpath("mm")
+    tp.begin(Operation("test", "half circle", 3, 1000.0, "off"))
+    tp.rapid(0, 0, 5)
+    tp.line(0, 0, -1, 300)
+    tp.arc((20.0, 0.0, -1), (10.0, 0.0, -1), True, 600)
+    tp.rapid(20, 0, 5)
+    prog, lines = post_with_lines(tp, TOOLS)
+    assert compare_toolpath(tp, lines, run_rs274(prog, TOOLS).motions, TOL) == []
+    row = lines[next(i for i, m in enumerate(tp.moves) if m.kind == "arc")]
+    for axis in ("I", "J"):
+        ref = run_rs274(_move_line(prog, row, axis, 0.0005), TOOLS)
+        assert ref.ok, ref.error
+        assert compare_toolpath(tp, lines, ref.motions, TOL) != [], axis
