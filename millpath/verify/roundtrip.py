@@ -57,9 +57,11 @@ def _arc_off(m: Move, start, g: Motion, a1: int, a2: int, samples: int = 33) -> 
     Not the distance between the centres: on a short chord the post's centre, placed
     for the written (rounded) end points, may move along the chord's bisector by many
     times the rounding while the arc itself moves by about the rounding. Without a
-    known start, the centres are compared."""
+    known start, the centres are compared; centres that agree within the tolerance pass
+    too (an interpreter printing few decimals rounds its start, end and centre)."""
+    centres = max(abs(g.center[a1] - m.center[a1]), abs(g.center[a2] - m.center[a2]))
     if start is None:
-        return max(abs(g.center[a1] - m.center[a1]), abs(g.center[a2] - m.center[a2]))
+        return centres
     c = np.array([m.center[a1], m.center[a2]])
     s = np.array([start[a1], start[a2]]) - c
     e = np.array([m.end[a1], m.end[a2]]) - c
@@ -74,7 +76,7 @@ def _arc_off(m: Move, start, g: Motion, a1: int, a2: int, samples: int = 33) -> 
     px, py = c[0] + r * np.cos(a), c[1] + r * np.sin(a)
     gc = np.array([g.center[a1], g.center[a2]])
     gr = np.hypot(g.start[a1] - gc[0], g.start[a2] - gc[1])
-    return float(np.max(np.abs(np.hypot(px - gc[0], py - gc[1]) - gr)))
+    return min(centres, float(np.max(np.abs(np.hypot(px - gc[0], py - gc[1]) - gr))))
 
 
 def _by_line(motions) -> tuple[dict[int, list[Motion]] | None, np.ndarray | None]:
