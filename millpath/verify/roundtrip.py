@@ -18,7 +18,7 @@ import numpy as np
 from millpath.interpret.store import KINDS
 from millpath.model.motion import Motion
 from millpath.model import Toolpath
-from millpath.model.toolpath import PLANE_AXES, Move
+from millpath.model.toolpath import PLANE_AXES, Move, arc_geometry
 from millpath.verify.compcheck import Segment, compensation_diffs
 
 _KIND = {"rapid": "traverse", "line": "feed", "arc": "arc", "cubic": "cubic"}
@@ -62,18 +62,9 @@ def _arc_off(m: Move, start, g: Motion, a1: int, a2: int, samples: int = 33) -> 
     centres = max(abs(g.center[a1] - m.center[a1]), abs(g.center[a2] - m.center[a2]))
     if start is None:
         return centres
-    c = np.array([m.center[a1], m.center[a2]])
-    s = np.array([start[a1], start[a2]]) - c
-    e = np.array([m.end[a1], m.end[a2]]) - c
-    a0 = np.arctan2(s[1], s[0])
-    ccw = (np.arctan2(e[1], e[0]) - a0) % (2 * np.pi)
-    if ccw < 1e-12 or m.turns > 1:
-        sweep = 2 * np.pi                    # a whole circle: every point of it
-    else:
-        sweep = ccw - 2 * np.pi if m.clockwise else ccw
-    r = np.hypot(s[0], s[1])
+    r, a0, sweep, _ = arc_geometry(start, m)
     a = a0 + sweep * np.linspace(0.0, 1.0, samples)
-    px, py = c[0] + r * np.cos(a), c[1] + r * np.sin(a)
+    px, py = m.center[a1] + r * np.cos(a), m.center[a2] + r * np.sin(a)
     gc = np.array([g.center[a1], g.center[a2]])
     gr = np.hypot(g.start[a1] - gc[0], g.start[a2] - gc[1])
     return min(centres, float(np.max(np.abs(np.hypot(px - gc[0], py - gc[1]) - gr))))

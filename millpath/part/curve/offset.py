@@ -211,8 +211,6 @@ def reachable_contour(vertices, radius: float, side: str = "left", start: int = 
         if not best:
             break
         start = int(best[0])
-    else:
-        best = []
     if not len(room) or room[0] <= 0.0:
         raise CompensationError("the tool cannot follow the contour here: the "
                                 "cavity is too narrow for it", int(start))
