@@ -86,6 +86,7 @@ class Block:
 
 _BLANKS = str.maketrans("", "", " \t\r\n")
 _DIGITS = re.compile(r"[0-9.]*")
+_NUMERAL = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)")
 
 
 def normalize(raw: str) -> tuple[str, str]:
@@ -142,6 +143,12 @@ class Reader:
     # --- numbers and values ---------------------------------------------------------
     def number(self) -> float:
         s, i = self.s, self.i
+        m = _NUMERAL.match(s, i)
+        if m is not None:                       # the common case: a plain numeral
+            j = m.end()
+            if j >= len(s) or not (s[j].isdigit() or s[j] == "."):
+                self.i = j
+                return finite(float(m.group()))
         j = i
         if j < len(s) and s[j] in "+-":
             j += 1
@@ -163,7 +170,7 @@ class Reader:
         raise GCodeError(f"bad number format (conversion failed) parsing '{body}'")
 
     def value(self) -> float:
-        c = self.peek()
+        c = self.s[self.i] if self.i < len(self.s) else ""
         if c == "[":
             self.i += 1
             v = self.expression()

@@ -3,7 +3,7 @@
 A program ends at M2/M30, or at a second ``%`` line when the first line is ``%``; a
 file that just stops is an error on its last line, as in rs274 ("File ended with no
 percent sign or program end"). On an error the motion list holds the motion before the
-failing block. A program with o-words runs at most ``MAX_FLOW_LINES`` lines
+failing block. A program with o-words reads at most ``MAX_FLOW_CHARS`` characters
 (:mod:`millpath.model.limits`). Long programs are split into lines a chunk (about 4 MB)
 at a time.
 """
@@ -17,7 +17,7 @@ from millpath.interpret.fastpath import FastPath
 from millpath.gcode.lexer import MAX_LINE, read_block
 from millpath.interpret.machine import Machine
 from millpath.interpret.store import MotionList
-from millpath.model.limits import MAX_FLOW_LINES
+from millpath.model.limits import FLOW_LINE_CHARS, MAX_FLOW_CHARS
 from millpath.interpret.tools import load_tools
 
 CHUNK = 1 << 22
@@ -66,6 +66,7 @@ def _run_flow(text: str, machine: Machine) -> tuple[str, MotionList, tuple[int, 
     k = 0
     n = 0
     executed = 0
+    read = 0
     try:
         flow = Flow(lines, machine)
         while k < len(lines):
@@ -82,10 +83,12 @@ def _run_flow(text: str, machine: Machine) -> tuple[str, MotionList, tuple[int, 
                 machine.comp.flush(n)
                 return machine.units, machine.store, None
             executed += 1
-            if not executed & 0xFFFF:
-                machine.store.flush()
-                if executed > MAX_FLOW_LINES:
-                    raise GCodeError(f"the program ran more than {MAX_FLOW_LINES} lines "
+            read += len(raw)
+            if not executed & 0xFFF:
+                if not executed & 0xFFFF:
+                    machine.store.flush()
+                if read + FLOW_LINE_CHARS * executed > MAX_FLOW_CHARS:
+                    raise GCodeError(f"the program read more than {MAX_FLOW_CHARS} characters "
                                      "through its loops and calls: endless loop?")
             if k in flow.ol:
                 if len(raw) > MAX_LINE:

@@ -45,8 +45,10 @@ MAX_LOOP_ITERATIONS = 1_000_000
 MAX_IDLE_ITERATIONS = 100_000
 #: motions a program with loops or subroutines may make (about 100 bytes each)
 MAX_MOTIONS = 2_000_000
-#: lines a program with loops or subroutines may execute (a few microseconds each)
-MAX_FLOW_LINES = 1_500_000
+#: characters a program with loops or subroutines may read, counting every executed line
+#: (about a microsecond each) plus ``FLOW_LINE_CHARS`` for the line itself
+MAX_FLOW_CHARS = 5_000_000
+FLOW_LINE_CHARS = 8
 #: (repeats x pecks) one canned-cycle block may expand into (a few moves each)
 MAX_CYCLE_STEPS = 1_000_000
 

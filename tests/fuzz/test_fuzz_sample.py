@@ -37,7 +37,7 @@ import millpath.interpret.runner as runner
 oword.MAX_IDLE_ITERATIONS = 2_000
 oword.MAX_LOOP_ITERATIONS = 20_000
 oword.MAX_MOTIONS = 40_000
-runner.MAX_FLOW_LINES = 30_000
+runner.MAX_FLOW_CHARS = 600_000
 cycles.MAX_CYCLE_STEPS = 20_000
 spec = importlib.util.spec_from_file_location("bench_fuzz", sys.argv[1])
 fz = importlib.util.module_from_spec(spec)

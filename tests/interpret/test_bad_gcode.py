@@ -50,7 +50,7 @@ CASES = {
                       "repeat 4294967296 times: more than the 1000000 loop iterations a "
                       "program may run"),
     "moving-while": ("G21 F100\no1 while [1]\nG1 X1\nG1 X0\no1 endwhile\nM2\n", 4,
-                     "the program ran more than 1500000 lines through its loops and calls: "
+                     "the program read more than 5000000 characters through its loops and calls: "
                      "endless loop?"),
     "huge-coordinate": ("G21\nG1 X100000000000000000000 F100\nM2\n", 2,
                         "X word 1e+20 is larger than the 1e+09 limit"),
