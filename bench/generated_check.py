@@ -11,7 +11,10 @@ and numpy against the job's own numbers, not against millpath's proof:
   the part (outline less its holes);
 - floors: no tip below ``floor - tol``; a grid-pocket's bottom surface (``surface(x, y)``,
   evaluated here from the job's Bezier net or measured points) stays under the tool's
-  underside within ``tol`` at points spread over the tool's footprint.
+  underside within ``tol`` at points spread over the tool's footprint;
+- ``surface`` parts (surface-rough, surface-finish): OpenCAMLib drops the same cutter
+  onto the job's mesh at every sample's XY; the tip stays at least ``allowance - tol``
+  above the height it finds.
 
 Millimetres or inches as the job; ``tol`` is the operation's promised tolerance.
 """
@@ -40,9 +43,16 @@ class Geometry:
     corner_radius: float
     tol: float
     region: Polygon                      # the tool-centre side's region (see ``side``)
-    side: str                            # "inside" | "outside"
+    side: str                            # "inside" | "outside" | "surface"
     floor: float = -math.inf
     surface: Callable[[np.ndarray, np.ndarray], np.ndarray] | None = None
+    mesh: np.ndarray | None = None       # (n, 3, 3) triangles of a "surface" part
+    allowance: float = 0.0               # material the tool leaves on ``mesh``
+    #: an "air" part (2.5D features from the top): (floor Z, removed section) of each
+    #: feature; at height z the tool centre must lie in the air of every feature whose
+    #: floor is at or under z + tol, the block's outside included (``region``: the
+    #: block's footprint)
+    levels: list[tuple[float, Polygon]] = field(default_factory=list)
 
 
 @dataclass
@@ -137,6 +147,10 @@ def check_points(p: np.ndarray, g: Geometry) -> list[str]:
     low = p[p[:, 2] < g.top - 1e-6]
     if not len(low):
         return probs
+    if g.side == "surface":
+        return _check_mesh(low, g)
+    if g.side == "air":
+        return _check_air(low, g)
     xy = low[:, :2]
     inside = shapely.contains_xy(g.region, xy[:, 0], xy[:, 1])
     d = shapely.distance(g.region.boundary, shapely.points(xy))
@@ -158,6 +172,78 @@ def check_points(p: np.ndarray, g: Geometry) -> list[str]:
     if g.surface is not None:
         probs += _check_surface(low, g)
     return probs
+
+
+def _air(g: Geometry, z: float) -> Polygon:
+    """The air at height ``z`` under the top: outside the block, or in a feature whose
+    floor is at or under ``z + tol``."""
+    x0, y0, x1, y1 = g.region.bounds
+    far = shapely.box(x0 - 1e3, y0 - 1e3, x1 + 1e3, y1 + 1e3)
+    cut = [p for f, p in g.levels if f <= z + g.tol]
+    solid = g.region.difference(shapely.union_all(cut)) if cut else g.region
+    return far.difference(solid)
+
+
+def _check_air(low: np.ndarray, g: Geometry) -> list[str]:
+    floors = sorted({f for f, _ in g.levels if f > -math.inf})
+    edges = [-math.inf] + [f - g.tol for f in floors] + [math.inf]
+    worst, at = g.tol, None                      # how far into the part
+    for lo, hi in zip(edges[:-1], edges[1:]):
+        sel = (low[:, 2] >= lo) & (low[:, 2] < hi)
+        if not sel.any():
+            continue
+        pts = low[sel]
+        air = _air(g, float(pts[:, 2].min()))
+        inside = shapely.contains_xy(air, pts[:, 0], pts[:, 1])
+        d = np.where(inside, shapely.distance(air.boundary, shapely.points(pts[:, :2])),
+                     -shapely.distance(air, shapely.points(pts[:, :2])))
+        k = int(np.argmin(d))
+        if g.radius - d[k] > worst:
+            worst, at = g.radius - d[k], pts[k]
+    if at is None:
+        return []
+    return [f"tool {worst:.4f} into the part at X{at[0]:.3f} Y{at[1]:.3f} Z{at[2]:.3f} "
+            f"(allowed {g.tol:g})"]
+
+
+def ocl_heights(tri: np.ndarray, g: Geometry, xy: np.ndarray, below: float,
+                erode: float = 0.0) -> np.ndarray:
+    """OpenCAMLib's drop-cutter: the tip height of ``g``'s cutter, eroded by ``erode``
+    (every radius that much smaller), dropped onto the triangles at each point ``xy``
+    (``below`` where it touches nothing)."""
+    import opencamlib as ocl
+    s = ocl.STLSurf()
+    for t in tri:
+        s.addTriangle(ocl.Triangle(*[ocl.Point(float(p[0]), float(p[1]), float(p[2]))
+                                     for p in t]))
+    d = 2 * (g.radius - erode)
+    rc = g.corner_radius - erode
+    kind = "flat" if g.tool_type == "bull" and rc <= 1e-6 else g.tool_type
+    cutter = {"ball": lambda: ocl.BallCutter(d, 200.0),
+              "flat": lambda: ocl.CylCutter(d, 200.0),
+              "bull": lambda: ocl.BullCutter(d, rc, 200.0)}[kind]()
+    b = ocl.BatchDropCutter()
+    b.setSTL(s)
+    b.setCutter(cutter)
+    for x, y in xy:
+        b.appendPoint(ocl.CLPoint(float(x), float(y), below))
+    b.run()
+    return np.array([p.z for p in b.getCLPoints()])
+
+
+def _check_mesh(low: np.ndarray, g: Geometry) -> list[str]:
+    """The tool eroded by ``tol`` (radius and corner; its tip ``tol`` higher, so the
+    tip comparison below is within ``tol``) must clear the surface + allowance: the
+    tool enters it by no more than ``tol`` in any direction, flank contacts included."""
+    below = float(g.mesh[:, :, 2].min()) - 100.0
+    z = ocl_heights(g.mesh, g, low[:, :2], below, erode=g.tol)
+    short = z + g.allowance - low[:, 2]
+    k = int(np.argmax(short))
+    if short[k] > g.tol:
+        return [f"tip {short[k]:.4f} under the surface + allowance {g.allowance:g} "
+                f"(OpenCAMLib) at X{low[k, 0]:.3f} Y{low[k, 1]:.3f} Z{low[k, 2]:.3f} "
+                f"(allowed {g.tol:g})"]
+    return []
 
 
 def _check_surface(low: np.ndarray, g: Geometry) -> list[str]:
@@ -184,17 +270,31 @@ def _check_surface(low: np.ndarray, g: Geometry) -> list[str]:
     return []
 
 
-def check_program(program: Path, tools_tbl: Path, units: str, g: Geometry) -> CheckResult:
-    """Interpret ``program`` with rs274 and check its tool tips against ``g``."""
+def check_program(program: Path, tools_tbl: Path, units: str,
+                  g: "Geometry | dict[int, Geometry]") -> CheckResult:
+    """Interpret ``program`` with rs274 and check its tool tips against ``g`` (or, per
+    tool number, against ``g[tool]``: each cutter against its own geometry)."""
     from millpath.simulate.tip import tip_motions
     from millpath.verify.rs274 import run_rs274
     r = run_rs274(program, tools_tbl, table_units=units)
     if not r.ok:
         return CheckResult(False, [f"rs274: line {r.error_line}: {r.error}"])
     motions = tip_motions(r.motions, units)
-    try:
-        pts = sample(motions, max(g.radius / 8.0, 0.02))
-    except ValueError as e:
-        return CheckResult(True, [f"not checked: {e}"])
-    probs = check_points(pts, g)
-    return CheckResult(not probs, probs, len(pts))
+    by_tool = g if isinstance(g, dict) else None
+    groups: dict[int, list] = {}
+    for m in motions:
+        groups.setdefault(m.tool if by_tool else 0, []).append(m)
+    probs, n = [], 0
+    for tool, ms in groups.items():
+        geo = by_tool.get(tool) if by_tool else g
+        if geo is None:
+            if any(m.kind != "traverse" for m in ms):
+                probs.append(f"T{tool} moves but the job has no geometry for it")
+            continue
+        try:
+            pts = sample(ms, max(geo.radius / 8.0, 0.02))
+        except ValueError as e:
+            return CheckResult(True, [f"not checked: {e}"])
+        probs += [f"T{tool}: {p}" if by_tool else p for p in check_points(pts, geo)]
+        n += len(pts)
+    return CheckResult(not probs, probs, n)

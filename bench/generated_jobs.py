@@ -1,6 +1,7 @@
 """Planners proven on generated jobs: jobs a user could write, run through the pipeline.
 
-For each operation type (grid-pocket, pocket, profile, die-cavity) this draws random jobs from a
+For each operation type (grid-pocket, pocket, profile, die-cavity, surface-rough,
+surface-finish, features from AP224 files and from STEP solids) this draws random jobs from a
 fixed seed (numpy's Generator: the same seed gives the same jobs), writes each as a job
 file in a temp folder and runs it with :func:`millpath.pipeline.run_job`, as
 ``millpath run`` does. Each job ends as one of:
@@ -20,8 +21,10 @@ Millimetres throughout.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import math
+import os
 import re
 import shutil
 import sys
@@ -37,7 +40,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import generated_check as gc  # noqa: E402
 import generated_shapes as gs  # noqa: E402
 
-TYPES = ("grid-pocket", "pocket", "profile", "die-cavity")
+TYPES = ("grid-pocket", "pocket", "profile", "die-cavity", "surface-rough", "surface-finish",
+         "features-ap224", "features-solid")
 #: messages of errors found after planning (the program is bad, not the request)
 AFTER_PLANNING = ("does not interpret", "differs from the planned")
 #: errors of the interpreter: a planned program the control refuses
@@ -50,8 +54,8 @@ class Job:
     """A job file's tables (``toml``), its extra files and the geometry to check."""
 
     toml: dict
-    geometry: gc.Geometry
-    files: dict[str, str] = field(default_factory=dict)
+    geometry: gc.Geometry | dict[int, gc.Geometry]   # per tool number, or for all
+    files: dict[str, str | bytes] = field(default_factory=dict)
 
 
 def _val(v) -> str:
@@ -315,8 +319,302 @@ def die_cavity_job(rng) -> Job:
                                      floor=floor))
 
 
+def _surface_part(rng) -> tuple[dict, bytes, np.ndarray, float]:
+    """A height-field part as an STL file: (stock table, STL bytes, its triangles as
+    the file holds them (float32), depth from the stock top to the lowest point)."""
+    w, h = float(rng.uniform(30, 80)), float(rng.uniform(30, 80))
+    xs, ys, z = gs.heightfield(rng, w, h)
+    data = gs.stl_bytes(gs.heightfield_triangles(xs, ys, z))
+    tri = np.frombuffer(data, dtype=[("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")],
+                        offset=84)["v"].astype(float)
+    top = round(float(rng.uniform(0.0, 2.0)), 2)
+    stock = {"box": [0.0, 0.0, round(float(z.min()) - 3.0, 1), round(w, 3), round(h, 3), top]}
+    return stock, data, tri, top - float(z.min())
+
+
+def _rough_op(rng, tool: dict) -> dict:
+    op = {"type": "surface-rough", "tool": tool["number"], "surface": "part.stl",
+          "stepdown": round(float(rng.uniform(0.5, 4.0)), 2),
+          "allowance": round(float(rng.uniform(0.1, 1.0)), 2),
+          "angle": round(float(rng.uniform(0, 180)), 1), **_cutting(rng)}
+    if rng.random() < 0.5:
+        op["stepover"] = round(float(rng.uniform(0.3, 0.8)) * tool["diameter"], 3)
+    return op
+
+
+def _surface_geometry(tool: dict, tri: np.ndarray, tol: float, top: float,
+                      allowance: float = 0.0) -> gc.Geometry:
+    return gc.Geometry(top=top, radius=tool["diameter"] / 2, tool_type=tool["type"],
+                       corner_radius=tool.get("corner_radius", 0.0), tol=tol + 0.001,
+                       region=Polygon(), side="surface", mesh=tri, allowance=allowance)
+
+
+def surface_rough_job(rng) -> Job:
+    """A surface-rough of a generated height-field part (bumps, dips, steep bosses and
+    cavities) from a block: flat or bull end mill, random step-down, step-over,
+    allowance and pass angle."""
+    stock, data, tri, depth = _surface_part(rng)
+    tool = _tool(rng, ("flat", "bull"), depth)
+    op = _rough_op(rng, tool)
+    job = {"units": "mm", "name": "generated surface-rough", "stock": stock,
+           "tools": [tool], "operations": [op]}
+    tol = 0.25 * op["allowance"]                 # the tolerance surface-rough plans to
+    return Job(job, _surface_geometry(tool, tri, tol, stock["box"][5], op["allowance"]),
+               {"part.stl": data})
+
+
+def surface_finish_job(rng) -> Job:
+    """Roughing then a surface-finish of a generated height-field part: ball or bull
+    cutter; zigzag, waterline or steep-shallow; published or variable side step;
+    random scallop, tolerance and angle."""
+    stock, data, tri, depth = _surface_part(rng)
+    rough = _tool(rng, ("flat", "bull"), depth)
+    tool = _tool(rng, ("ball", "ball", "bull"), depth)
+    tool["number"] = rough["number"] % 19 + 1
+    op = {"type": "surface-finish", "tool": tool["number"], "surface": "part.stl",
+          "strategy": str(rng.choice(["zigzag", "waterline", "steep-shallow"])),
+          "side_step": str(rng.choice(["published", "variable"])),
+          "scallop": round(float(10 ** rng.uniform(-1.7, -1.0)), 4),
+          "angle": round(float(rng.uniform(0, 180)), 1), **_cutting(rng)}
+    tol = 0.005
+    if rng.random() < 0.5:
+        tol = round(float(rng.uniform(0.003, 0.02)), 4)
+        op["tolerance"] = tol
+    if op["strategy"] == "steep-shallow" and rng.random() < 0.5:
+        op["steep_angle"] = round(float(rng.uniform(30.0, 70.0)), 1)
+    job = {"units": "mm", "name": f"generated surface-finish ({op['strategy']}, "
+                                  f"{tool['type']})", "stock": stock,
+           "tools": [rough, tool], "operations": [_rough_op(rng, rough), op]}
+    top = stock["box"][5]
+    ra = job["operations"][0]["allowance"]
+    geo = {rough["number"]: _surface_geometry(rough, tri, 0.25 * ra, top, ra),
+           tool["number"]: _surface_geometry(tool, tri, tol, top)}
+    return Job(job, geo, {"part.stl": data})
+
+
+#: the tool crib of a generated features job: flat end mills and drills (mm)
+FEATURE_TOOLS = [(1, "flat", 20.0), (2, "flat", 12.0), (3, "flat", 8.0), (4, "flat", 6.0),
+                 (5, "flat", 3.0), (6, "drill", 5.0), (7, "drill", 8.5), (8, "drill", 10.0)]
+
+
+def _feature_tools(height: float) -> list[dict]:
+    out = []
+    for n, kind, d in FEATURE_TOOLS:
+        flute = round(max(height + 5.0, 2.5 * d), 1)
+        t = {"number": n, "type": kind, "diameter": d, "flute_length": flute,
+             "stickout": round(flute + 10.0, 1)}
+        if kind == "drill":
+            t["point_angle"] = 118.0
+        out.append(t)
+    return out
+
+
+def _place(taken: list, shape, block) -> bool:
+    """``shape`` fits in ``block`` 3 mm clear of the features already ``taken``."""
+    if not block.buffer(-3.0).contains(shape) or any(
+            shape.distance(t) < 3.0 for t in taken):
+        return False
+    taken.append(shape)
+    return True
+
+
+def features_ap224_job(rng) -> Job:
+    """An AP224 part (written to the standard with millpath's AP224 writer): a block
+    with 1 to 5 features from its top face, 3 mm apart: round holes (through or flat
+    bottomed), rectangular pockets with corner radii, circular pockets, and slots
+    across the block placed as ISO 10303-224 places them; the tool crib of
+    ``FEATURE_TOOLS``."""
+    from shapely.geometry import Point, box
+    from millpath.part.step.build import Ap224Builder
+    L, W = round(float(rng.uniform(60, 160)), 1), round(float(rng.uniform(40, 100)), 1)
+    H = round(float(rng.uniform(8, 30)), 1)
+    b = Ap224Builder("GENERATED", units="mm", material="aluminium",
+                     description="generated block")
+    b.block(L, W, H)
+    block = box(0, 0, L, W)
+    taken: list = []
+    levels: list[tuple[float, Polygon]] = []
+    kinds = []
+    for _ in range(int(rng.integers(1, 6))):
+        kind = str(rng.choice(["hole", "pocket", "circular", "slot"]))
+        depth = round(float(rng.uniform(1.0, H - 1.5)), 2)
+        for _try in range(20):
+            cx, cy = float(rng.uniform(0, L)), float(rng.uniform(0, W))
+            if kind == "hole":
+                d = round(float(rng.uniform(3.2, 30.0)), 2)
+                shape = Point(cx, cy).buffer(d / 2, quad_segs=256)
+                if not _place(taken, shape, block):
+                    continue
+                through = rng.random() < 0.5
+                b.hole((round(cx, 3), round(cy, 3), H), d, H if through else depth,
+                       bottom="through" if through else "flat")
+                levels.append((-math.inf if through else H - depth, shape))
+            elif kind in ("pocket", "circular"):
+                if kind == "pocket":
+                    pl, pw = (round(float(v), 2) for v in rng.uniform(10, 50, 2))
+                    rc = round(float(rng.uniform(1.6, min(pl, pw) / 2 - 0.1)), 2)
+                    shape = box(cx - pl / 2, cy - pw / 2, cx + pl / 2, cy + pw / 2)
+                    shape = shape.buffer(-rc, join_style=2).buffer(rc, quad_segs=256)
+                    dims = {"length": pl, "width": pw, "corner_radius": rc}
+                else:
+                    d = round(float(rng.uniform(10, 50)), 2)
+                    shape = Point(cx, cy).buffer(d / 2, quad_segs=256)
+                    dims = {"diameter": d}
+                if not _place(taken, shape, block):
+                    continue
+                b.pocket((round(cx, 3), round(cy, 3), H), depth,
+                         "rectangular" if kind == "pocket" else "circular", **dims)
+                levels.append((H - depth, shape))
+            else:
+                width = round(float(rng.uniform(6.0, 20.0)), 2)
+                along_x = rng.random() < 0.5
+                c = round(cy if along_x else cx, 3)
+                shape = (box(-1.0, c - width / 2, L + 1.0, c + width / 2) if along_x else
+                         box(c - width / 2, -1.0, c + width / 2, W + 1.0))
+                inner = shape.intersection(block.buffer(-3.0))
+                if (c - width / 2 < 3.0 or c + width / 2 > (W if along_x else L) - 3.0
+                        or any(inner.distance(t) < 3.0 for t in taken)):
+                    continue
+                taken.append(inner)
+                start = (0.0, c, H - depth) if along_x else (c, 0.0, H - depth)
+                b.slot_iso(start, (1.0, 0.0) if along_x else (0.0, 1.0),
+                           L if along_x else W, width, depth)
+                levels.append((H - depth, shape))
+            kinds.append(kind)
+            break
+    job = {"units": "mm", "name": f"generated AP224 block ({', '.join(kinds) or 'plain'})",
+           "tools": _feature_tools(H),
+           "operations": [{"type": "features", "step": "part.stp"}]}
+    geo = {t["number"]: gc.Geometry(top=H, radius=t["diameter"] / 2, tool_type="flat",
+                                    corner_radius=0.0, tol=0.01 + 0.001, region=block,
+                                    side="air", levels=levels)
+           for t in job["tools"]}
+    return Job(job, geo, {"part.stp": b.text()})
+
+
+@contextlib.contextmanager
+def _quiet_fd1():
+    """OpenCASCADE's STEP writer prints to the process's standard output: to /dev/null."""
+    sys.stdout.flush()
+    keep = os.dup(1)
+    null = os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(null, 1)
+        yield
+    finally:
+        os.dup2(keep, 1)
+        os.close(keep)
+        os.close(null)
+
+
+def _afr_builder():
+    """The OpenCASCADE solid helpers of the recognition tests (tests/afr/builder.py)."""
+    import importlib.util
+    name = "afr_builder"
+    if name not in sys.modules:
+        path = Path(__file__).resolve().parents[1] / "tests" / "afr" / "builder.py"
+        spec = importlib.util.spec_from_file_location(name, path)
+        mod = importlib.util.module_from_spec(spec)
+        sys.modules[name] = mod
+        spec.loader.exec_module(mod)
+    return sys.modules[name]
+
+
+def features_solid_job(rng) -> Job:
+    """A STEP solid (AP214, made with OpenCASCADE's Booleans as a CAD system makes it):
+    a plate with 1 to 5 features from its top, 3 mm apart: through and flat-bottomed
+    holes, counterbores, pockets with corner radii, closed obround slots, slots across
+    the plate and steps along an edge; its features recognised from the B-rep."""
+    from shapely.geometry import LineString, Point, box
+    ob = _afr_builder()
+    L, W = round(float(rng.uniform(60, 160)), 1), round(float(rng.uniform(40, 100)), 1)
+    H = round(float(rng.uniform(8, 30)), 1)
+    part = ob.box(0, 0, 0, L, W, H)
+    block = box(0, 0, L, W)
+    taken: list = []
+    levels: list[tuple[float, Polygon]] = []
+    kinds, cuts = [], []
+    for _ in range(int(rng.integers(1, 6))):
+        kind = str(rng.choice(["hole", "counterbore", "pocket", "obround", "slot", "step"]))
+        depth = round(float(rng.uniform(1.0, H - 1.5)), 2)
+        for _try in range(20):
+            cx, cy = round(float(rng.uniform(0, L)), 3), round(float(rng.uniform(0, W)), 3)
+            if kind in ("hole", "counterbore"):
+                d = round(float(rng.uniform(3.2, 24.0)), 2)
+                big = round(d + float(rng.uniform(3.0, 10.0)), 2) if kind == "counterbore" \
+                    else d
+                shape = Point(cx, cy).buffer(big / 2, quad_segs=256)
+                if not _place(taken, shape, block):
+                    continue
+                through = kind == "counterbore" or rng.random() < 0.5
+                lo = -1.0 if through else H - depth
+                cuts.append(ob.cylinder(cx, cy, lo, d / 2, H + 1.0 - lo))
+                levels.append((-math.inf if through else H - depth,
+                               Point(cx, cy).buffer(d / 2, quad_segs=256)))
+                if kind == "counterbore":
+                    cb = round(float(rng.uniform(1.0, min(depth, H - 2.0))), 2)
+                    cuts.append(ob.cylinder(cx, cy, H - cb, big / 2, cb + 1.0))
+                    levels.append((H - cb, shape))
+            elif kind == "pocket":
+                pl, pw = (round(float(v), 2) for v in rng.uniform(10, 50, 2))
+                rc = round(float(rng.uniform(2.0, min(pl, pw) / 2 - 0.1)), 2)
+                x0, y0 = round(cx - pl / 2, 3), round(cy - pw / 2, 3)
+                shape = box(x0, y0, x0 + pl, y0 + pw).buffer(-rc, join_style=2) \
+                    .buffer(rc, quad_segs=256)
+                if not _place(taken, shape, block):
+                    continue
+                cuts.append(ob.rounded_rect(x0, y0, x0 + pl, y0 + pw, H - depth, depth + 1.0, rc))
+                levels.append((H - depth, shape))
+            elif kind == "obround":
+                w = round(float(rng.uniform(6.5, 16.0)), 2)
+                ln = round(float(rng.uniform(5.0, 40.0)), 2)
+                shape = LineString([(cx, cy), (cx + ln, cy)]).buffer(w / 2, quad_segs=256)
+                if not _place(taken, shape, block):
+                    continue
+                cuts.append(ob.obround(cx, cy, cx + ln, H - depth, depth + 1.0, w))
+                levels.append((H - depth, shape))
+            else:
+                width = round(float(rng.uniform(6.5, 20.0)), 2)
+                along_x = rng.random() < 0.5
+                span = W if along_x else L
+                c = 0.0 if kind == "step" else round(float(rng.uniform(0, span)), 3)
+                if kind == "step":
+                    c = width / 2 if rng.random() < 0.5 else span - width / 2
+                shape = (box(-1.0, c - width / 2, L + 1.0, c + width / 2) if along_x else
+                         box(c - width / 2, -1.0, c + width / 2, W + 1.0))
+                if kind != "step" and c - width / 2 < 3.0 or c + width / 2 > span - 3.0:
+                    continue
+                inner = shape.intersection(block)
+                if any(inner.distance(t) < 3.0 for t in taken):
+                    continue
+                taken.append(inner)
+                bx = inner.bounds
+                grow = [-1.0 if bx[0] <= 0 else 0.0, -1.0 if bx[1] <= 0 else 0.0,
+                        1.0 if bx[2] >= L else 0.0, 1.0 if bx[3] >= W else 0.0]
+                cuts.append(ob.box(bx[0] + grow[0], bx[1] + grow[1], H - depth,
+                                   bx[2] + grow[2], bx[3] + grow[3], H + 1.0))
+                levels.append((H - depth, shape))
+            kinds.append(kind)
+            break
+    if cuts:
+        part = ob.unify(ob.cut(part, *cuts))
+    with tempfile.TemporaryDirectory() as tmp, _quiet_fd1():
+        path = ob.write_step(part, Path(tmp) / "part.stp")
+        text = path.read_text()
+    tools = _feature_tools(H)
+    job = {"units": "mm", "name": f"generated solid plate ({', '.join(kinds) or 'plain'})",
+           "tools": tools, "operations": [{"type": "features", "step": "part.stp"}]}
+    geo = {t["number"]: gc.Geometry(top=H, radius=t["diameter"] / 2, tool_type="flat",
+                                    corner_radius=0.0, tol=0.01 + 0.001, region=block,
+                                    side="air", levels=levels)
+           for t in tools}
+    return Job(job, geo, {"part.stp": text})
+
+
 MAKERS = {"grid-pocket": grid_pocket_job, "pocket": pocket_job, "profile": profile_job,
-          "die-cavity": die_cavity_job}
+          "die-cavity": die_cavity_job, "surface-rough": surface_rough_job,
+          "surface-finish": surface_finish_job, "features-ap224": features_ap224_job,
+          "features-solid": features_solid_job}
 
 
 @dataclass
@@ -330,8 +628,11 @@ class Outcome:
 
 def write_job(job: Job, folder: Path) -> Path:
     folder.mkdir(parents=True, exist_ok=True)
-    for name, text in job.files.items():
-        (folder / name).write_text(text)
+    for name, data in job.files.items():
+        if isinstance(data, bytes):
+            (folder / name).write_bytes(data)
+        else:
+            (folder / name).write_text(data)
     path = folder / "job.toml"
     path.write_text(toml_text(job.toml))
     return path

@@ -126,3 +126,56 @@ def islands(rng: np.random.Generator, outer: list[list[float]], tool_d: float,
         room = room.difference(Polygon(pts).buffer(gap))
         out.append(pts)
     return out
+
+
+def heightfield(rng: np.random.Generator, w: float, h: float
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A free-form part surface over [0, w] x [0, h]: heights ``z[j, i]`` at
+    (xs[i], ys[j]), 0.4 to 1.2 mm apart, its highest point at z = 0. One to four
+    features on a flat plate: smooth bumps and dips (Gaussian, 3-12 mm wide), and
+    rectangular bosses and cavities with rounded corners whose walls rise over 0.3 to
+    3 mm (up to about 85 degrees)."""
+    step = float(rng.uniform(0.4, 1.2))
+    xs = np.linspace(0.0, w, max(3, int(math.ceil(w / step)) + 1))
+    ys = np.linspace(0.0, h, max(3, int(math.ceil(h / step)) + 1))
+    X, Y = np.meshgrid(xs, ys)
+    Z = np.zeros_like(X)
+    for _ in range(int(rng.integers(1, 5))):
+        cx, cy = rng.uniform(0.2, 0.8) * w, rng.uniform(0.2, 0.8) * h
+        kind = rng.choice(["bump", "dip", "boss", "cavity"])
+        if kind in ("bump", "dip"):
+            a = float(rng.uniform(2.0, 10.0)) * (1 if kind == "bump" else -1)
+            s = float(rng.uniform(3.0, 12.0))
+            Z += a * np.exp(-((X - cx) ** 2 + (Y - cy) ** 2) / (2 * s * s))
+        else:
+            a = float(rng.uniform(2.0, 10.0)) * (1 if kind == "boss" else -1)
+            hx, hy = rng.uniform(4.0, 0.3 * w), rng.uniform(4.0, 0.3 * h)
+            rc = float(rng.uniform(0.5, min(hx, hy)))
+            wall = float(rng.uniform(0.3, 3.0))
+            qx = np.maximum(np.abs(X - cx) - (hx - rc), 0.0)
+            qy = np.maximum(np.abs(Y - cy) - (hy - rc), 0.0)
+            sd = np.hypot(qx, qy) - rc           # outside the rounded rectangle > 0
+            t = np.clip(-sd / wall, 0.0, 1.0)
+            Z += a * t * t * (3 - 2 * t)
+    Z = np.round(Z - Z.max(), 4)
+    return np.round(xs, 4), np.round(ys, 4), Z
+
+
+def heightfield_triangles(xs: np.ndarray, ys: np.ndarray, z: np.ndarray) -> np.ndarray:
+    """(n, 3, 3) triangles of the height field, two per cell, counter-clockwise seen
+    from above (each cell split along its (i, j)-(i+1, j+1) diagonal)."""
+    X, Y = np.meshgrid(xs, ys)
+    P = np.stack([X, Y, z], axis=-1)
+    a, b = P[:-1, :-1].reshape(-1, 3), P[:-1, 1:].reshape(-1, 3)
+    c, d = P[1:, 1:].reshape(-1, 3), P[1:, :-1].reshape(-1, 3)
+    return np.concatenate([np.stack([a, b, c], 1), np.stack([a, c, d], 1)])
+
+
+def stl_bytes(tri: np.ndarray) -> bytes:
+    """Binary STL of triangles (n, 3, 3), normals from the vertex order."""
+    n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-30)
+    rec = np.zeros(len(tri), dtype=[("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")])
+    rec["n"], rec["v"] = n, tri
+    return b"generated height field".ljust(80, b" ") + np.uint32(len(tri)).tobytes() \
+        + rec.tobytes()

@@ -151,7 +151,7 @@ def parse_canon(text: str) -> tuple[list[Motion], str]:
     plane = "XY"
     feed = 0.0
     tlo = (0.0, 0.0, 0.0)
-    tool = 0
+    tool = selected = 0
     spindle = 0.0
     pos = [0.0, 0.0, 0.0]
     out: list[Motion] = []
@@ -181,8 +181,10 @@ def parse_canon(text: str) -> tuple[list[Motion], str]:
             new_tlo = (nums[0], nums[1], nums[2])
             pos = [p + o - n for p, o, n in zip(pos, tlo, new_tlo)]
             tlo = new_tlo
-        elif name == "CHANGE_TOOL":
-            tool = int(nums[0])
+        elif name == "SELECT_TOOL":
+            selected = int(nums[0])
+        elif name == "CHANGE_TOOL":            # its argument is the tool table's slot
+            tool = selected
         elif name == "SET_SPINDLE_SPEED":
             spindle = nums[-1]
         elif name in ("STRAIGHT_TRAVERSE", "STRAIGHT_FEED"):

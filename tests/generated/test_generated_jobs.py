@@ -4,8 +4,8 @@ concrete jobs it (or a user) found, each run through the real pipeline.
 Every job must end written and proven, or refused up front with a one-line error; a
 refusal by the proof after planning is a planner bug. A written program is then checked
 independently: LinuxCNC's rs274 interprets it and its tool tips are compared with the
-job's own geometry (shapely, and the Bezier net evaluated here), within the tolerance
-the operation promises + 0.001 mm.
+job's own geometry (shapely, the Bezier net evaluated here, OpenCAMLib's drop-cutter on
+a generated surface's mesh), within the tolerance the operation promises + 0.001 mm.
 """
 
 from __future__ import annotations
@@ -22,7 +22,8 @@ from shapely.geometry import Point, Polygon, box
 BENCH = Path(__file__).resolve().parents[2] / "bench"
 JOBS = Path(__file__).resolve().parent / "jobs"
 SEED = 7
-SAMPLE = {"grid-pocket": 2, "pocket": 2, "profile": 3, "die-cavity": 2}
+SAMPLE = {"grid-pocket": 2, "pocket": 2, "profile": 3, "die-cavity": 2, "surface-rough": 1,
+          "surface-finish": 1, "features-ap224": 2, "features-solid": 2}
 
 
 def _bench(name: str):

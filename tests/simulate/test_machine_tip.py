@@ -319,3 +319,20 @@ def test_first_move_after_a_tool_change_against_opencascade(rs274, shared_dir, t
                            machine=Machine(), accuracy=ACC)
     assert truth == pytest.approx((5 ** 2 + 0.508 ** 2) ** 0.5, abs=1e-4)
     assert res.exact.max_gouge == pytest.approx(truth, abs=ACC + 5e-5)
+
+
+def test_rs274_motion_carries_the_tool_number_not_its_slot(rs274, tmp_path):
+    """rs274 prints CHANGE_TOOL with the tool table's slot; the motion read back carries
+    the number SELECT_TOOL named, as millpath's interpreter does."""
+    from millpath.verify.rs274 import run_rs274
+    tbl = tmp_path / "t.tbl"
+    tbl.write_text("T9 P9 D6 Z40 ;\nT10 P10 D12 Z50 ;\n")
+    ngc = tmp_path / "p.ngc"
+    ngc.write_text("G21\nT10 M6 G43\nG0 X1 Y0 Z60\nT9 M6 G43\nG0 X2 Y0 Z60\nM2\n")
+    r = run_rs274(ngc, tbl, table_units="mm")
+    assert r.ok, r.error
+    theirs = [m.tool for m in r.motions if m.kind == "traverse"]
+    ours = [m.tool for m in interpret(ngc.read_text(), str(tbl), machine_units="mm")
+            if m.kind == "traverse"]
+    assert theirs[-1] == 9 and 10 in theirs
+    assert theirs == ours

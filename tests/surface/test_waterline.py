@@ -232,6 +232,24 @@ def test_holder_contact_splits_contours_and_is_reported(stadium_mesh, tmp_path):
     assert sim.holder_contacts == 0 and sim.rapids_through_material == 0
 
 
+@pytest.mark.parametrize("strategy", ["zigzag", "waterline", "steep-shallow"])
+def test_a_flat_end_mill_is_refused_naming_the_tool_key(stadium_mesh, tmp_path, strategy):
+    """Passes are spaced by a ball's or bull corner's scallop: a flat end mill is refused
+    before planning, naming ``tool``."""
+    write_stl(stadium_mesh, tmp_path / "s.stl")
+    lo, hi = stadium_mesh.bounds
+    text = JOB.format(x0=lo[0], y0=lo[1], z0=lo[2] - 1, x1=hi[0], y1=hi[1], z1=hi[2] + 0.5,
+                      stickout=30.0, flute=12.0, tol=TOL, scallop=SCALLOP,
+                      extra=f'strategy = "{strategy}"')
+    (tmp_path / "job.toml").write_text(text.replace('type = "ball"', 'type = "flat"', 1))
+    job = load_job(tmp_path / "job.toml")
+    ctx = PlanContext(units=job.units, stock=job.stock, machine=job.machine, tools=job.tools,
+                      base_dir=job.base_dir, job_file=job.path)
+    for step in (operation.preflight, operation.plan):
+        with pytest.raises(JobError, match=r"job.toml: tool: T1 is a flat end mill"):
+            step(ctx, job.operations[0][1])
+
+
 def test_steep_angle_must_be_an_angle(stadium_mesh, tmp_path):
     with pytest.raises(JobError, match="steep_angle"):
         plan_job(tmp_path, stadium_mesh, 'strategy = "steep-shallow"\nsteep_angle = 95.0')

@@ -289,7 +289,9 @@ def _entry(q: np.ndarray, region_in: Polygon, r: float, grid: float):
         if not region_in.contains(LineString([q[j % m] + 1.01 * r * nj, exit_point])):
             continue
         return int(k), S, A, exit_point, ov
-    raise PlanningError("no place on the contour leaves room for a lead-in of the tool")
+    raise PlanningError("no place on the contour leaves room for a lead-in of the tool "
+                        f"(a {2 * r:g} line in, clear of the walls): use "
+                        "compensation = \"cam\" or a smaller tool")
 
 
 def _hop(tp: Toolpath, cur, to, safe: float, z_down: float) -> None:

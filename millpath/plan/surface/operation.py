@@ -54,7 +54,7 @@ from millpath.model.units import default
 PARAMS = {
     **SURFACE_PARAMS,
     "tool": Param("int", None, positive=True,
-          doc="ball, bull or flat end mill (tool number); or choose_tool"),
+          doc="ball or bull-nose end mill (tool number); or choose_tool"),
     "choose_tool": Param("bool", False,
           doc="pick the largest ball under the smallest concave radius whose holder clears the "
               "part"),
@@ -129,6 +129,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         cutter = Cutter.from_tool(tool)
     except ValueError as e:
         raise PlanningError(str(e), file) from None
+    _refuse_flat(cutter, tool, file)
     if not params["region"]:
         # the tip goes one cutter radius beyond the surface's edges so that the contact
         # point reaches the edge on any slope (the tool rolls over the edge there)
@@ -305,6 +306,14 @@ def refuse_impossible(est: Estimate, sampler: Sampler, region, strategy: str,
         + ("" if strategy == "steep-shallow" else ', or strategy = "steep-shallow"'), file)
 
 
+def _refuse_flat(cutter: Cutter, tool, file) -> None:
+    """Finishing passes are spaced by the scallop a ball or a bull's corner leaves."""
+    if cutter.corner <= 0.0:
+        raise JobError(f"tool: T{tool.number} is a flat end mill; surface-finish spaces its "
+                       "passes by the scallop of a ball or bull-nose corner: give a ball "
+                       "or bull cutter, or choose_tool = true", file)
+
+
 def preflight(ctx: PlanContext, params: dict) -> None:
     """Refuse an impossible request before any operation of the job is planned (the
     pipeline calls this for every operation first): the estimate of :func:`plan` with the
@@ -317,8 +326,7 @@ def preflight(ctx: PlanContext, params: dict) -> None:
         cutter = Cutter.from_tool(tool)
     except ValueError:
         return
-    if cutter.corner <= 0:
-        return
+    _refuse_flat(cutter, tool, ctx.job_file)
     lo, hi = mesh.bounds
     region = tuple(params["region"]) if params["region"] else (
         lo[0] - cutter.radius, lo[1] - cutter.radius, hi[0] + cutter.radius,
