@@ -9,7 +9,9 @@ file in a temp folder and runs it with :func:`millpath.pipeline.run_job`, as
 - written: the proof passed and program.ngc was written; then the independent check
   (:mod:`generated_check`: LinuxCNC's rs274 and shapely against the job's own geometry)
   runs on it;
-- refused up front: a one-line ``MillpathError`` before any program (counted by reason);
+- refused up front: a one-line ``MillpathError`` before any program (counted by reason),
+  or a features operation's own refusal of a feature no tool of the job can machine
+  (``unmachinable = "refuse"``, the default; the proof found nothing);
 - refused by the proof after planning (``UnsafeProgramError``): a planner bug; the job
   is copied to the replay folder;
 - crashed: any other exception (a bug), also copied to the replay folder.
@@ -653,6 +655,10 @@ def run_one(job: Job, folder: Path) -> Outcome:
     try:
         run_job(path, folder / "out", pictures=False)
     except UnsafeProgramError as e:
+        if e.problems and all(p.kind == "feature not machined" for p in e.problems):
+            # the features operation's own refusal (unmachinable = "refuse", the
+            # default): no tool of the job can machine a feature; the proof found nothing
+            return Outcome("upfront", _reason(e.message), cpu=time.process_time() - t0)
         return Outcome("refused", _reason(e.message), e.message,
                        cpu=time.process_time() - t0)
     except MillpathError as e:

@@ -166,6 +166,8 @@ def _unmachined(report: dict) -> list[Problem]:
     detail = f"{what}" + (f" ({reason})" if reason else "")
     if len(left) > 1:
         detail = "first " + detail
+    detail += (f"; add a tool that can machine it, leave it out with exclude = "
+               f"[{first.get('id')}], or write the rest with unmachinable = \"list\"")
     return [Problem("feature not machined", len(left), detail)]
 
 
