@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from millpath.errors import PlanningError
+from millpath.errors import JobError
 from millpath.interpret import interpret
 from millpath.io.schema import validate
 from millpath.model.stock import Machine, Stock
@@ -134,7 +134,7 @@ def test_program_interprets_back_to_the_plan_and_rs274_accepts_it(variable, rs27
 
 
 def test_flat_end_mill_cannot_drive_a_scallop():
-    with pytest.raises(PlanningError, match="ball or bull"):
+    with pytest.raises(JobError, match="tool: T2 is a flat end mill.*ball or bull"):
         _finish(tool=2)
 
 

@@ -30,6 +30,8 @@ The design handed to the simulator is the tessellated surface as a height field.
 
 from __future__ import annotations
 
+import math
+
 from contextlib import nullcontext
 
 import numpy as np
@@ -136,6 +138,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
         region = (extent[0] - cutter.radius, extent[1] - cutter.radius,
                   extent[2] + cutter.radius, extent[3] + cutter.radius)
     tol = params["tolerance"] or default("path_tolerance", ctx.units)
+    tol_p = path_tolerance(tol, ctx.units)        # the passes are planned to this
     scallop = params["scallop"] or default("scallop", ctx.units)
     feed = params["feed"] or default("finish_feed", ctx.units)
     plunge = plunge_feed(params, feed)
@@ -143,9 +146,9 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
                       z_floor=float(lo[2]),
                       holder_clearance=default("feed_clearance", ctx.units))
 
-    tol_m = min(tol, 0.25 * scallop)
+    tol_m = min(tol_p, 0.25 * scallop)
     est, coarse = estimate_finish(sampler, region, strategy=strategy, scallop=scallop,
-                                  tolerance=tol, material_tolerance=tol_m,
+                                  tolerance=tol_p, material_tolerance=tol_m,
                                   side_step=params["side_step"],
                                   steep_angle=params["steep_angle"],
                                   stepdown_max=params["stepdown_max"])
@@ -156,7 +159,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
               f"{est.points:,} points, {est.seconds:.0f} CPU-s (estimate)")
 
     def zz_settings(mode: str, bar=None) -> ZigzagSettings:
-        return ZigzagSettings(tolerance=tol, scallop=scallop, region=region, side_step=mode,
+        return ZigzagSettings(tolerance=tol_p, scallop=scallop, region=region, side_step=mode,
                               material_tolerance=tol_m, trim_edges=not params["region"],
                               silhouette=not params["region"],
                               on_line=(lambda n: bar.update(completed=n)) if bar else None)
@@ -166,7 +169,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
 
     def wl_settings(bar=None) -> WaterlineSettings:
         return WaterlineSettings(
-            tolerance=tol, scallop=scallop, region=region, material_tolerance=tol_m,
+            tolerance=tol_p, scallop=scallop, region=region, material_tolerance=tol_m,
             stepdown_max=params["stepdown_max"], min_slope=params["steep_angle"],
             on_level=(lambda n, z: bar.update(completed=n, info=f"z {z:.4g}"))
             if bar else None)
@@ -210,7 +213,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
                       for p in passes)), 4))
     links = add_passes(tp, sampler, passes, feed=feed, plunge_feed=plunge, safe_z=safe_z,
                        clearance=default("feed_clearance", ctx.units), link_max=3.0 * cutter.radius,
-                       tolerance=tol,
+                       tolerance=tol_p,
                        approach_z=stock_top if ctx.stock is not None else np.inf,
                        silhouette=not params["region"])
     zres = res if strategy == "zigzag" else getattr(res, "zigzag", None)
@@ -306,6 +309,14 @@ def refuse_impossible(est: Estimate, sampler: Sampler, region, strategy: str,
         + ("" if strategy == "steep-shallow" else ', or strategy = "steep-shallow"'), file)
 
 
+def path_tolerance(tol: float, units: str) -> float:
+    """The chord tolerance the passes are planned to, inside the operation's ``tol``:
+    room for the post's rounding of each point (half a step of its last decimal on each
+    axis) and 5 % for the chords' deviation between the points where it is checked."""
+    grid = 10.0 ** -int(default("decimals", units))
+    return max(0.95 * tol - 0.5 * math.sqrt(3.0) * grid, 0.5 * tol)
+
+
 def _refuse_flat(cutter: Cutter, tool, file) -> None:
     """Finishing passes are spaced by the scallop a ball or a bull's corner leaves."""
     if cutter.corner <= 0.0:
@@ -332,7 +343,8 @@ def preflight(ctx: PlanContext, params: dict) -> None:
         lo[0] - cutter.radius, lo[1] - cutter.radius, hi[0] + cutter.radius,
         hi[1] + cutter.radius)
     inch = ctx.units == "inch"
-    tol = params["tolerance"] or default("path_tolerance", ctx.units)
+    tol = path_tolerance(params["tolerance"] or default("path_tolerance", ctx.units),
+                         ctx.units)
     scallop = params["scallop"] or default("scallop", ctx.units)
     tol_m = min(tol, 0.25 * scallop)
     sampler = Sampler(op_surface_index(ctx, params), cutter, params["angle"], (),
