@@ -169,7 +169,18 @@ FOUND = {
 }
 
 
-@pytest.mark.parametrize("name", list(FOUND))
+#: generated jobs the proof still refuses after planning (planner defects, open)
+OPEN = {
+    "seed1-die-cavity-049": "control compensation at tolerance 0.00035: gouge 0.000739",
+    "seed1-die-cavity-050": "control compensation at tolerance 0.00096: gouge 0.001089",
+}
+
+
+@pytest.mark.parametrize("name", list(FOUND) + [
+    pytest.param(n, marks=pytest.mark.xfail(strict=True, reason=f"planner defect, open: {why}"
+                                            "; not traced (suspected: LinuxCNC's straight "
+                                            "joins at concave turns under 0.05 rad)"))
+    for n, why in OPEN.items()])
 def test_found_jobs_are_written_and_proven(name, rs274, tmp_path):
     """Each job is written and proven, and rs274's motion stays in its region within the
     operation's tolerance + 0.001 mm."""
@@ -191,5 +202,5 @@ def test_found_jobs_are_written_and_proven(name, rs274, tmp_path):
         geo = g._centre_geometry(job["tools"][0], op.get("tolerance", 0.01), region, side,
                                  floor=-op["depth"])
     o = _run_folder(JOBS / name, tmp_path, geo)
-    assert o.kind == "written", f"{FOUND[name]}: {o.message}"
+    assert o.kind == "written", f"{FOUND.get(name) or OPEN[name]}: {o.message}"
     assert o.check.ok, o.check.problems
