@@ -14,7 +14,9 @@ the control offset it; both interpret to the same motion. LinuxCNC joins corners
 turn 0.05 rad or less straight (no arc, no trim), so near such a corner turning ``a``
 the tool can come up to about r (1 - cos a) closer to the wall than r; the largest
 such approach to the true curve is measured and reported as ``finish_max_undercut``
-(0.0017 mm for die-blanking at T = 0.001 mm, 0.0001 mm for die-published). The contour is cut counter-clockwise with the tool on its
+(0.0009 mm for die-blanking at T = 0.001 mm, 0.0001 mm for die-published); a tolerance
+the path cannot keep with chords at the number grid is refused, naming the least
+tolerance it can keep. The contour is cut counter-clockwise with the tool on its
 left (G41, climb milling with M3).
 
 ``entry`` (the EMC/LinuxCNC manual's entry moves, seeds/003 "Tool compensation":
@@ -438,6 +440,17 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
             break                # within the tolerance, or chords at the number grid
         room = max(tol - ROUNDING * grid, 0.25 * tol)
         chord_tol = max(grid, chord_tol * max(0.25, 0.9 * room / undercut))
+    reach_wall = undercut + ROUNDING * grid
+    if reach_wall > tol:
+        # chords at the number grid and the path still comes nearer the wall than the
+        # tolerance: the proof would refuse the program, so refuse the job instead
+        least = math.ceil(reach_wall / grid) * grid
+        raise JobError(f"{where}.tolerance: {tol:g} is tighter than tool {tool.number} "
+                       f"can follow this cavity: with chords at the program's number grid "
+                       f"({grid:g}) it still comes {undercut:.4g} into the wall where the "
+                       f"offset chords are joined straight (turns of 0.05 rad or less) "
+                       f"plus the post's rounding; give tolerance = {least:.6g} or more",
+                       ctx.job_file)
 
     # layers
     st = ctx.stock
