@@ -231,11 +231,44 @@ def ocl_heights(tri: np.ndarray, g: Geometry, xy: np.ndarray, below: float,
     return np.array([p.z for p in b.getCLPoints()])
 
 
+def _highest_within(tri: np.ndarray, xy: np.ndarray, radius: float) -> np.ndarray:
+    """An upper bound of the height of the triangles ``tri`` within ``radius`` of each
+    point ``xy``: the highest vertex of every grid cell, spread over the cells a
+    triangle or the radius can reach."""
+    from scipy.ndimage import maximum_filter
+    v = tri.reshape(-1, 3)
+    ext = float(np.max(tri[:, :, :2].max(axis=1) - tri[:, :, :2].min(axis=1)))
+    cell = max(radius / 4.0, ext, 1e-3)
+    lo = v[:, :2].min(axis=0)
+    ij = np.floor((v[:, :2] - lo) / cell).astype(np.int64)
+    shape = tuple(ij.max(axis=0) + 1)
+    top = np.full(shape, -np.inf)
+    np.maximum.at(top, (ij[:, 0], ij[:, 1]), v[:, 2])
+    # a triangle reaches the cells next to its vertices' (it is at most a cell wide);
+    # the radius reaches ceil(radius / cell) cells further
+    k = 1 + int(math.ceil(radius / cell))
+    top = maximum_filter(top, size=2 * k + 1, mode="constant", cval=-np.inf)
+    q = np.floor((xy - lo) / cell).astype(np.int64)
+    out = np.full(len(xy), -np.inf)
+    ok = (q >= 0).all(axis=1) & (q[:, 0] < shape[0]) & (q[:, 1] < shape[1])
+    out[ok] = top[q[ok, 0], q[ok, 1]]
+    # a point off the grid but within reach of it: the highest point of all
+    near = ~ok & (q >= -k).all(axis=1) & (q[:, 0] < shape[0] + k) & (q[:, 1] < shape[1] + k)
+    out[near] = float(v[:, 2].max())
+    return out
+
+
 def _check_mesh(low: np.ndarray, g: Geometry) -> list[str]:
     """The tool eroded by ``tol`` (radius and corner; its tip ``tol`` higher, so the
     tip comparison below is within ``tol``) must clear the surface + allowance: the
     tool enters it by no more than ``tol`` in any direction, flank contacts included."""
     below = float(g.mesh[:, :, 2].min()) - 100.0
+    # only samples the cutter could touch the part from go to OpenCAMLib: a tip at or
+    # above the highest point of the mesh within its radius clears it
+    near = low[:, 2] < _highest_within(g.mesh, low[:, :2], g.radius) + g.allowance + 1e-9
+    low = low[near]
+    if not len(low):
+        return []
     z = ocl_heights(g.mesh, g, low[:, :2], below, erode=g.tol)
     short = z + g.allowance - low[:, 2]
     k = int(np.argmax(short))

@@ -324,7 +324,7 @@ def die_cavity_job(rng) -> Job:
 def _surface_part(rng) -> tuple[dict, bytes, np.ndarray, float]:
     """A height-field part as an STL file: (stock table, STL bytes, its triangles as
     the file holds them (float32), depth from the stock top to the lowest point)."""
-    w, h = float(rng.uniform(30, 80)), float(rng.uniform(30, 80))
+    w, h = float(rng.uniform(25, 50)), float(rng.uniform(25, 50))
     xs, ys, z = gs.heightfield(rng, w, h)
     data = gs.stl_bytes(gs.heightfield_triangles(xs, ys, z))
     tri = np.frombuffer(data, dtype=[("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")],
@@ -524,20 +524,34 @@ def _afr_builder():
 
 def features_solid_job(rng) -> Job:
     """A STEP solid (AP214, made with OpenCASCADE's Booleans as a CAD system makes it):
-    a plate with 1 to 5 features from its top, 3 mm apart: through and flat-bottomed
-    holes, counterbores, pockets with corner radii, closed obround slots, slots across
-    the plate and steps along an edge; its features recognised from the B-rep."""
+    a plate with 1 to 5 features, 3 mm apart: through and flat-bottomed holes,
+    counterbores, pockets with corner radii, closed obround slots, slots across the
+    plate and steps along an edge; its features recognised from the B-rep. Half the
+    plates have features on both the top and the bottom face; their job machines one
+    side (``setup`` "+Z" or "-Z") and lists the other side's features
+    (``unmachinable = "list"``)."""
+    from shapely.affinity import scale
     from shapely.geometry import LineString, Point, box
     ob = _afr_builder()
     L, W = round(float(rng.uniform(60, 160)), 1), round(float(rng.uniform(40, 100)), 1)
     H = round(float(rng.uniform(8, 30)), 1)
     part = ob.box(0, 0, 0, L, W, H)
     block = box(0, 0, L, W)
+    two_faced = rng.random() < 0.5
     taken: list = []
-    levels: list[tuple[float, Polygon]] = []
+    #: (face, depth from that face or None for through, section in the file's XY)
+    levels: list[tuple[str, float | None, Polygon]] = []
     kinds, cuts = [], []
+
+    def span(face: str, depth: float | None) -> tuple[float, float]:
+        """(z0, height) of a cutting body removing ``depth`` from ``face``, 1 mm past it."""
+        if depth is None:
+            return -1.0, H + 2.0
+        return (H - depth, depth + 1.0) if face == "top" else (-1.0, depth + 1.0)
+
     for _ in range(int(rng.integers(1, 6))):
         kind = str(rng.choice(["hole", "counterbore", "pocket", "obround", "slot", "step"]))
+        face = str(rng.choice(["top", "bottom"])) if two_faced else "top"
         depth = round(float(rng.uniform(1.0, H - 1.5)), 2)
         for _try in range(20):
             cx, cy = round(float(rng.uniform(0, L)), 3), round(float(rng.uniform(0, W)), 3)
@@ -549,14 +563,15 @@ def features_solid_job(rng) -> Job:
                 if not _place(taken, shape, block):
                     continue
                 through = kind == "counterbore" or rng.random() < 0.5
-                lo = -1.0 if through else H - depth
-                cuts.append(ob.cylinder(cx, cy, lo, d / 2, H + 1.0 - lo))
-                levels.append((-math.inf if through else H - depth,
+                z0, h = span(face, None if through else depth)
+                cuts.append(ob.cylinder(cx, cy, z0, d / 2, h))
+                levels.append((face, None if through else depth,
                                Point(cx, cy).buffer(d / 2, quad_segs=256)))
                 if kind == "counterbore":
                     cb = round(float(rng.uniform(1.0, min(depth, H - 2.0))), 2)
-                    cuts.append(ob.cylinder(cx, cy, H - cb, big / 2, cb + 1.0))
-                    levels.append((H - cb, shape))
+                    z0, h = span(face, cb)
+                    cuts.append(ob.cylinder(cx, cy, z0, big / 2, h))
+                    levels.append((face, cb, shape))
             elif kind == "pocket":
                 pl, pw = (round(float(v), 2) for v in rng.uniform(10, 50, 2))
                 rc = round(float(rng.uniform(2.0, min(pl, pw) / 2 - 0.1)), 2)
@@ -565,26 +580,26 @@ def features_solid_job(rng) -> Job:
                     .buffer(rc, quad_segs=256)
                 if not _place(taken, shape, block):
                     continue
-                cuts.append(ob.rounded_rect(x0, y0, x0 + pl, y0 + pw, H - depth, depth + 1.0, rc))
-                levels.append((H - depth, shape))
+                cuts.append(ob.rounded_rect(x0, y0, x0 + pl, y0 + pw, *span(face, depth), rc))
+                levels.append((face, depth, shape))
             elif kind == "obround":
                 w = round(float(rng.uniform(6.5, 16.0)), 2)
                 ln = round(float(rng.uniform(5.0, 40.0)), 2)
                 shape = LineString([(cx, cy), (cx + ln, cy)]).buffer(w / 2, quad_segs=256)
                 if not _place(taken, shape, block):
                     continue
-                cuts.append(ob.obround(cx, cy, cx + ln, H - depth, depth + 1.0, w))
-                levels.append((H - depth, shape))
+                cuts.append(ob.obround(cx, cy, cx + ln, *span(face, depth), w))
+                levels.append((face, depth, shape))
             else:
                 width = round(float(rng.uniform(6.5, 20.0)), 2)
                 along_x = rng.random() < 0.5
-                span = W if along_x else L
-                c = 0.0 if kind == "step" else round(float(rng.uniform(0, span)), 3)
+                extent = W if along_x else L
+                c = 0.0 if kind == "step" else round(float(rng.uniform(0, extent)), 3)
                 if kind == "step":
-                    c = width / 2 if rng.random() < 0.5 else span - width / 2
+                    c = width / 2 if rng.random() < 0.5 else extent - width / 2
                 shape = (box(-1.0, c - width / 2, L + 1.0, c + width / 2) if along_x else
                          box(c - width / 2, -1.0, c + width / 2, W + 1.0))
-                if kind != "step" and c - width / 2 < 3.0 or c + width / 2 > span - 3.0:
+                if kind != "step" and c - width / 2 < 3.0 or c + width / 2 > extent - 3.0:
                     continue
                 inner = shape.intersection(block)
                 if any(inner.distance(t) < 3.0 for t in taken):
@@ -593,10 +608,11 @@ def features_solid_job(rng) -> Job:
                 bx = inner.bounds
                 grow = [-1.0 if bx[0] <= 0 else 0.0, -1.0 if bx[1] <= 0 else 0.0,
                         1.0 if bx[2] >= L else 0.0, 1.0 if bx[3] >= W else 0.0]
-                cuts.append(ob.box(bx[0] + grow[0], bx[1] + grow[1], H - depth,
-                                   bx[2] + grow[2], bx[3] + grow[3], H + 1.0))
-                levels.append((H - depth, shape))
-            kinds.append(kind)
+                z0, h = span(face, depth)
+                cuts.append(ob.box(bx[0] + grow[0], bx[1] + grow[1], z0,
+                                   bx[2] + grow[2], bx[3] + grow[3], z0 + h))
+                levels.append((face, depth, shape))
+            kinds.append(kind if face == "top" else f"{kind} below")
             break
     if cuts:
         part = ob.unify(ob.cut(part, *cuts))
@@ -604,11 +620,25 @@ def features_solid_job(rng) -> Job:
         path = ob.write_step(part, Path(tmp) / "part.stp")
         text = path.read_text()
     tools = _feature_tools(H)
+    op = {"type": "features", "step": "part.stp"}
+    up = "top"
+    if two_faced:
+        up = str(rng.choice(["top", "bottom"]))
+        op.update(setup="+Z" if up == "top" else "-Z", unmachinable="list")
+    # the machine frame: the file's for "+Z"; for "-Z" turned about X (y, z -> -y, -z)
+    if up == "top":
+        top, region = H, block
+        def frame(g): return g
+    else:
+        top, region = 0.0, box(0, -W, L, 0)
+        def frame(g): return scale(g, 1.0, -1.0, origin=(0, 0))
+    air = [(-math.inf, frame(g)) if depth is None else (top - depth, frame(g))
+           for face, depth, g in levels if depth is None or face == up]
     job = {"units": "mm", "name": f"generated solid plate ({', '.join(kinds) or 'plain'})",
-           "tools": tools, "operations": [{"type": "features", "step": "part.stp"}]}
-    geo = {t["number"]: gc.Geometry(top=H, radius=t["diameter"] / 2, tool_type="flat",
-                                    corner_radius=0.0, tol=0.01 + 0.001, region=block,
-                                    side="air", levels=levels)
+           "tools": tools, "operations": [op]}
+    geo = {t["number"]: gc.Geometry(top=top, radius=t["diameter"] / 2, tool_type="flat",
+                                    corner_radius=0.0, tol=0.01 + 0.001, region=region,
+                                    side="air", levels=air)
            for t in tools}
     return Job(job, geo, {"part.stp": text})
 

@@ -28,14 +28,16 @@ def helix_entry(target, z_from: float, tool_radius: float, *,
                 centre_ok: Callable[[np.ndarray, np.ndarray], bool],
                 floor: Callable[[np.ndarray, np.ndarray], np.ndarray],
                 angle: float = 3.0, radii=(0.5, 0.35, 0.25, 0.15), directions: int = 8,
-                samples: int = 48) -> Helix | None:
+                samples: int = 48, first: float | None = None) -> Helix | None:
     """A helix from ``z_from`` down to ``target`` (x, y, z), or None if none fits.
 
     ``centre_ok(xs, ys)``: True when the tool centre may pass through all those points;
     ``floor(xs, ys)``: the lowest tip Z allowed at each point. The helix circle has a
     radius of ``radii`` times the tool radius (largest first), its centre in one of
     ``directions`` around the target; the descent per turn is at most
-    ``2 pi r tan(angle)``.
+    ``2 pi r tan(angle)``. ``first``: a direction of the centre from the target
+    (radians) tried before the others, for example downhill from the target, where the
+    circle bends away from the material the target touches.
     """
     tx, ty, tz = map(float, target)
     depth = z_from - tz
@@ -48,8 +50,8 @@ def helix_entry(target, z_from: float, tool_radius: float, *,
             continue
         per_turn = 2 * math.pi * rh * math.tan(math.radians(angle))
         turns = max(1, math.ceil(depth / per_turn - 1e-9))
-        for j in range(directions):
-            a = 2 * math.pi * j / directions
+        angles = [2 * math.pi * j / directions for j in range(directions)]
+        for a in ([first] if first is not None else []) + angles:
             cx, cy = tx + rh * math.cos(a), ty + rh * math.sin(a)
             # the target is on the circle at angle a + pi seen from the centre
             xs, ys = cx + rh * np.cos(t), cy + rh * np.sin(t)

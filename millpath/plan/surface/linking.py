@@ -71,8 +71,15 @@ def _descend(tp: Toolpath, start, safe_z: float, clearance: float, approach_z: f
         def floor(xs, ys):
             uw = sampler.uw(xs, ys)
             return sampler.z_cut(uw[:, 0], uw[:, 1]) + allowance
-        hx = helix_entry(start, z, sampler.cutter.radius,
-                         centre_ok=lambda xs, ys: True, floor=floor)
+        # the circle's centre downhill from the start first: a start on a steep flank
+        # (the tool touching an edge near its equator) has its floor rise fast uphill
+        e = 0.02 * sampler.cutter.radius
+        sx, sy = float(start[0]), float(start[1])
+        f = floor(np.array([sx + e, sx - e, sx, sx]), np.array([sy, sy, sy + e, sy - e]))
+        gx, gy = float(f[0] - f[1]), float(f[2] - f[3])
+        down = math.atan2(-gy, -gx) if math.hypot(gx, gy) > 1e-12 else None
+        hx = helix_entry(start, z, sampler.cutter.radius, centre_ok=lambda xs, ys: True,
+                         floor=floor, samples=192, first=down)
         if hx is not None:
             tp.arc(tuple(float(v) for v in start), (hx.center[0], hx.center[1],
                                                     float(start[2])),
