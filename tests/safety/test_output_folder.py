@@ -62,7 +62,7 @@ def test_sigkill_at_random_moments_never_leaves_a_mixed_folder(tmp_path):
     full = time.perf_counter() - t0
     assert _check_whole(out) == "run-a"
     rng = random.Random(1614)
-    for i in range(20):
+    for i in range(8):
         job = b if i % 2 == 0 else a
         p = subprocess.Popen(_cmd(job, out), stdout=subprocess.DEVNULL,
                              stderr=subprocess.DEVNULL)
