@@ -151,6 +151,24 @@ class PocketShape:
         poly = affinity.rotate(poly, self.angle, origin=(0.0, 0.0))
         return affinity.translate(poly, self.center[0], self.center[1])
 
+    def wall_distance(self, x: np.ndarray, y: np.ndarray) -> np.ndarray | None:
+        """How far points inside a circular or rectangular profile (corner radii
+        included) lie from its wall, exactly (negative outside); None for other
+        profiles."""
+        dx, dy = np.asarray(x, float) - self.center[0], np.asarray(y, float) - self.center[1]
+        if self.profile == "circular":
+            return self.diameter / 2.0 - np.hypot(dx, dy)
+        if self.profile != "rectangular":
+            return None
+        a = math.radians(self.angle)
+        u = np.abs(dx * math.cos(a) + dy * math.sin(a))
+        v = np.abs(-dx * math.sin(a) + dy * math.cos(a))
+        rc = min(self.corner_radius, self.length / 2.0, self.width / 2.0)
+        qx, qy = u - (self.length / 2.0 - rc), v - (self.width / 2.0 - rc)
+        outside = np.hypot(np.maximum(qx, 0.0), np.maximum(qy, 0.0)) + np.minimum(
+            np.maximum(qx, qy), 0.0)
+        return rc - outside
+
 
 @dataclass
 class FaceShape:

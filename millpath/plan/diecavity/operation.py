@@ -80,9 +80,12 @@ PARAMS = {
     "breakthrough": Param("float", 0.0, nonneg=True, doc="below the block bottom", unit="length"),
 }
 
-#: the post-processor writes 4 decimals in mm and 5 in inch; the programmed contour is
-#: rounded to that grid first so that CAM and control offsets start from the same points
-GRID = {"mm": 1e-4, "inch": 1e-5}
+def _grid(units: str) -> float:
+    """The post's number grid (0.0001 mm, 0.00001 in): the programmed contour is rounded
+    to it first so that CAM and control offsets start from the same points."""
+    return 10.0 ** -int(default("decimals", units))
+
+
 #: how far, in grid steps, the post's rounding of the tool-centre path (half a step on
 #: each axis) can bring it nearer the wall
 ROUNDING = 0.5 * math.sqrt(2.0)
@@ -365,7 +368,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     for attempt in range(CHORD_ATTEMPTS):
         lin = linearize_curve(curve, chord_tol)
         region, crossed = _region(lin.polyline(), tol, r, src)
-        grid = GRID[ctx.units]
+        grid = _grid(ctx.units)
         # the contour of the valid cavity (small self-crossing loops cut off), CCW
         ring = np.asarray(orient(region, 1.0).exterior.coords)[:-1]
         verts = _grid_round(ring, grid)
@@ -440,17 +443,16 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
             break                # within the tolerance, or chords at the number grid
         room = max(tol - ROUNDING * grid, 0.25 * tol)
         chord_tol = max(grid, chord_tol * max(0.25, 0.9 * room / undercut))
-    reach_wall = undercut + ROUNDING * grid
-    if reach_wall > tol:
+    if undercut > tol + ROUNDING * grid:
         # chords at the number grid and the path still comes nearer the wall than the
-        # tolerance: the proof would refuse the program, so refuse the job instead
-        least = math.ceil(reach_wall / grid) * grid
+        # tolerance, by more than the post's rounding: the proof would refuse the
+        # program, so refuse the job instead, naming the least tolerance it keeps
+        least = math.ceil(undercut / grid - 1e-9) * grid
         raise JobError(f"{where}.tolerance: {tol:g} is tighter than tool {tool.number} "
                        f"can follow this cavity: with chords at the program's number grid "
                        f"({grid:g}) it still comes {undercut:.4g} into the wall where the "
-                       f"offset chords are joined straight (turns of 0.05 rad or less) "
-                       f"plus the post's rounding; give tolerance = {least:.6g} or more",
-                       ctx.job_file)
+                       f"offset chords are joined straight (turns of 0.05 rad or less); "
+                       f"give tolerance = {least:.6g} or more", ctx.job_file)
 
     # layers
     st = ctx.stock

@@ -55,20 +55,6 @@ def hole_floor(h: HoleShape, r: np.ndarray) -> np.ndarray:
     return np.full_like(r, zb)
 
 
-def rounded_rect_depth(p: PocketShape, x: np.ndarray, y: np.ndarray) -> np.ndarray:
-    """How far points inside a rectangular pocket's profile (corner radii included)
-    lie from its wall (negative outside)."""
-    a = math.radians(p.angle)
-    dx, dy = x - p.center[0], y - p.center[1]
-    u = np.abs(dx * math.cos(a) + dy * math.sin(a))
-    v = np.abs(-dx * math.sin(a) + dy * math.cos(a))
-    rc = min(p.corner_radius, p.length / 2.0, p.width / 2.0)
-    qx, qy = u - (p.length / 2.0 - rc), v - (p.width / 2.0 - rc)
-    outside = np.hypot(np.maximum(qx, 0.0), np.maximum(qy, 0.0)) + np.minimum(
-        np.maximum(qx, qy), 0.0)
-    return rc - outside
-
-
 @dataclass
 class FeatureDesign:
     """Stock top ``z_top`` minus the feature volumes (``shapes`` in job units)."""
@@ -78,8 +64,7 @@ class FeatureDesign:
     reach: float = 1e3            # how far open slot ends extend
 
     def __post_init__(self) -> None:
-        self._polys = []
-        self._edges = {}                  # each outline's boundary (fillet distances)
+        self._polys = []                  # (shape, outline, its bounds, its boundary)
         for s in self.shapes:
             if isinstance(s, SlotShape):
                 poly = slot_outline(s, self.reach)
@@ -88,8 +73,7 @@ class FeatureDesign:
             else:
                 continue
             shapely.prepare(poly)
-            self._polys.append((s, poly, poly.bounds))
-            self._edges[id(s)] = poly.boundary
+            self._polys.append((s, poly, poly.bounds, poly.boundary))
 
     def height(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
         x = np.asarray(x, float)
@@ -107,7 +91,7 @@ class FeatureDesign:
                 sub = out[box]
                 sub[inside] = np.minimum(sub[inside], hole_floor(s, r[inside]))
                 out[box] = sub
-        for s, poly, (x0, y0, x1, y1) in self._polys:
+        for s, poly, (x0, y0, x1, y1), edge in self._polys:
             box = (xb >= x0) & (xb <= x1) & (yb >= y0) & (yb <= y1)
             if not box.any():
                 continue
@@ -118,13 +102,9 @@ class FeatureDesign:
             if fr > 0 and inside.any():
                 # floor fillet: rises along a quarter circle within fr of the wall
                 px, py = xb[box][inside], yb[box][inside]
-                profile = getattr(s, "profile", "")
-                if profile == "circular":                       # exact for circles
-                    dist = s.diameter / 2.0 - np.hypot(px - s.center[0], py - s.center[1])
-                elif profile == "rectangular":                  # and rounded rectangles
-                    dist = rounded_rect_depth(s, px, py)
-                else:
-                    dist = shapely.distance(self._edges[id(s)], shapely.points(px, py))
+                dist = s.wall_distance(px, py) if isinstance(s, PocketShape) else None
+                if dist is None:                  # other profiles: to the outline
+                    dist = shapely.distance(edge, shapely.points(px, py))
                 d = np.clip(fr - dist, 0.0, fr)
                 z = np.minimum(floor + fr - np.sqrt(np.maximum(fr * fr - d * d, 0.0)), s.z_top)
                 sub[inside] = np.minimum(sub[inside], z)

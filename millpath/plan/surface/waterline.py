@@ -547,15 +547,25 @@ def _closed(P: np.ndarray) -> bool:
 
 def _gouge_split(lv: _Level, P: np.ndarray, z: float, closed: bool,
                  removed: dict) -> list[np.ndarray]:
-    """``P`` without the points below the drop-cutter Z and the segments whose midpoint
-    is more than the tolerance below it (left only where refinement could not bracket
-    the level); returns ``[P]`` itself when nothing is removed."""
+    """``P`` without the points below the drop-cutter Z and the segments a point of which
+    (the middle, and every tenth of the tool radius along a long one) is more than the
+    tolerance below it (left only where refinement could not bracket the level);
+    returns ``[P]`` itself when nothing is removed."""
     if len(P) < 2:
         return []
     zp = lv.zc(P)
-    zm = lv.zc(0.5 * (P[1:] + P[:-1]))
+    # each segment sampled at its middle, and a long one every tenth of the tool radius
+    # (near the part's edge the drop-cutter height changes fast along a segment)
+    d = P[1:] - P[:-1]
+    n = np.maximum(1, np.ceil(np.hypot(d[:, 0], d[:, 1])
+                              / (0.1 * lv.sampler.cutter.radius)).astype(np.int64))
+    which = np.repeat(np.arange(len(d)), n)
+    k = np.arange(len(which)) - np.repeat(np.cumsum(n) - n, n)
+    t = (k + 1.0) / (n[which] + 1.0)
+    zm = lv.zc(P[which] + t[:, None] * d[which])
+    seg = np.zeros(len(d), bool)
+    np.logical_or.at(seg, which, zm > z + lv.tol_g)
     bad = zp > z + 1e-9
-    seg = zm > z + lv.tol_g
     removed["unbracketed"] += int(bad.sum())
     if not (bad.any() or seg.any()):
         return [P]
