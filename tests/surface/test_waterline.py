@@ -277,3 +277,25 @@ def test_vertical_walls_get_the_flat_level_step_and_hold_the_scallop(shared_dir)
     assert np.all(r - np.sqrt(r * r - (dz / 2) ** 2) <= h)
     flat = 2.0 * math.sqrt(2.0 * r * h - h * h)
     assert dz.min() >= 0.5 * flat                       # not the crease's quarter step
+
+
+def test_a_level_segment_is_checked_along_its_length():
+    """A 10 mm level segment whose middle is clear but whose first quarter lies under a
+    ridge of the drop-cutter surface (0.46 above the level there, analytic): the
+    segment is removed, its clear neighbours kept."""
+    from types import SimpleNamespace
+
+    from millpath.plan.surface.waterline import _gouge_split
+    z = -2.0
+
+    def zc(xy):
+        x = np.asarray(xy, float)[:, 0]
+        return z - 1.0 + 2.0 * np.exp(-((x - 2.5) ** 2) / 0.25)
+
+    lv = SimpleNamespace(zc=zc, tol_g=0.005,
+                         sampler=SimpleNamespace(cutter=SimpleNamespace(radius=6.0)))
+    P = np.array([[-4.0, 0.0], [-2.0, 0.0], [0.0, 0.0], [10.0, 0.0], [12.0, 0.0],
+                  [14.0, 0.0]])
+    assert zc(0.5 * (P[2:3] + P[3:4]))[0] < z               # the middle is clear
+    pieces = _gouge_split(lv, P, z, False, {"unbracketed": 0})
+    assert [p[:, 0].tolist() for p in pieces] == [[-4.0, -2.0], [12.0, 14.0]]
