@@ -414,11 +414,13 @@ def refine_chords_many(sampler: Sampler, Ps: list[np.ndarray], tol_g: float, tol
                        min_len: float, checks: int = 3) -> list[np.ndarray]:
     """Split the segments of every polyline in ``Ps`` (rows u, w, z) that deviate beyond
     tolerance at any of ``checks`` evenly spaced interior points (the midpoint alone
-    misses a bump of the CL surface narrower than half a segment), inserting the worst
-    point, until none does: one drop-cutter batch per round for all of them (numba's
-    parallel loop), and a segment found within tolerance is not checked again (its ends
-    do not change)."""
-    return _refine_many(sampler, Ps, tol_g, tol_m, min_len, checks)[0]
+    misses a bump of the CL surface narrower than half a segment), and for a ball or
+    bull cutter at points close enough that no CL cap rises over the tolerance between
+    them (see :func:`_refine_many`), inserting the worst point, until none does: one
+    drop-cutter batch per round for all of them (numba's parallel loop), and a segment
+    found within tolerance is not checked again (its ends do not change)."""
+    return _refine_many(sampler, Ps, tol_g, tol_m, min_len, checks,
+                        r=max(sampler.cutter.corner, 0.0))[0]
 
 
 def _refine_many(sampler: Sampler, Ps: list[np.ndarray], tol_g: float, tol_m: float,
