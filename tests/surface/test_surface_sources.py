@@ -251,7 +251,10 @@ compare = false
     z = np.round([m.end[2] for m in tp.moves if m.kind == "line" and m.end[2] > 0.2], 4)
     top = BOX[2] / 25.4
     assert np.sum(np.abs(z - top) < 1e-4) > 20
-    assert not np.any((z > top + 1e-4) & (z < stock.zmax))   # nothing above the top
+    # nothing above the top but entries (ramps down at the plunge feed beside the block)
+    feed = max(m.feed for m in tp.moves if m.kind == "line")
+    zc = np.round([m.end[2] for m in tp.moves if m.kind == "line" and m.feed == feed], 4)
+    assert not np.any((zc > top + 1e-4) & (zc < stock.zmax))
     # the passes run over the block's edge until the ball leaves it, a radius beyond
     # (the default region is the silhouette grown by the radius; the last point where
     # the ball still touches is bracketed by the chord refinement)
