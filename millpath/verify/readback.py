@@ -27,6 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from millpath.errors import MillpathError
+from millpath.geometry.spacing import points_along
 from millpath.interpret.store import KIND_CODE
 
 CUTS = ("feed", "arc", "cubic", "nurbs")
@@ -94,9 +95,8 @@ def _samples(motions, arr: dict, idx, step: float) -> tuple[np.ndarray, np.ndarr
         lines.append(np.full(len(p) - 1, arr["line"][k]))
     A, B, lines = np.vstack(A), np.vstack(B), np.concatenate(lines)
     n = np.maximum(1, np.ceil(np.linalg.norm(B - A, axis=1) / step).astype(np.int64))
-    k = np.repeat(np.arange(len(A)), n)
-    t = (np.arange(int(n.sum())) - (np.cumsum(n) - n)[k]) / n[k]
-    pts = np.vstack([A[k] + (B - A)[k] * t[:, None], B])
+    Q, k = points_along(A, B, n, start=True)
+    pts = np.vstack([Q, B])
     return pts, np.concatenate([lines[k], lines])
 
 

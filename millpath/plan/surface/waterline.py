@@ -46,6 +46,7 @@ import numpy as np
 
 from millpath.errors import PlanningError
 from millpath.geometry.rows import unique_rows
+from millpath.geometry.spacing import points_along
 from millpath.model.limits import MAX_LEVELS
 from millpath.plan.surface.dropcutter import drop
 from millpath.plan.surface.sampler import Sampler
@@ -559,10 +560,8 @@ def _gouge_split(lv: _Level, P: np.ndarray, z: float, closed: bool,
     d = P[1:] - P[:-1]
     n = np.maximum(1, np.ceil(np.hypot(d[:, 0], d[:, 1])
                               / (0.1 * lv.sampler.cutter.radius)).astype(np.int64))
-    which = np.repeat(np.arange(len(d)), n)
-    k = np.arange(len(which)) - np.repeat(np.cumsum(n) - n, n)
-    t = (k + 1.0) / (n[which] + 1.0)
-    zm = lv.zc(P[which] + t[:, None] * d[which])
+    Q, which = points_along(P[:-1], P[1:], n)
+    zm = lv.zc(Q)
     seg = np.zeros(len(d), bool)
     np.logical_or.at(seg, which, zm > z + lv.tol_g)
     bad = zp > z + 1e-9

@@ -35,6 +35,7 @@ from typing import Callable
 import numpy as np
 
 from millpath.errors import PlanningError
+from millpath.geometry.spacing import points_along
 from millpath.model.limits import MAX_PASS_LINES
 from millpath.plan.surface.polyline import chord_offsets, collinear_keep
 from millpath.plan.surface.sampler import Sampler
@@ -455,9 +456,7 @@ def _refine_many(sampler: Sampler, Ps: list[np.ndarray], tol_g: float, tol_m: fl
         if r > 0.0:
             dense = np.ceil(np.linalg.norm(B - A, axis=1) / s).astype(np.int64) - 1
             n = np.maximum(n, dense)
-        row = np.repeat(np.arange(len(idx)), n)
-        k = np.arange(int(n.sum())) - np.repeat(np.cumsum(n) - n, n) + 1
-        Q = A[row] + (B - A)[row] * (k / (n[row] + 1.0))[:, None]
+        Q, row = points_along(A, B, n)
         zt, _ = sampler.z_safe(Q[:, 0], Q[:, 1])
         dev = zt - Q[:, 2]
         over = np.maximum(dev - lim_g, -dev - tol_m)             # > 0: outside
