@@ -715,6 +715,8 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--jobs", type=int, default=10, help="jobs per type")
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--first", type=int, default=0,
+                    help="run jobs FIRST.. of the seed's sequence (a run continued)")
     ap.add_argument("--types", default=",".join(TYPES))
     ap.add_argument("--replay", type=Path, default=REPLAY, help="folder for failing jobs")
     ap.add_argument("--verbose", action="store_true", help="one line per job")
@@ -727,7 +729,9 @@ def main(argv=None) -> int:
         cpu = 0.0
         saved = []
         with tempfile.TemporaryDirectory(prefix="millpath-gen-") as tmp:
-            for k, job in enumerate(jobs_of(op_type, a.jobs, a.seed)):
+            for k, job in enumerate(jobs_of(op_type, a.first + a.jobs, a.seed)):
+                if k < a.first:
+                    continue
                 folder = Path(tmp) / f"{op_type}-{k:03d}"
                 o = run_one(job, folder)
                 cpu += o.cpu

@@ -23,6 +23,9 @@ from shapely.geometry import Point, Polygon, box
 BENCH = Path(__file__).resolve().parents[2] / "bench"
 JOBS = Path(__file__).resolve().parent / "jobs"
 SEED = 7
+#: a type's own seed: surface-finish's seed-7 first job (a bull steep-shallow, 70 s of
+#: CPU) is left to the bench; seed 8's first is a ball steep-shallow of 5 s
+SEEDS = {"surface-finish": 8}
 #: (a surface-finish job roughs first: its check covers the surface-rough tool too)
 SAMPLE = {"grid-pocket": 2, "pocket": 2, "profile": 3, "die-cavity": 2, "surface-finish": 1,
           "features-ap224": 2, "features-solid": 2}
@@ -47,10 +50,11 @@ def _assert_proven(o, what: str) -> None:
 @pytest.mark.parametrize("op_type", list(SAMPLE))
 def test_generated_sample(op_type, rs274, tmp_path):
     g = _bench("generated_jobs")
-    jobs = g.jobs_of(op_type, SAMPLE[op_type], SEED)
+    seed = SEEDS.get(op_type, SEED)
+    jobs = g.jobs_of(op_type, SAMPLE[op_type], seed)
     outcomes = [g.run_one(job, tmp_path / f"{k}") for k, job in enumerate(jobs)]
     for k, o in enumerate(outcomes):
-        _assert_proven(o, f"{op_type} job {k} (seed {SEED})")
+        _assert_proven(o, f"{op_type} job {k} (seed {seed})")
     assert any(o.kind == "written" for o in outcomes)
 
 
