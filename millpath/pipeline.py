@@ -253,7 +253,7 @@ def _run(job_path: str | Path, outdir: str | Path, prog: Progress, force: bool,
             from millpath.simulate import MeshDesign
             design = MeshDesign(refs[0].triangles)
         # chords of arcs within a tenth of the tightest tolerance: the measured gouge
-        # must not carry the measurement's own chord error (issue 14)
+        # must not carry the measurement's own chord error
         tols = [o.tolerance for o in tp.ops if o.tolerance]
         chord = min([res / 20.0] + [0.1 * t for t in tols])
         sim = simulate_motions(motions, job.tools, stock, resolution=res, design=design,

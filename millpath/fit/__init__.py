@@ -30,12 +30,12 @@ import numpy as np
 from millpath.fit.arcs import LINUXCNC_ARC_ABS_INCH, LINUXCNC_ARC_ABS_MM
 from millpath.fit.segment import PLANE_NAMES, PLANES, segment
 from millpath.model.toolpath import Move, Toolpath
-from millpath.model.units import as_written, default
+from millpath.model.units import as_written, default, length_scale
 
 __all__ = ["fit_toolpath", "fit_program", "fit_points", "FitSettings", "MODES"]
 
 MODES = ("none", "arcs", "arcs+cubics")
-#: arcs with a larger radius (mm; inch: / 25.4) are written as lines
+#: arcs with a larger radius (mm; converted for an inch program) are written as lines
 MAX_RADIUS_MM = 1000.0
 #: an original vertex turning more than this is a corner whose direction arcs keep
 CORNER_DEG = 5.0
@@ -67,7 +67,7 @@ class FitSettings:
                              f"{self.decimals} decimals")
         self.abs_lim = LINUXCNC_ARC_ABS_INCH if inch else LINUXCNC_ARC_ABS_MM
         self.rmin = max(float(min_radius), 4.0 * float(tolerance), 200.0 * self.q)
-        self.rmax = MAX_RADIUS_MM / (25.4 if inch else 1.0)
+        self.rmax = MAX_RADIUS_MM * length_scale("mm", "inch" if inch else "mm")
         self.corner = math.radians(CORNER_DEG)
         self.smooth = math.radians(SMOOTH_DEG)
         self.cubics = mode == "arcs+cubics"

@@ -1,4 +1,4 @@
-"""RS274NGC text: the one lexer and block parser of millpath (issue 19).
+"""RS274NGC text: the one lexer and block parser of millpath.
 
 :mod:`millpath.gcode.lexer` reads a line into a :class:`~millpath.gcode.lexer.Block`
 (words, G and M codes by modal group, parameter settings, comments) as LinuxCNC's

@@ -28,9 +28,8 @@ import math
 import numpy as np
 from numba import njit
 
+from millpath.geometry.cutterkind import BALL, BULL, CYL, DRILL, FLAT
 from millpath.geometry.distance import segment_segment_dist2
-
-FLAT, BALL, BULL, DRILL, CYL = 0, 1, 2, 3, 4
 
 
 @njit(cache=True, error_model="numpy")

@@ -13,9 +13,10 @@ import math
 from math import asin, atan2, cos, hypot, sin
 
 from millpath.interpret.errors import GCodeError
+from millpath.model.units import MM_PER_INCH
 
 AXIS_NAMES = {"XY": ("X", "Y"), "XZ": ("Z", "X"), "YZ": ("Y", "Z")}
-RADIUS_TOLERANCE = {"inch": 0.00005, "mm": 0.00005 * 25.4}
+RADIUS_TOLERANCE = {"inch": 0.00005, "mm": 0.00005 * MM_PER_INCH}
 SPIRAL_TOLERANCE = {"inch": 2 * 0.001 * math.sqrt(2.0), "mm": 2 * 0.01 * math.sqrt(2.0)}
 SPIRAL_RELATIVE = 0.001
 TINY = 1e-12

@@ -14,6 +14,7 @@ import math
 
 from millpath.interpret.errors import GCodeError
 from millpath.model.limits import MAX_CYCLE_STEPS
+from millpath.model.units import length_scale
 
 CYCLES = frozenset((730, 810, 820, 830, 840, 850, 860, 870, 880, 890))
 _SUPPORTED = frozenset((730, 810, 820, 830, 850, 890))
@@ -134,7 +135,7 @@ class Cycles:
             raise GCodeError(f"canned cycle would make more than {MAX_CYCLE_STEPS} moves "
                              f"({repeats} repeats, {pecks:.3g} pecks each)")
         units = self.m.units
-        delta = 0.010 * (25.4 if units == "mm" else 1.0)
+        delta = 0.010 * length_scale("inch", units)
         for rep in range(repeats):
             aa += inc_a
             bb += inc_b

@@ -85,7 +85,7 @@ def _tool(t: Any, where: str, out: dict[int, Tool], file: str | Path | None, uni
     bad = check_tool_diameter(d, units)
     if bad:
         raise JobError(f"{where}.diameter: {bad}", file)
-    scale = 25.4 if units == "mm" else 1.0
+    scale = length_scale("inch", units)
     flute = v["flute_length"] or max(3.0 * d, 0.5 * scale)
     stick = v["stickout"] or max(flute + 0.2 * scale, 1.5 * flute)
     for key, value, what in (

@@ -17,6 +17,7 @@ from pathlib import Path
 
 from millpath.errors import MillpathError
 from millpath.model.limits import MAX_COORDINATE
+from millpath.model.units import length_scale
 
 _FIELDS = "XYZABCUVWDIJQ"
 #: largest magnitude accepted for any value (lengths in machine units, tool numbers)
@@ -153,7 +154,7 @@ def convert_entries(entries: list[ToolEntry], from_units: str, to_units: str) ->
     """Rows with lengths (offsets X..W except the angles A B C, diameter) converted."""
     if from_units == to_units:
         return list(entries)
-    k = 25.4 if from_units == "inch" else 1.0 / 25.4
+    k = length_scale(from_units, to_units)
     return [replace(e, diameter=e.diameter * k,
                     offsets={a: (v if a in "ABC" else v * k) for a, v in e.offsets.items()})
             for e in entries]

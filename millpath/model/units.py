@@ -66,8 +66,9 @@ def default(name: str, units: str) -> float:
     return DEFAULTS[name](units)
 
 
-#: millimetres per inch
+#: millimetres per inch, and per foot
 MM_PER_INCH = 25.4
+MM_PER_FOOT = 304.8
 
 
 def length_scale(from_units: str, to_units: str) -> float:

@@ -30,9 +30,8 @@ import math
 import numpy as np
 from numba import njit
 
+from millpath.geometry.cutterkind import BALL, BULL, FLAT
 from millpath.model.toolpath import Move, Toolpath, sample_move
-
-FLAT, BALL, BULL = 0, 1, 2
 
 @njit(cache=True)
 def meets_stock(P, H, gx, gy, h, R, kind, rc, thr, rin):

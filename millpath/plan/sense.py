@@ -1,4 +1,4 @@
-"""Refuse operations that make no sense (issue 16 item 4), before posting.
+"""Refuse operations that make no sense, before posting.
 
 Looked at from the planned moves of each operation against the stock (job units):
 

@@ -1,4 +1,4 @@
-"""Material-removal simulation and verification (issue 4).
+"""Material-removal simulation and verification.
 
 - :func:`simulate_toolpath` / :func:`simulate_motions`: sweep the tools through a
   Z-map of the stock, count rapids through material and holder contacts, compare with

@@ -26,8 +26,8 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from millpath.geometry.convex import (BALL, BULL, CYL, DRILL, FLAT, depth, may_meet, meets,
-                                      shape_rings, support_swept, underside)
+from millpath.geometry.convex import depth, may_meet, meets, shape_rings, support_swept, underside
+from millpath.geometry.cutterkind import BALL, CYL, KIND
 from millpath.geometry.distance import (ball_core, core_point_dist2, core_triangle_dist2,
                                         segment_segment_dist2)
 from millpath.geometry.index import (BoxIndex, box_candidates, bucket_range, first_bucket,
@@ -37,7 +37,6 @@ from millpath.model.tool import Tool
 from millpath.simulate.rims import barycentric, rim_search, surface_dist2
 from millpath.threads import over_range
 
-KIND = {"flat": FLAT, "ball": BALL, "bull": BULL, "drill": DRILL}
 
 
 @dataclass

@@ -29,7 +29,7 @@ import math
 import numpy as np
 from numba import njit
 
-FLAT, BALL, BULL, DRILL = 0, 1, 2, 3
+from millpath.geometry.cutterkind import BALL, BULL, DRILL, FLAT
 
 
 @njit(cache=True, inline="always")

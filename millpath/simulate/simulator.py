@@ -22,6 +22,7 @@ from typing import Any
 
 import numpy as np
 
+from millpath.geometry.cutterkind import BALL, BULL, DRILL, FLAT
 from millpath.model.motion import Motion
 from millpath.model.stock import Machine, Stock
 from millpath.model.tool import Tool
@@ -30,7 +31,7 @@ from millpath.progress import QUIET, Progress
 from millpath.simulate.cycletime import motion_times, times_by_operation
 from millpath.simulate.designgrid import DesignGrid, design_grid, row_blocks
 from millpath.simulate.exact import ExactResult, Reference, design_triangles, verify_exact
-from millpath.simulate.kernel import BALL, BULL, DRILL, FLAT, sweep_chunk
+from millpath.simulate.kernel import sweep_chunk
 from millpath.simulate.path import Segments, motion_blocks, motion_segments, toolpath_motions
 from millpath.simulate.zmap import ZMap
 from millpath.threads import per_thread

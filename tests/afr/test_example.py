@@ -82,9 +82,9 @@ def test_part_bigger_than_the_stock_stops_the_run(tmp_path):
 @pytest.mark.slow
 def test_example_passes_the_exact_check_against_the_solid(tmp_path):
     """With ``[simulation] exact = true`` the program is measured against the STEP solid
-    itself, meshed within a quarter of the accuracy (issue 15: the height field of the
-    0.01 mm mesh it was measured against before put a drilled cone's apex 0.45 mm too
-    high and walls on grid lines where there are none: 0.39 mm of false gouge)."""
+    itself, meshed within a quarter of the accuracy (a height field of a 0.01 mm mesh puts a
+    drilled cone's apex 0.45 mm too high and walls on grid lines where there are none:
+    0.39 mm of false gouge)."""
     from millpath.pipeline import run_job
     text = (EXAMPLE / "job.toml").read_text().replace(
         'step = "part.stp"', f'step = "{EXAMPLE / "part.stp"}"').replace(

@@ -1,4 +1,4 @@
-"""The package's import graph (issue 18): the layers of ARCHITECTURE.md, each importing
+"""The package's import graph: the layers of ARCHITECTURE.md, each importing
 only those below it (so no cycle between subpackages), imports inside functions
 included; no module using another module's ``_private`` name; no source file over 800
 lines. Read from the source with ``ast``, so the check sees every import, not only those

@@ -281,7 +281,7 @@ def test_millpath_run_writes_the_curve_analysis(tmp_path, rs274):
     assert {"segments", "chords", "uniform_chords", "unreachable_corners"} <= set(curve)
     assert all({"chords", "steps", "deviations", "uniform_chords"} <= set(s)
                for s in curve["segments"])
-    # the exact check (issue 15) measures the finishing pass against the true wall: within
+    # the exact check measures the finishing pass against the true wall: within
     # the job's tolerance (0.001 mm), which the Z-map's cells could not see
     assert rep["verification"]["max_gouge"] <= 0.001
     assert rep["verification"]["rapids_through_material"] == 0

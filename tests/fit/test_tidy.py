@@ -1,4 +1,4 @@
-"""Tidy output without fitting (issue 23.6): collinear points merged within the
+"""Tidy output without fitting: collinear points merged within the
 tolerance, feeds written rounded (whole mm/min, one decimal in/min).
 
 Truth: the test's own point-to-segment distances between the original points and the

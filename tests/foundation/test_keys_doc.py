@@ -1,5 +1,5 @@
-"""docs/jobs.md and ``millpath keys`` come from the schemas the job loader validates with
-(issue 23): the checked-in file is what the generator writes, every section of the job
+"""docs/jobs.md and ``millpath keys`` come from the schemas the job loader validates with:
+the checked-in file is what the generator writes, every section of the job
 file and every operation type is in it, and every key the loader accepts is listed."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""The job example in README.md runs as written (issue 23): it is taken from the README
+"""The job example in README.md runs as written: it is taken from the README
 itself, so the README cannot drift from what millpath accepts."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Fuzzed readers (issue 16): every reader, given a mutated valid input, either reads it
+"""Fuzzed readers: every reader, given a mutated valid input, either reads it
 or raises a MillpathError naming the file, never another exception; and it answers
 quickly. Seeds are fixed (``derandomize``), so a failure is reproducible."""
 

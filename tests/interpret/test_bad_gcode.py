@@ -1,4 +1,4 @@
-"""Bad G-code and tool tables never crash or hang ``millpath check`` (issue 16).
+"""Bad G-code and tool tables never crash or hang ``millpath check``.
 
 Each case is a reproducer of one failure found by fuzzing: the command must exit 1 with
 one line ``millpath: error: FILE:LINE: message`` naming the file, within a time and

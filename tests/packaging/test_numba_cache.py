@@ -1,4 +1,4 @@
-"""numba's kernel cache lives outside the package (issue 24): a cache file inside an
+"""numba's kernel cache lives outside the package: a cache file inside an
 installed package survives ``pip uninstall`` and turns ``site-packages/millpath`` into a
 namespace package that shadows the next install."""
 

@@ -1,4 +1,4 @@
-"""The tool path preview a machinist reads at a glance (issue 23): equal scale on the
+"""The tool path preview a machinist reads at a glance: equal scale on the
 three axes over the stock box, at most five ticks an axis, units on every axis."""
 
 from __future__ import annotations

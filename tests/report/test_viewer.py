@@ -1,4 +1,4 @@
-"""view.html (issue 22): self-contained, drawn by a real browser, and the player and the
+"""view.html: self-contained, drawn by a real browser, and the player and the
 picking show the program line they name.
 
 The truth for positions, feeds, tools and program lines is the program text itself,
@@ -325,7 +325,7 @@ def test_clicking_a_move_selects_it_and_shows_line_and_feed(demo_run, browser):
 
 
 def test_a_bar_stock_is_drawn_as_its_circles(browser, tmp_path):
-    """Cylindrical stock (issue 14): the stock outline is the bar (two circles), drawn
+    """Cylindrical stock: the stock outline is the bar (two circles), drawn
     without errors; seen from above it is round: the outline's pixels lie on a ring."""
     from millpath.interpret import interpret
     from millpath.model import Stock

@@ -236,7 +236,7 @@ def test_program_text_cannot_break_out_of_the_page(tmp_path):
 
 
 def test_a_bar_stock_is_shown_as_a_cylinder():
-    """Cylindrical stock (issue 14): the page carries the bar's circle, and the simulated
+    """Cylindrical stock: the page carries the bar's circle, and the simulated
     surface has material only over it (the analytic circle at every display vertex)."""
     from millpath.interpret import interpret
     from millpath.model import Stock

@@ -1,4 +1,4 @@
-"""No straight plunge into material (issue 14.5) beyond the bundled examples: a
+"""No straight plunge into material beyond the bundled examples: a
 grid-pocket with roughing layers and a concave outline (wall laps at every floor), and a
 general pocket region whose innermost ring is too short for a ramp along it. Checked
 with the Z-map scan of tests/safety/scan.py (millpath.simulate, not the planners)."""

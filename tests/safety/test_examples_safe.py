@@ -1,4 +1,4 @@
-"""Every bundled example (issue 14, done-when 3 and 4): LinuxCNC's rs274 runs its program
+"""Every bundled example: LinuxCNC's rs274 runs its program
 with the tool table written for each [machine] units setting, its compensated motion
 equals millpath's interpretation; after each tool change the first motion rises
 straight to the safe height before any XY move, and no end mill goes straight down

@@ -1,4 +1,4 @@
-"""The proof stops the run (issue 14 item 1): each gate condition is made to happen by a
+"""The proof stops the run: each gate condition is made to happen by a
 small test strategy whose tool path is wrong on purpose, in a way an analytic check
 states (a holder face below the stock top, a rapid into the solid block, a floor cut
 below the designed floor); the run must exit 1 with one line, write no program.ngc
@@ -172,7 +172,7 @@ def test_holder_contact_names_a_move_at_the_cutting_depth(tmp_path, gate_strateg
 
 def test_depth_beyond_the_tool_reach_is_refused_before_planning_output(tmp_path,
                                                                      gate_strategy):
-    """Stick-out 3 for a cut 4 deep: refused up front (issue 16 item 4), naming the key."""
+    """Stick-out 3 for a cut 4 deep: refused up front, naming the key."""
     r = _run(_job(tmp_path, "ok", 3.0, 3.0), tmp_path / "out")
     assert r.exit_code == 1
     (line,) = r.stderr.strip().splitlines()

@@ -1,4 +1,4 @@
-"""Whole-folder atomic output (issue 16 item 5): runs killed at random moments and two
+"""Whole-folder atomic output: runs killed at random moments and two
 concurrent runs into one folder never leave a mixed or half-written output folder."""
 
 import json

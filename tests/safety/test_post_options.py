@@ -1,4 +1,4 @@
-"""[post] options (issue 14 item 6) written as asked and run the same by LinuxCNC's rs274
+"""[post] options written as asked and run the same by LinuxCNC's rs274
 and millpath's interpreter; the safe approach after each tool change (item 5)."""
 
 import pytest

@@ -1,4 +1,4 @@
-"""AP224 in the RAMP conventions (issue 14 item 2 and 3): a bore written from its
+"""AP224 in the RAMP conventions: a bore written from its
 bottom with the axis +Z and a hole at its bottom written from the bore floor with the
 axis -Z are read, planned and machined where the file puts them; with tools too short
 the run is refused with the reach message and writes no program."""

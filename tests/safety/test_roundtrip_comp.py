@@ -1,4 +1,4 @@
-"""Round trip under cutter compensation and of G5 control points (issue 15, item 4).
+"""Round trip under cutter compensation and of G5 control points.
 
 Truth: the programs are planned by millpath's profile and die-cavity planners (whose
 compensated motion LinuxCNC's rs274 reproduces: tests/interpret) and must come back

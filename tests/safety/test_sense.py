@@ -1,5 +1,5 @@
-"""Operations that make no sense are refused before anything is written (issue 16
-item 4): the figures come from the stock box and the tool, not from a planner."""
+"""Operations that make no sense are refused before anything is written:
+the figures come from the stock box and the tool, not from a planner."""
 
 import pytest
 

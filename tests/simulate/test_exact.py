@@ -1,4 +1,4 @@
-"""Grid-free gouge and material left against analytic truths (issue 15).
+"""Grid-free gouge and material left against analytic truths.
 
 Designs are triangles built here from planes (a vertical wall, 30 and 80 degree slopes);
 tool positions are placed so that the cutter reaches a known distance past (gouge) or

@@ -1,5 +1,5 @@
 """The height-field reference of the exact check (millpath.geometry.heightmesh) on an
-analytic pocket whose wall stands on a sloped floor (issue 15): a rectangle turned by
+analytic pocket whose wall stands on a sloped floor: a rectangle turned by
 30 degrees, floor z = -5 + 0.1 x inside, top z = 0 outside. The wall is a vertical
 plane the test knows; a flat end mill run along it a known distance past (or short of)
 it must gouge by exactly that, measured normal to the wall, within 0.002 mm."""

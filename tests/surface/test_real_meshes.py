@@ -1,6 +1,6 @@
-"""Surface jobs on real meshes (issue 25), reduced (coarser scallop), proven by the Z-map
-simulator: gouge, holder contacts, rapids through material. Also model placement
-(issue 23), the estimate's refusal and the compiled polyline helpers. Lengths in mm
+"""Surface jobs on real meshes, reduced (coarser scallop), proven by the Z-map
+simulator: gouge, holder contacts, rapids through material. Also model placement,
+the estimate's refusal and the compiled polyline helpers. Lengths in mm
 unless the job says inch."""
 
 from __future__ import annotations
@@ -185,7 +185,7 @@ def test_box_and_wheel_reduced_steep_shallow(tmp_path):
 @pytest.mark.slow
 def test_ktoolcav_turned_up_reduced(tmp_path, shared_dir):
     """ktoolcav (inch, opens towards -Y) turned to open upwards with rotate and place;
-    rough 1/4 flat, steep-shallow 1/8 ball, scallop 0.01 in (issue: 0.002)."""
+    rough 1/4 flat, steep-shallow 1/8 ball, scallop 0.01 in (0.002 at full size)."""
     stl = shared_dir / "meshes" / "ktoolcav.stl"
     surf = f'{{ file = "{stl}", rotate = [-90.0, 0.0, 0.0], place = "stock-top" }}'
     text = JOB.format(units="inch", stock="[-2.1, -1.75, -1.7, 2.1, 1.75, 0.0]",
@@ -195,7 +195,7 @@ def test_ktoolcav_turned_up_reduced(tmp_path, shared_dir):
     text += "[simulation]\nresolution = 0.01\n"
     job, results, sim, res = _run_job(tmp_path, text)
     _proven(results, sim, res, 0.0004)
-    # the estimate made before planning is within 2x of what was planned (issue 25)
+    # the estimate made before planning is within 2x of what was planned
     fin = results[1].report["surface_finish"][0]
     est = fin["estimate"]
     for planned, guessed in ((fin["pass_lines"], est["pass_lines"]),
@@ -230,7 +230,7 @@ def _proven_exact(tmp_path, text: str, tolerances: list[float]) -> dict:
 
 @pytest.mark.slow
 def test_textbox_reduced_exact(tmp_path, shared_dir):
-    """pycam-textbox.stl with the exact verification (issue 15): rough 6 mm flat
+    """pycam-textbox.stl with the exact verification: rough 6 mm flat
     (stepdown 2, allowance 0.2), waterline 2 mm ball at scallop 0.1 (the issue: 0.02),
     tolerance 0.01. Its letters are where the exact check once took a cutter outside a
     letter, behind the plane of its end wall, for a 2 mm gouge."""

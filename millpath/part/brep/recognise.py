@@ -36,6 +36,7 @@ import shapely
 from shapely import affinity
 from shapely.geometry import Point, box as sbox
 
+from millpath.model.units import MM_PER_INCH
 from millpath.part.brep.faces import FaceInfo, face_table
 from millpath.part.brep.holes import CAVITY_BELOW, HoleStack, find_holes
 from millpath.part.brep.regions import Shadows, edges_region
@@ -186,7 +187,7 @@ def _check_removal(solid, out: ShapeSet, k: float, z_stock: float, zmin: float,
     gouge the part): it moves to ``out.skipped`` with the figures
     (:mod:`millpath.part.brep.removal`)."""
     keep = []
-    unit = ("mm" if abs(k - 1.0) < 1e-9 else "in" if abs(k * 25.4 - 1.0) < 1e-9
+    unit = ("mm" if abs(k - 1.0) < 1e-9 else "in" if abs(k * MM_PER_INCH - 1.0) < 1e-9
             else "file units")
     for s in out.shapes:
         o = overlap(solid, removal_solid(s, k, z_stock, zmin))

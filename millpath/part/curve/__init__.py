@@ -1,2 +1,2 @@
 """Free-form 2D curves from scattered points: four-point segments, C1 blends,
-fewest-chord linearization and cutter offsets (issue 6)."""
+fewest-chord linearization and cutter offsets."""

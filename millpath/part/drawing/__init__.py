@@ -1,4 +1,4 @@
-"""2D drawings for pocket and profile operations (issue 21).
+"""2D drawings for pocket and profile operations.
 
 - :func:`read_dxf`: DXF entities (LINE, ARC, CIRCLE, LWPOLYLINE with bulges, POLYLINE,
   SPLINE, ELLIPSE, INSERTs exploded) flattened within a chordal tolerance, converted to

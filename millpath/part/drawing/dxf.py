@@ -23,10 +23,12 @@ import numpy as np
 
 from millpath.errors import GeometryError
 from millpath.model.limits import MAX_COORDINATE, MAX_CURVE_POINTS, Limits
+from millpath.model.units import MM_PER_FOOT, MM_PER_INCH, length_scale
 from millpath.part.drawing.chains import Loop, Piece, join_pieces
 
 #: $INSUNITS code -> millimetres per drawing unit
-INSUNITS_MM = {1: 25.4, 2: 304.8, 4: 1.0, 5: 10.0, 6: 1000.0, 8: 1e-6 * 25.4, 9: 0.0254,
+INSUNITS_MM = {1: MM_PER_INCH, 2: MM_PER_FOOT, 4: 1.0, 5: 10.0, 6: 1000.0,
+               8: 1e-6 * MM_PER_INCH, 9: 1e-3 * MM_PER_INCH,
                10: 914.4, 13: 1e-3, 14: 100.0}
 SUPPORTED = ("LINE", "ARC", "CIRCLE", "LWPOLYLINE", "POLYLINE", "SPLINE", "ELLIPSE")
 
@@ -231,7 +233,7 @@ def read_dxf(path: str | Path, units: str, tolerance: float, *, layer: str | Non
     except (TypeError, ValueError):
         raise GeometryError(f"$INSUNITS = {doc.header.get('$INSUNITS')!r} is not a unit code",
                             path) from None
-    job_mm = 25.4 if units == "inch" else 1.0
+    job_mm = length_scale(units, "mm")
     scale = INSUNITS_MM[code] / job_mm if code in INSUNITS_MM else 1.0
     if code not in INSUNITS_MM and code != 0:
         raise GeometryError(f"$INSUNITS = {code}: unsupported drawing unit", path)

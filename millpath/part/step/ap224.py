@@ -32,6 +32,7 @@ from typing import Any
 import numpy as np
 
 from millpath.errors import MillpathError
+from millpath.model.units import MM_PER_FOOT, MM_PER_INCH
 from millpath.part.step.p21 import Instance, Ref, StepFile, Typed, read
 
 #: feature entity names of AP224 (and the AP238 AIM) that the layer recognises
@@ -259,13 +260,13 @@ class GeometryReader:
         self._len_mm = length
         if abs(length - 1.0) < 1e-9:
             name = "mm"
-        elif abs(length - 25.4) < 1e-6:
+        elif abs(length - MM_PER_INCH) < 1e-6:
             name = "inch"
         elif abs(length - 1000.0) < 1e-6:
             name = "m"
         elif abs(length - 10.0) < 1e-9:
             name = "cm"
-        elif abs(length - 304.8) < 1e-6:
+        elif abs(length - MM_PER_FOOT) < 1e-6:
             name = "foot"
         else:
             name = f"{length:g} mm"
@@ -504,7 +505,7 @@ class GeometryReader:
 
 def _snap(f: float) -> float:
     """Snap a conversion factor to the exact value it approximates (degree, inch, foot)."""
-    for exact in (1.0, 25.4, 304.8, 180.0 / math.pi):
+    for exact in (1.0, MM_PER_INCH, MM_PER_FOOT, 180.0 / math.pi):
         if abs(f - exact) <= 1e-7 * exact:
             return exact
     return f

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 
 
+from millpath.model.units import MM_PER_INCH
 from millpath.part.step.p21 import DERIVED, Enum, Instance, Ref, StepFile, Typed
 from millpath.part.step.writer import write
 
@@ -41,7 +42,7 @@ class Ap224Builder:
         mm = self.complex(("LENGTH_UNIT", []), ("NAMED_UNIT", [DERIVED]),
                           ("SI_UNIT", [Enum("MILLI"), Enum("METRE")]))
         if units == "inch":
-            conv = self.add("LENGTH_MEASURE_WITH_UNIT", [Typed("LENGTH_MEASURE", 25.4), mm])
+            conv = self.add("LENGTH_MEASURE_WITH_UNIT", [Typed("LENGTH_MEASURE", MM_PER_INCH), mm])
             self.length_unit = self.complex(("CONVERSION_BASED_UNIT", ["INCH", conv]),
                                             ("LENGTH_UNIT", []), ("NAMED_UNIT", [dim_len]))
         else:

@@ -40,6 +40,7 @@ import numpy as np
 from millpath.errors import GeometryError, JobError, MillpathError
 from millpath.io.schema import parse_toml
 from millpath.io.text import MAX_COORDINATE
+from millpath.model.units import length_scale
 from millpath.part.surface.mesh import Mesh, read_stl
 from millpath.part.surface.placement import place_mesh, split_placement
 
@@ -221,7 +222,7 @@ def read_step(path: Path, chord_tolerance: float = 0.01, units: str = "mm") -> M
     except MillpathError as e:
         raise GeometryError(f"cannot read STEP: {e.message}", path, e.line,
                             e.entity) from None
-    scale = 1.0 / 25.4 if units == "inch" else 1.0
+    scale = length_scale("mm", units)
     shape, log = transfer_step(path)      # a native crash is an error naming the file
     if shape is None:
         detail = next((ln.strip(" *") for ln in log if "ERR" in ln or "Fail" in ln), "")

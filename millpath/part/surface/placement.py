@@ -21,10 +21,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from millpath.errors import JobError
+from millpath.model.units import MM_PER_INCH
 from millpath.part.surface.mesh import Mesh
 
 KEYS = ("rotate", "scale", "units", "translate", "place")
-UNIT_MM = {"mm": 1.0, "inch": 25.4}
+UNIT_MM = {"mm": 1.0, "inch": MM_PER_INCH}
 
 
 @dataclass

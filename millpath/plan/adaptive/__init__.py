@@ -1,1 +1,1 @@
-"""Adaptive clearing (issue 21): constant radial engagement measured on a material raster."""
+"""Adaptive clearing: constant radial engagement measured on a material raster."""

@@ -1,1 +1,1 @@
-"""Operation die-cavity (issue 6)."""
+"""Operation die-cavity."""

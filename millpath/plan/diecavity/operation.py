@@ -1,4 +1,4 @@
-"""Operation ``die-cavity``: a free-form cavity from scattered points (issue 6).
+"""Operation ``die-cavity``: a free-form cavity from scattered points.
 
 Points -> four-point segments with C1 blends (closed) -> fewest chords within
 ``tolerance`` -> the programmed contour (chords the tool cannot follow removed, their

@@ -18,7 +18,7 @@ import math
 from dataclasses import dataclass
 
 from millpath.model import Tool
-from millpath.model.units import default
+from millpath.model.units import default, length_scale
 
 
 @dataclass(frozen=True)
@@ -82,7 +82,7 @@ def speeds(tool: Tool, material: str, units: str, *, max_rpm: float = 24000.0,
     """Spindle speed and feeds for ``tool`` (job ``units``) in material class ``material``;
     ``speed_scale`` and ``feed_scale`` multiply the table's cutting speed and chip load."""
     data = MATERIALS[material]
-    scale = 25.4 if units == "inch" else 1.0
+    scale = length_scale(units, "mm")
     d_mm = tool.diameter * scale
     hss = tool.material.lower() in ("hss", "hss-co", "hsse", "high speed steel")
     factor = (0.35 if hss else 1.0) * speed_scale

@@ -66,7 +66,7 @@ from millpath.plan.features.region import (clear_general, general_regions, inner
                                            region_tool)
 from millpath.plan.features.select import (face_tool, hole_tool, matching_drill, pocket_tool,
                                            slot_tool)
-from millpath.model.units import default
+from millpath.model.units import default, length_scale
 from millpath.plan.restparams import REST_PARAMS
 
 
@@ -216,7 +216,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
             params["step"], body=params["body"], setup=params["setup"],
             stock_step=params["stock_step"], job_stock=ctx.stock, job_units=ctx.units))
         part = solid.part
-    job_mm = 25.4 if ctx.units == "inch" else 1.0
+    job_mm = length_scale(ctx.units, "mm")
     k = part.units.length_mm / job_mm
     shapes_set = solid.shapes if solid is not None else feature_shapes(part)
     out_ids = excluded_ids(part.features, params["exclude"] or [], params["step"])

@@ -10,8 +10,7 @@ stops at walls, islands and corners. Clearing: contour-parallel rings of that re
 rings is a feed move only when it stays inside the cleared region, otherwise the tool
 lifts above the stock, comes down at feed to the level already cleared and enters the
 new level by a ramp along the ring (or a helix or zigzag ramp where the ring is too
-short, :mod:`millpath.plan.entry`): an end mill never goes straight down into material
-(issue 14). A finishing pass traces the region's boundary at every level, bottom up.
+short, :mod:`millpath.plan.entry`): an end mill never goes straight down into material. A finishing pass traces the region's boundary at every level, bottom up.
 """
 
 from __future__ import annotations

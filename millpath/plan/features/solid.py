@@ -18,6 +18,7 @@ import numpy as np
 
 from millpath.errors import PlanningError
 from millpath.model import Stock
+from millpath.model.units import length_scale
 from millpath.part.step.ap224 import Part
 from millpath.part.step.shapes import ShapeSet
 
@@ -33,7 +34,7 @@ class SolidPart:
 
 
 def _mm(units: str) -> float:
-    return 25.4 if units == "inch" else 1.0
+    return length_scale(units, "mm")
 
 
 def bounds_mm(shape) -> tuple:

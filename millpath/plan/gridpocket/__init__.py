@@ -1,4 +1,4 @@
-"""Free-form pockets by grid navigation (issue 5): operation type ``grid-pocket``.
+"""Free-form pockets by grid navigation: operation type ``grid-pocket``.
 
 ``cells`` (walls, offset outline, grid), ``navigate`` (window-frame order, zigzag
 runs), ``zfield`` (tool-tip Z on the bottom), ``fitmotion`` (lines, arcs, cubics),

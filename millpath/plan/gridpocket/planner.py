@@ -362,7 +362,7 @@ def plan_pocket(spec: PocketSpec) -> tuple[Toolpath, dict]:
     shapely.prepare(wall_region)
     for floor, path in zip(floors, layer_paths):
         # each lap is entered from a cell its layer cleared to this floor: straight down
-        # there (cleared space), then across to the outline at the floor (issue 14: no
+        # there (cleared space), then across to the outline at the floor (no
         # descent into the band of material the layer left along the wall)
         for ring in rings:
             pts = _ring_from(ring, b.pos, spacing)

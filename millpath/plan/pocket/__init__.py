@@ -1,1 +1,1 @@
-"""Operation ``pocket`` (issue 21): offset, zigzag or adaptive clearing of drawn regions."""
+"""Operation ``pocket``: offset, zigzag or adaptive clearing of drawn regions."""

@@ -1,4 +1,4 @@
-"""Operation ``pocket``: clear drawn regions (with islands) to a flat floor (issue 21).
+"""Operation ``pocket``: clear drawn regions (with islands) to a flat floor.
 
 Keys (job units; feeds in units per minute; Z absolute, tool tip):
 

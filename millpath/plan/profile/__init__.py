@@ -1,1 +1,1 @@
-"""Operation ``profile`` (issue 21): cut along drawn contours, outside or inside."""
+"""Operation ``profile``: cut along drawn contours, outside or inside."""

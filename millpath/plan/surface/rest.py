@@ -18,7 +18,8 @@ import math
 import numpy as np
 from scipy import ndimage
 
-from millpath.plan.restcut import BALL, BULL, FLAT, meets_stock
+from millpath.geometry.cutterkind import BALL, BULL, FLAT
+from millpath.plan.restcut import meets_stock
 from millpath.plan.surface.zigzag import Pass
 
 

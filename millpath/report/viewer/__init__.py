@@ -1,4 +1,4 @@
-"""view.html: an interactive 3D view of a program, its stock and the simulation (issue 22).
+"""view.html: an interactive 3D view of a program, its stock and the simulation.
 
 :func:`write_view` writes one self-contained page (three.js inlined, no network): the
 tool path coloured by operation or feed with rapids dashed, the stock box, the
