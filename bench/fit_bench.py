@@ -157,7 +157,7 @@ def example_toolpaths():
 
 
 def blocks_bytes(tp: Toolpath, tools) -> tuple[int, int]:
-    from millpath.post.linuxcnc import post
+    from millpath.post.writer import post
     text = post(tp, tools)
     return sum(1 for l in text.splitlines() if l.strip()), len(text.encode())
 
@@ -213,7 +213,7 @@ def main() -> None:
             run_case(name, tp, ts, m, rmin)
     # the program-level filter (millpath fit) on the posted zigzag program
     from millpath.fit import fit_program
-    from millpath.post.linuxcnc import post
+    from millpath.post.writer import post
     text = post(cases[1][1], tools)
     n_in = text.count("\n")
     t0, c0 = time.perf_counter(), time.process_time()

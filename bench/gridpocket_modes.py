@@ -33,7 +33,7 @@ from millpath.model.toolpath import sample_move
 from millpath.plan.base import PlanContext
 from millpath.plan.gridpocket import operation
 from millpath.plan.gridpocket.cells import inward_offset
-from millpath.post.linuxcnc import post
+from millpath.post.writer import post
 from millpath.simulate import simulate_toolpath
 
 ROOT = Path(__file__).resolve().parents[1]

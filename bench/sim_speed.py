@@ -119,7 +119,7 @@ def main() -> None:
     j = res.to_json()
     if args.ngc:
         from millpath.interpret import interpret
-        from millpath.post.linuxcnc import post
+        from millpath.post.writer import post
         from millpath.simulate import simulate_motions
         text = post(tp, tools)
         t = time.perf_counter()

@@ -45,7 +45,7 @@ def _cpu() -> float:
 
 
 def _program(tp, tools, units="mm"):
-    from millpath.post.linuxcnc import post_with_lines
+    from millpath.post.writer import post_with_lines
     return post_with_lines(tp, tools)
 
 

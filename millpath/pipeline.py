@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -23,7 +23,7 @@ from millpath.job.jobfile import Job, load_job
 from millpath.model import Stock, Toolpath
 from millpath.plan.base import PlanContext, PlanResult
 from millpath.plan.registry import strategy
-from millpath.program import LineMap
+from millpath.program import LineMap, Program, make_program
 from millpath.progress import QUIET, Progress
 from millpath.model.units import default, length_scale
 
@@ -123,12 +123,11 @@ def advance_stock(job: Job, stock: Stock, remaining, tp: Toolpath):
         remaining = InProcessStock(stock, res)
     if any(m.kind == "comp" for m in tp.moves):
         from millpath.interpret import interpret
-        from millpath.post.linuxcnc import post_with_lines
         from millpath.simulate.tip import tip_motions
-        program, move_lines = post_with_lines(tp, job.tools, title="in-process stock")
-        motions = tip_motions(interpret(program, job.tools, machine_units=job.units),
-                              job.units)
-        src = LineMap.of_toolpath(tp, move_lines).moves_of(motions).tolist()
+        written = make_program(tp, job.tools, title="in-process stock")
+        motions = tip_motions(interpret(written.text, job.tools, machine_units=job.units,
+                                        dialect=written.dialect), job.units)
+        src = written.lines.moves_of(motions).tolist()
     else:
         from millpath.simulate.path import toolpath_motions
         motions, src = toolpath_motions(tp)
@@ -154,13 +153,28 @@ def fit_job(job: Job, tp: Toolpath) -> Toolpath:
     return fit_toolpath(tp, job.fit_tolerance, job.fit, min_radius=radius)
 
 
-def post_job(job: Job, tp: Toolpath, stock: Stock) -> tuple[str, list[int | None]]:
-    """The program text (LinuxCNC, the job's [post] options) and each move's line."""
-    from millpath.post.linuxcnc import PostOptions, post_with_lines
+def for_control(job: Job) -> tuple[Job, list[str]]:
+    """The job planned for its [post] dialect: operations that ask the control for cutter
+    compensation are planned with millpath's own offset (``compensation = "cam"``) when
+    the control has none. Returns the job and what was changed."""
+    from millpath.model.dialect import dialect
+    d = dialect(job.post.get("dialect", "linuxcnc"))
+    if d.cutter_comp or not any(p.get("compensation") == "control" for _, p in job.operations):
+        return job, []
+    ops = [(t, {**p, "compensation": "cam"} if p.get("compensation") == "control" else p)
+           for t, p in job.operations]
+    return replace(job, operations=ops), [
+        f"cutter compensation planned by millpath (compensation = \"cam\"): {d.title} "
+        "has no G41/G42"]
+
+
+def post_job(job: Job, tp: Toolpath, stock: Stock) -> Program:
+    """The program in the dialect and with the options of the job's [post] table."""
+    from millpath.post.writer import PostOptions
     title = f"{job.name}: {len(tp.ops)} operations, units {job.units}"
     try:
-        return post_with_lines(tp, job.tools, title=title,
-                               options=PostOptions(**job.post, safe_z=stock.zmax))
+        return make_program(tp, job.tools, title=title, tolerance=job.fit_tolerance,
+                            options=PostOptions(**job.post, safe_z=stock.zmax))
     except ValueError as e:
         raise PlanningError(f"cannot post the tool path: {e}", job.path) from None
 
@@ -175,7 +189,8 @@ def default_resolution(job: Job, stock: Stock, tp: Toolpath) -> float:
 
 
 def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False,
-            force: bool = False, pictures: bool | None = None) -> RunResult:
+            force: bool = False, pictures: bool | None = None,
+            dialect: str | None = None) -> RunResult:
     """Run the job file at ``job_path``, writing program.ngc, tools.tbl, report.json,
     preview.png, stock.png, deviation.png and view.html into ``outdir``.
 
@@ -184,31 +199,39 @@ def run_job(job_path: str | Path, outdir: str | Path, *, progress: bool = False,
     raised; with ``force`` the program is written as ``program.unsafe.ngc`` headed by
     the list of problems. ``progress``: bars on stderr for every stage. ``pictures``:
     draw the three PNGs (None: as the job's ``[simulation] pictures`` says, default
-    true)."""
+    true). ``dialect``: the control to write for, instead of the job's ``[post]
+    dialect`` (the program is then ``program`` plus that dialect's extension, and
+    tools.tbl is written only for a control with a tool table)."""
     prog = Progress(progress)
     with prog.session():
-        return _run(job_path, outdir, prog, force, pictures)
+        return _run(job_path, outdir, prog, force, pictures, dialect)
 
 
 def _run(job_path: str | Path, outdir: str | Path, prog: Progress, force: bool,
-         pictures: bool | None = None) -> RunResult:
+         pictures: bool | None = None, dialect: str | None = None) -> RunResult:
     t0 = time.perf_counter()
     with prog.task("reading the job", total=1) as bar:
         job = load_job(job_path)
+        if dialect is not None:
+            job = replace(job, post={**job.post, "dialect": dialect})
+        job, replanned = for_control(job)
         bar.advance()
     tp, results, stock = plan_job(job, prog)
     with prog.task("fitting and posting", total=2) as bar:
         tp = fit_job(job, tp)
         bar.advance()
-        program, move_lines = post_job(job, tp, stock)
+        posted_program = post_job(job, tp, stock)
         bar.advance()
+    program, move_lines = posted_program.text, posted_program.move_lines
+    tp = posted_program.toolpath        # as written: the dialect's rewrites in it
+    d = posted_program.dialect
 
     from millpath.interpret import InterpreterError, interpret
     table = tool_table_text(job.tools, job.units, job.table_units)
     entries = parse_tool_table(table)
     try:        # the program as the machine will run it: with tools.tbl as written
         with prog.task("interpreting the program", total=1) as bar:
-            motions = interpret(program, entries, machine_units=job.table_units)
+            motions = interpret(program, entries, machine_units=job.table_units, dialect=d)
             bar.advance()
     except InterpreterError as e:
         raise MillpathError(f"the generated program does not interpret: line {e.line}: "
@@ -227,11 +250,13 @@ def _run(job_path: str | Path, outdir: str | Path, prog: Progress, force: bool,
     design = MinDesign(designs) if designs else None
     from millpath.report.document import OperationSection, PlanSection, RunReport
     report = RunReport(job=str(job.path) if job.path else None, name=job.name, units=job.units,
-                       tool_table_units=job.table_units, program="program.ngc",
+                       tool_table_units=job.table_units, program="program" + d.extension,
                        lines=program.count("\n"), bytes=len(program.encode()),
                        moves=tp.counts(), stock=list(stock.box),
                        fit={"mode": job.fit, "tolerance": job.fit_tolerance},
-                       reference=job.reference or None)
+                       reference=job.reference or None,
+                       post={"dialect": d.name, "control": d.title,
+                             "rewritten": replanned + posted_program.fallbacks})
     from millpath.simulate import motion_times
     from millpath.simulate.approach import approach_from_above
     from millpath.simulate.tip import tip_motions
@@ -239,7 +264,7 @@ def _run(job_path: str | Path, outdir: str | Path, prog: Progress, force: bool,
     # (G92, G52, G10 L2 in a preamble), units switches
     motions = approach_from_above(tip_motions(motions, job.units), stock.zmax)
     times = motion_times(motions, job.machine)
-    lmap = LineMap.of_toolpath(tp, move_lines)
+    lmap = posted_program.lines
     motion_op = lmap.ops_of(motions)
     op_secs = np.bincount(motion_op, weights=times, minlength=len(tp.ops)).tolist()
     sim = None
@@ -281,10 +306,10 @@ def _run(job_path: str | Path, outdir: str | Path, prog: Progress, force: bool,
                     for i, ((op_type, _), r) in enumerate(zip(job.operations, results))]
 
     problems = _safety_gate(report.to_json(), job, tp, move_lines, motions, sim)
-    program_name = "program.ngc"
+    program_name = "program" + d.extension
     posted = program                  # as interpreted: the viewer's lines refer to it
     if problems:
-        program, program_name = _unsafe_program(program, problems, force)
+        program, program_name = _unsafe_program(program, problems, force, d.extension)
     report.program = program_name if (force or not problems) else None
     report.safety = {"status": "ok" if not problems else ("forced" if force else "refused"),
                      "problems": [p.to_json() for p in problems]}
@@ -295,7 +320,8 @@ def _run(job_path: str | Path, outdir: str | Path, prog: Progress, force: bool,
     with staged_dir(out) as tmp, prog.task("rendering pictures and viewer", total=4) as bar:
         if force or not problems:
             (tmp / program_name).write_text(program)
-            (tmp / "tools.tbl").write_text(table)
+            if d.tool_change == "M6":        # a control with a tool table
+                (tmp / "tools.tbl").write_text(table)
         if draw:
             from millpath.report.preview import render_preview
             render_preview(tp, tmp / "preview.png", title=job.name, stock=stock)
@@ -322,9 +348,10 @@ def _run(job_path: str | Path, outdir: str | Path, prog: Progress, force: bool,
         files = [out / f.name for f in sorted(tmp.iterdir()) if not f.name.startswith(".")]
     if problems and not force:
         from millpath.verify.gate import UnsafeProgramError, summary
-        raise UnsafeProgramError(f"program refused: {summary(problems)}; no program.ngc "
-                                 f"written (report and pictures in {out}; --force writes "
-                                 f"program.unsafe.ngc)", job.path, written, problems)
+        raise UnsafeProgramError(f"program refused: {summary(problems)}; no "
+                                 f"program{d.extension} written (report and pictures in "
+                                 f"{out}; --force writes program.unsafe{d.extension})",
+                                 job.path, written, problems)
     return RunResult(job, tp, program, written, files, time.perf_counter() - t0)
 
 
@@ -396,16 +423,17 @@ def _safety_gate(report: dict, job: Job, tp: Toolpath, move_lines, motions, sim)
     return find_problems(report, g)
 
 
-def _unsafe_program(program: str, problems: list, force: bool) -> tuple[str, str]:
+def _unsafe_program(program: str, problems: list, force: bool,
+                    extension: str = ".ngc") -> tuple[str, str]:
     """With ``force``: the program headed by a comment block listing the problems, whose
     program lines are shifted to count in the written file."""
     from millpath.verify.gate import comment_block
     if not force:
-        return program, "program.unsafe.ngc"
+        return program, "program.unsafe" + extension
     shift = comment_block(problems).count("\n")
     for p in problems:
         if p.line is not None:
             p.line += shift
-    return comment_block(problems) + program, "program.unsafe.ngc"
+    return comment_block(problems) + program, "program.unsafe" + extension
 
 

@@ -3,6 +3,8 @@
 #  - LinuxCNC's standalone interpreter rs274 (Debian package linuxcnc-uspace), the
 #    reference for the differential tests, installed with apt-get when missing;
 #  - Debian's chromium (headless, software WebGL) for the view.html tests, likewise;
+#  - node and npm, likewise: the tests install the npm package gcode-toolpath (a GRBL
+#    program reader) into ~/.cache/millpath-tests on first use;
 #  - a virtual environment .venv (the demo command's, when it exists) with millpath
 #    installed editable and its test extras from PyPI, OpenCASCADE (cadquery-ocp)
 #    included.
@@ -24,6 +26,14 @@ if ! command -v chromium >/dev/null 2>&1; then
   echo "== installing chromium (view.html tests) with apt-get"
   $SUDO apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends chromium >/dev/null
+fi
+
+if ! command -v node >/dev/null 2>&1 || ! command -v npm >/dev/null 2>&1; then
+  SUDO=""
+  [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+  echo "== installing nodejs and npm (the GRBL reader gcode-toolpath) with apt-get"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends nodejs npm >/dev/null
 fi
 
 PY=${PYTHON:-python3}

@@ -41,6 +41,20 @@ def rs274() -> str:
     return exe
 
 
+@pytest.fixture(scope="session")
+def gcode_toolpath() -> Path:
+    """The folder of the npm package gcode-toolpath (an independent reader of GRBL
+    programs, see support.gcodetoolpath), installed with npm into the user's cache on
+    first use; skip with a reason when node or npm is missing or the install fails."""
+    from support.gcodetoolpath import install
+    cache = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
+    home = install(cache / "millpath-tests" / "gcode-toolpath")
+    if home is None:
+        pytest.skip("gcode-toolpath needs node and npm (apt-get install -y nodejs npm) "
+                    "and the npm registry")
+    return home
+
+
 @pytest.hookimpl(hookwrapper=True)
 def pytest_runtest_makereport(item, call):
     """Under CI (``CI=true``) a skip is a failure: CI has ../shared, rs274, OpenCASCADE

@@ -12,6 +12,7 @@ from pathlib import Path
 import click
 from rich.console import Console
 
+from millpath.model.dialect import DIALECTS
 from millpath.report.document import plan_sections
 
 
@@ -59,9 +60,13 @@ def print_verification(console: Console, report: dict) -> None:
               "as program.unsafe.ngc headed by the list of problems.")
 @click.option("--no-pictures", "no_pictures", is_flag=True,
               help="Draw no PNG pictures (the job's [simulation] pictures = false).")
+@click.option("--post", "dialect", type=click.Choice(sorted(DIALECTS)), default=None,
+              help="The control to write for and prove the program as (default: the "
+              "job's [post] dialect, linuxcnc).")
 def command(job: Path, outdir: Path | None, quiet: bool, force: bool,
-            no_pictures: bool) -> None:
-    """Run JOB (TOML): writes program.ngc, tools.tbl, report.json and pictures into DIR."""
+            no_pictures: bool, dialect: str | None) -> None:
+    """Run JOB (TOML): writes the program (program.ngc for LinuxCNC, program.nc for
+    GRBL), tools.tbl, report.json and pictures into DIR."""
     from millpath.io.atomic import output_lock
     from millpath.pipeline import run_job
     from millpath.verify.gate import UnsafeProgramError
@@ -72,7 +77,7 @@ def command(job: Path, outdir: Path | None, quiet: bool, force: bool,
     try:
         with output_lock(out):
             res = run_job(job, out, progress=not quiet, force=force,
-                          pictures=False if no_pictures else None)
+                          pictures=False if no_pictures else None, dialect=dialect)
     except UnsafeProgramError as e:
         print_verification(console, e.report)
         raise
@@ -82,8 +87,11 @@ def command(job: Path, outdir: Path | None, quiet: bool, force: bool,
     ver = rep.get("verification", {})
     if "removed_volume" in ver:
         console.print(f"removed {ver['removed_volume']:.4g} {rep['units']}^3")
+    post = rep.get("post") or {}
+    for what in post.get("rewritten", []):
+        console.print(f"for {post['control']}: {what}")
     print_verification(console, rep)
     if rep.get("safety", {}).get("status") == "forced":
         click.echo(f"millpath: warning: {job}: the program is unsafe and was written as "
-                   f"{out / 'program.unsafe.ngc'} (--force)", err=True)
+                   f"{out / rep['program']} (--force)", err=True)
     console.print(f"wrote {', '.join(str(f) for f in res.files)}")

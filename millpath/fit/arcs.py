@@ -67,7 +67,7 @@ def _grid_centre(ax, ay, bx, by, cx, cy, q, lim):
 
     Candidates are the 5 x 5 grid points around (cx, cy) with ``|r1 - r2| <= lim``.
     A post-processor that re-projects the centre on the chord bisector and rounds it
-    again (as millpath.post.linuxcnc does) moves it by ``shift + 0.71 q`` at most, which
+    again (as millpath.post.writer does) moves it by ``shift + 0.71 q`` at most, which
     moves the arc by twice that; when ``shift`` is below a quarter step the rounding
     returns the same point and nothing moves. The candidate with the smallest distance
     to (cx, cy) plus that possible movement wins. Returns (cx, cy, r1, r2, slack, ok)

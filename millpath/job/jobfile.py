@@ -12,7 +12,7 @@ Layout::
                    default: the job's)
     [simulation]   resolution (job units), enabled (bool)
     [post]         coolant, work_offset, end, line_numbers, tool_change, program_number,
-                   preamble, postamble (see millpath.post.linuxcnc.PostOptions)
+                   preamble, postamble (see millpath.post.writer.PostOptions)
     [limits]       max_extent (job units), max_layers, max_passes   (millpath.model.limits)
     [reference]    a document's published numbers the job reproduces (free-form
                    table, copied into report.json as "reference")
@@ -33,6 +33,7 @@ from millpath.io.toollib import tools_from_tables
 from millpath.io.schema import Param, parse_toml, validate
 from millpath.io.tomllines import place
 from millpath.model import Machine, Stock, Tool
+from millpath.model.dialect import DIALECTS
 from millpath.model.limits import (Limits, check_cells, check_tolerance, count_needed,
                                    MAX_TOLERANCE)
 from millpath.plan.registry import strategy
@@ -88,6 +89,9 @@ POST = {
                          doc="move written before each M6"),
     "program_number": Param("int", None, nonneg=True,
                             doc="written first as the comment (O<n>)"),
+    "dialect": Param("str", "linuxcnc", choices=tuple(DIALECTS),
+                     doc="the control the program is written for and proven as: "
+                         + "; ".join(f"{d.name} ({d.title})" for d in DIALECTS.values())),
     "preamble": Param("str", "", doc="G-code lines after the setup"),
     "postamble": Param("str", "", doc="G-code lines before the program end"),
 }

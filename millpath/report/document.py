@@ -71,6 +71,7 @@ class RunReport:
     stock: list[float]
     fit: dict[str, Any]
     reference: dict | None = None         # the job's [reference], copied
+    post: dict | None = None              # dialect, and what it made the post rewrite
     # simulate's (SimResult.to_json), passed through; with the exact check: max_gouge,
     # max_left (normal to the design), max_gouge_at / max_left_at {x, y, z, line,
     # operation}, gouging_moves, reference, accuracy, left_spacing, by_operation
@@ -89,6 +90,8 @@ class RunReport:
             "stock": self.stock, "fit": self.fit}
         if self.reference:
             d["reference"] = self.reference
+        if self.post:
+            d["post"] = self.post
         d["verification"] = self.verification
         d["cycle_time_s"] = round(self.cycle_time_s, 3)
         d["operations"] = [o.to_json() for o in self.operations]

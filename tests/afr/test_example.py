@@ -40,7 +40,7 @@ def test_example_report_lists_what_is_not_machinable(planned):
 
 @pytest.mark.slow
 def test_example_is_accepted_by_rs274_and_cut_to_the_solid(planned, rs274):
-    from millpath.post.linuxcnc import post
+    from millpath.post.writer import post
     from millpath.simulate import simulate_toolpath
     from millpath.verify.rs274 import run_rs274
     job, r = planned

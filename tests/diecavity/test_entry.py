@@ -20,7 +20,7 @@ from millpath.interpret import interpret
 from millpath.job.jobfile import load_job
 from millpath.plan.base import PlanContext
 from millpath.plan.diecavity import operation as op
-from millpath.post.linuxcnc import post
+from millpath.post.writer import post
 
 EXAMPLES = Path(millpath.__file__).parent / "examples"
 

@@ -148,7 +148,7 @@ def test_missing_step_file_is_a_user_error(tmp_path):
 
 @pytest.mark.parametrize("name", sorted(PRISMATIC))
 def test_rs274_accepts_the_program(name, planned, rs274):
-    from millpath.post.linuxcnc import post
+    from millpath.post.writer import post
     from millpath.verify.rs274 import run_rs274
     units, tools, _ = PRISMATIC[name]
     r = planned[name]
@@ -210,7 +210,7 @@ def test_nested_features_start_where_material_is(tmp_path, corner, inner, inner_
 @pytest.mark.parametrize("name", sorted(PRISMATIC))
 def test_interpreted_program_gives_back_the_toolpath(name, planned):
     from millpath.interpret import interpret
-    from millpath.post.linuxcnc import post_with_lines
+    from millpath.post.writer import post_with_lines
     from millpath.verify.roundtrip import compare_toolpath
     units, tools, _ = PRISMATIC[name]
     r = planned[name]
@@ -276,7 +276,7 @@ def test_flat_slot_ends_leave_exactly_the_square_corners(tmp_path):
 ])
 def test_planar_faces_are_face_milled(tmp_path, width, centre_y, rs274):
     from millpath.part.step.build import Ap224Builder
-    from millpath.post.linuxcnc import post
+    from millpath.post.writer import post
     from millpath.simulate import simulate_toolpath
     from millpath.verify.rs274 import run_rs274
     b = Ap224Builder("FACE", units="mm", material="aluminium")

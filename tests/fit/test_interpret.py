@@ -33,7 +33,7 @@ def feed_part(motions):
 
 def test_interpreted_cubic_and_arc_programs_stay_within_tolerance(fitkit):
     from millpath.interpret import interpret
-    from millpath.post.linuxcnc import post
+    from millpath.post.writer import post
     t = np.linspace(0, 6 * math.pi, 1500)
     shapes = {
         "spiral": np.column_stack([t * np.cos(t), 0.5 * t * np.sin(t), np.full_like(t, -1.0)]),

@@ -23,7 +23,7 @@ def test_run_with_fitting_writes_a_shorter_verified_program(tmp_path):
     from millpath.pipeline import plan_job, post_job
     planned = load_job(tmp_path / "job.toml")
     tp, _, stock = plan_job(planned)
-    as_planned = post_job(planned, tp, stock)[0].count("\n")     # every planned point
+    as_planned = post_job(planned, tp, stock).text.count("\n")     # every planned point
     plain = run_job(tmp_path / "job.toml", tmp_path / "plain")     # collinear points merged
     (tmp_path / "job.toml").write_text(re.sub(r'(?m)^name = (.*)$',
                                               r'name = \1\nfit = "arcs+cubics"', job, count=1))

@@ -60,7 +60,7 @@ def shapes(rng):
 
 
 def test_rs274_runs_fitted_toolpaths_within_tolerance(rs274, fitkit):
-    from millpath.post.linuxcnc import post
+    from millpath.post.writer import post
     from millpath.verify.rs274 import run_rs274
     rng = np.random.default_rng(3)
     tol = 0.005
@@ -80,7 +80,7 @@ def test_rs274_runs_fitted_toolpaths_within_tolerance(rs274, fitkit):
 
 
 def test_rs274_accepts_cubic_programs(rs274):
-    from millpath.post.linuxcnc import post
+    from millpath.post.writer import post
     from millpath.verify.rs274 import run_rs274
     t = np.linspace(0, 6 * math.pi, 900)
     P = np.column_stack([t * 2, 3 * np.sin(t) * np.exp(-t / 10), np.full_like(t, -1.0)])

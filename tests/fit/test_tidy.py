@@ -13,7 +13,7 @@ import numpy as np
 from millpath.fit.collinear import merge_collinear
 from millpath.model import Tool
 from millpath.model.toolpath import Operation, Toolpath
-from millpath.post.linuxcnc import post
+from millpath.post.writer import post
 
 
 def _dist_to_polyline(P: np.ndarray, Q: np.ndarray) -> np.ndarray:

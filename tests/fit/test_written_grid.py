@@ -20,7 +20,7 @@ from millpath.fit import fit_toolpath
 from millpath.model import Tool
 from millpath.model.toolpath import Operation, Toolpath
 from millpath.model.units import as_written, default
-from millpath.post.linuxcnc import post_with_lines
+from millpath.post.writer import post_with_lines
 from millpath.verify.rs274 import run_rs274
 from millpath.verify.roundtrip import compare_toolpath
 

@@ -6,7 +6,7 @@ import math
 import pytest
 
 from millpath.model import Operation, Tool, Toolpath
-from millpath.post.linuxcnc import post, post_with_lines
+from millpath.post.writer import post, post_with_lines
 from millpath.verify.rs274 import run_rs274
 
 TOOLS = {1: Tool(1, "flat", 6.0, stickout=30, flute_length=18),
@@ -31,7 +31,7 @@ def base(units="mm"):
 def test_preamble_tool_change_and_trailer():
     text = post(base(), TOOLS, title="golden")
     assert text.splitlines() == [
-        "(golden)", "(millpath post: LinuxCNC, units mm)", "(T1 flat D6)",
+        "(golden)", "(millpath post: LinuxCNC 2.9, units mm)", "(T1 flat D6)",
         "G17 G90 G94 G40 G49 G80", "G91.1", "G21", "G54",
         "(operation 1: test - golden)", "T1 M6", "G43 H1", "S10000 M3", "M8",
         "G0 Z5", "X0 Y0", "G1 Z-1 F100", "M5", "M9", "M2"]

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from millpath.interpret import interpret
-from millpath.post.linuxcnc import post_with_lines
+from millpath.post.writer import post_with_lines
 from millpath.simulate import simulate_toolpath
 from millpath.verify.roundtrip import compare_toolpath
 

@@ -282,7 +282,7 @@ motion = "arc"
 def test_flat_concave_pocket_wall_corners_as_xy_arcs_or_g5_accepted_by_rs274(
         tmp_path, gp, rs274, mode, kind):
     from millpath.interpret import interpret
-    from millpath.post.linuxcnc import post_with_lines
+    from millpath.post.writer import post_with_lines
     from millpath.verify.roundtrip import compare_toolpath
     from millpath.verify.rs274 import run_rs274
     p = gp.write_job(tmp_path, "tool = 1\n" + L_POCKET + 'bottom = { bezier = [[-0.3, -0.3], '

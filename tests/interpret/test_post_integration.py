@@ -10,7 +10,7 @@ from millpath.interpret import interpret
 from support.difftest import differential
 from millpath.model import Tool, Toolpath
 from millpath.model.toolpath import Operation
-from millpath.post.linuxcnc import post
+from millpath.post.writer import post
 
 
 def sample_toolpath(units: str) -> tuple[Toolpath, dict[int, Tool]]:

@@ -42,7 +42,7 @@ def test_rounded_outline_inside_is_accepted_by_rs274_and_interpreted(rs274):
     bench/generated_jobs.py runs it)."""
     job = load_job(JOBS / "control_rounded_notch.toml")
     tp, _, stock = plan_job(job)
-    text, _ = post_job(job, fit_job(job, tp), stock)
+    text = post_job(job, fit_job(job, tp), stock).text
     assert "G41" in text
     r = run_rs274(text, job.tools)
     assert r.ok, r.error

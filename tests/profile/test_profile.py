@@ -18,7 +18,7 @@ from millpath.io.schema import validate
 from millpath.model import Machine, Stock, Tool
 from millpath.plan.base import PlanContext
 from millpath.plan.profile import operation as profile
-from millpath.post.linuxcnc import post
+from millpath.post.writer import post
 from millpath.simulate import simulate_motions
 
 L_SHAPE = [[0, 0], [60, 0], [60, 40], [30, 40], [30, 25], [0, 25]]

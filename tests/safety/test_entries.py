@@ -51,7 +51,7 @@ def test_grid_pocket_layers_and_wall_laps_never_plunge_into_material(tmp_path, t
     tp, _, stock = plan_job(job)
     phases = [tp.ops[m.op].info["phase"] for m in tp.moves]
     assert phases.count("wall") and phases.count("rough")
-    program, _ = post_job(job, fit_job(job, tp), stock)
+    program = post_job(job, fit_job(job, tp), stock).text
     text = tool_table_text(job.tools, job.units, job.table_units)
     motions = interpret(program, parse_tool_table(text), machine_units=job.table_units)
     assert plunge_violations(motions, job.tools, stock, 0.01) == []

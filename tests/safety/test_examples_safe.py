@@ -2,7 +2,8 @@
 with the tool table written for each [machine] units setting, its compensated motion
 equals millpath's interpretation; after each tool change the first motion rises
 straight to the safe height before any XY move, and no end mill goes straight down
-into material (Z-map simulation of the motion before each vertical feed)."""
+into material (Z-map simulation of the motion before each vertical feed); its program
+written for GRBL reads as the npm reader gcode-toolpath reads it and is proven."""
 
 from __future__ import annotations
 
@@ -16,7 +17,11 @@ from millpath.interpret import interpret
 from support.difftest import compare_motions
 from millpath.io.tooltable import parse_tool_table, table_units, tool_table_text
 from millpath.job.jobfile import load_job
-from millpath.pipeline import fit_job, plan_job, post_job
+from millpath.model.units import default, length_scale
+from millpath.pipeline import fit_job, for_control, plan_job, post_job, run_job
+from millpath.simulate.tip import tip_motions
+from millpath.verify.roundtrip import compare_toolpath
+from support.gcodetoolpath import compare, our_moves, their_moves
 
 sys.path.insert(0, str(Path(__file__).parent))
 from scan import approach_violations, plunge_violations  # noqa: E402
@@ -30,15 +35,15 @@ def example(request):
     job = load_job(EXAMPLES / request.param / "job.toml")
     tp, _, stock = plan_job(job)
     tp = fit_job(job, tp)
-    program, _ = post_job(job, tp, stock)
-    return request.param, job, stock, program
+    program = post_job(job, tp, stock).text
+    return request.param, job, stock, program, tp
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize("machine_units", ["mm", "inch"])
 def test_rs274_runs_the_program_with_the_table_as_written(example, machine_units, rs274):
     from millpath.verify.rs274 import run_rs274
-    name, job, stock, program = example
+    name, job, stock, program, _ = example
     job = dataclasses.replace(job, machine_units=machine_units)
     text = tool_table_text(job.tools, job.units, job.table_units)
     assert table_units(text) == machine_units
@@ -52,9 +57,44 @@ def test_rs274_runs_the_program_with_the_table_as_written(example, machine_units
 
 @pytest.mark.slow
 def test_safe_approach_and_no_straight_plunge_into_material(example):
-    name, job, stock, program = example
+    name, job, stock, program, _ = example
     text = tool_table_text(job.tools, job.units, job.table_units)
     motions = interpret(program, parse_tool_table(text), machine_units=job.table_units)
     assert approach_violations(program, motions, stock.zmax) == []
     res = job.simulation.get("resolution") or (0.01 if job.units == "inch" else 0.25)
     assert plunge_violations(motions, job.tools, stock, res) == []
+
+
+@pytest.mark.slow
+def test_grbl_program_moves_as_gcode_toolpath_reads_it_and_is_proven(example, gcode_toolpath,
+                                                                      tmp_path):
+    """Each example written for GRBL 1.1: the npm reader gcode-toolpath and millpath's
+    GRBL reader see the same motion (0.0002 mm); the motion gives back the tool path as
+    written; and it is proven: where the dialect made nothing be rewritten, the tip moves
+    exactly as in the proven LinuxCNC program; else the whole run with ``--post grbl``
+    is proven and written."""
+    name, job, stock, program, tp = example
+    gjob, replanned = for_control(dataclasses.replace(job, post={**job.post,
+                                                                 "dialect": "grbl"}))
+    if replanned:
+        tp = fit_job(gjob, plan_job(gjob)[0])
+    grbl = post_job(gjob, tp, stock)
+    entries = parse_tool_table(tool_table_text(job.tools, job.units, job.table_units))
+    ours = interpret(grbl.text, entries, machine_units=job.table_units, dialect="grbl")
+    assert compare(our_moves(ours), their_moves(gcode_toolpath, grbl.text), 2e-4) == [], name
+    scale = length_scale(job.table_units, job.units)
+    radii = {e.number: e.diameter / 2 * scale for e in entries}
+    assert compare_toolpath(grbl.toolpath, grbl.move_lines, ours,
+                            default("roundtrip", job.units), radii) == [], name
+    if not (replanned or grbl.fallbacks):
+        lc = interpret(program, entries, machine_units=job.table_units)
+        a = [m for m in tip_motions(lc, job.units) if m.kind != "dwell"]
+        b = [m for m in tip_motions(ours, job.units) if m.kind != "dwell"]
+        assert len(a) == len(b), name
+        assert max((max(abs(p - q) for p, q in zip(x.end, y.end)) for x, y in zip(a, b)),
+                   default=0.0) < 1e-9, name
+    else:
+        res = run_job(EXAMPLES / name / "job.toml", tmp_path / "out", dialect="grbl",
+                      pictures=False)
+        assert res.report["safety"]["status"] == "ok", name
+        assert (tmp_path / "out" / "program.nc").exists()

@@ -8,7 +8,7 @@ from support.difftest import compare_motions
 from millpath.io.schema import validate
 from millpath.job.jobfile import POST
 from millpath.model import Operation, Tool, Toolpath
-from millpath.post.linuxcnc import PostOptions, post
+from millpath.post.writer import PostOptions, post
 
 TOOLS = {1: Tool(1, "flat", 6.0, stickout=30, flute_length=18),
          2: Tool(2, "flat", 4.0, stickout=30, flute_length=18)}

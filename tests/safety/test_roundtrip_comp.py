@@ -21,7 +21,7 @@ from millpath.model import Machine, Stock, Tool, Toolpath
 from millpath.model.toolpath import Operation
 from millpath.plan.base import PlanContext
 from millpath.plan.profile import operation as profile
-from millpath.post.linuxcnc import post_with_lines
+from millpath.post.writer import post_with_lines
 from millpath.verify.roundtrip import compare_toolpath
 from millpath.verify.rs274 import run_rs274
 

@@ -56,7 +56,7 @@ def _toolpath() -> Toolpath:
 
 
 def _posted():
-    from millpath.post.linuxcnc import post
+    from millpath.post.writer import post
     return post(_toolpath(), TOOLS, title="simulate cross-check")
 
 
@@ -121,7 +121,7 @@ def test_rs274_motion_simulates_like_the_toolpath(rs274):
 
 def test_cubic_moves_simulate_like_their_interpreted_g5():
     from millpath.interpret import interpret
-    from millpath.post.linuxcnc import post
+    from millpath.post.writer import post
     tp = Toolpath()
     tp.begin(Operation("mill", "spline", 1))
     tp.rapid(0, 0, 5)               # where the post's safe approach starts (see above)

@@ -54,7 +54,7 @@ def test_planning_an_arm_file_cuts_its_features(shared_dir, rs274):
     from millpath.model import Machine, Tool
     from millpath.plan.base import PlanContext
     from millpath.plan.features.operation import PARAMS, plan
-    from millpath.post.linuxcnc import post
+    from millpath.post.writer import post
     from millpath.simulate import simulate_toolpath
     from millpath.verify.rs274 import run_rs274
 

@@ -13,7 +13,7 @@ import millpath
 from millpath.interpret import interpret
 from millpath.job.jobfile import load_job
 from millpath.pipeline import plan_job
-from millpath.post.linuxcnc import post_with_lines
+from millpath.post.writer import post_with_lines
 from millpath.simulate import simulate_toolpath
 from millpath.verify.roundtrip import compare_toolpath
 

@@ -26,7 +26,7 @@ from millpath.plan.surface.cutter import Cutter
 from millpath.plan.surface.dropcutter import build_index
 from millpath.plan.surface.sampler import Sampler
 from millpath.plan.surface.toolchoice import choose_tool, mesh_concave_radius
-from millpath.post.linuxcnc import post_with_lines
+from millpath.post.writer import post_with_lines
 from millpath.simulate import simulate_toolpath
 from millpath.verify.roundtrip import compare_toolpath
 

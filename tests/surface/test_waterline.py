@@ -20,7 +20,7 @@ from millpath.plan.surface.cutter import Cutter
 from millpath.plan.surface.dropcutter import build_index, drop
 from millpath.plan.surface.sampler import Sampler
 from millpath.plan.surface.waterline import WaterlineSettings, waterline
-from millpath.post.linuxcnc import post_with_lines
+from millpath.post.writer import post_with_lines
 from millpath.simulate import simulate_toolpath
 from millpath.verify.roundtrip import compare_toolpath
 

@@ -90,7 +90,7 @@ def operations_from_program(program: str, motions: list[Motion]) -> list[ViewOpe
 def operations_from_toolpath(toolpath, move_lines: list[int | None]) -> list[ViewOperation]:
     """Operations of a posted :class:`millpath.model.Toolpath`: each starts at the
     program line of its first move (``move_lines[i]``: line of move ``i``, as
-    :func:`millpath.post.linuxcnc.post_with_lines` returns them)."""
+    :func:`millpath.post.writer.post_with_lines` returns them)."""
     first = LineMap.of_toolpath(toolpath, move_lines).first_lines()
     out = [ViewOperation(o.name or o.type, o.tool, first[i])
            for i, o in enumerate(toolpath.ops) if i in first]

@@ -1,13 +1,17 @@
-"""Post-processor for the LinuxCNC dialect of RS274NGC.
+"""Post-processor: a :class:`~millpath.model.Toolpath` as the program text of one control
+dialect (:mod:`millpath.model.dialect`; LinuxCNC unless the options name another).
 
-Writes a :class:`~millpath.model.Toolpath` as a program: a safe preamble
+Writes a safe preamble
 (``G17 G90 G94 G40 G49 G80``, ``G91.1`` incremental arc centres, ``G20``/``G21``), per
 operation a comment, tool change ``Tn M6`` with ``G43 Hn``, spindle (``M3``/``M4``)
 and coolant (``M7``/``M8``), then motion: ``G0``/``G1`` with modal motion codes and only
 the axes that change, ``G2``/``G3`` with ``I J K`` in ``G17``/``G18``/``G19`` (``P`` for
 extra turns), ``G5`` cubic Bezier splines in XY, canned drilling cycles
 (``G81 G82 G83 G73 G85 G89`` with ``G98``/``G99``) closed by ``G80``, cutter radius
-compensation ``G41``/``G42 Dn`` and ``G40``, and ``M2``.
+compensation ``G41``/``G42 Dn`` and ``G40``, and ``M2``. The tool path must hold only
+what the dialect accepts (:func:`millpath.post.lower.lower` rewrites the rest): a
+dialect whose tool change is a pause writes ``Tn M0`` after a message instead of
+``Tn M6`` and ``G43 Hn``; one without mist coolant writes flood (``M8``).
 
 Before a tool change the tool rises so that the new tool, changed where the machine
 stands, has its tip at or above the next operation's safe height (a longer tool comes
@@ -30,6 +34,7 @@ import math
 from dataclasses import dataclass
 
 from millpath.model import Tool, Toolpath
+from millpath.model.dialect import Dialect, dialect
 from millpath.model.toolpath import PLANE_AXES, Move
 from millpath.model.units import default
 
@@ -83,8 +88,10 @@ class PostOptions:
     preamble: str = ""
     postamble: str = ""
     safe_z: float | None = None
+    dialect: str = "linuxcnc"
 
     def __post_init__(self) -> None:
+        dialect(self.dialect)
         if self.coolant not in (None, "flood", "mist", "off"):
             raise ValueError(f"coolant must be flood, mist or off, not {self.coolant!r}")
         if self.work_offset not in WORK_OFFSETS:
@@ -118,6 +125,8 @@ class _Writer:
     def __init__(self, tp: Toolpath, tools: dict[int, Tool], title: str,
                  options: PostOptions | None = None):
         self.opt = options or PostOptions()
+        self.d: Dialect = dialect(self.opt.dialect)
+        self.fallbacks: list[str] = []
         self.tp = tp
         self.tools = tools
         self.f = _Fmt(tp.units)
@@ -138,7 +147,16 @@ class _Writer:
 
     # --- helpers ------------------------------------------------------------------
     def emit(self, s: str) -> None:
+        if self.d.max_line is not None and not s.startswith("("):
+            n = len(s.replace(" ", "")) + (8 if self.opt.line_numbers else 0)
+            if n > self.d.max_line:
+                raise ValueError(f"{self.d.title} buffers {self.d.max_line} characters of a "
+                                 f"block; this one has {n}: {s}")
         self.lines.append(s)
+
+    def fell_back(self, what: str) -> None:
+        if what not in self.fallbacks:
+            self.fallbacks.append(what)
 
     def _feed_word(self, feed: float) -> str:
         if feed == self._feed_in and self.feed is not None:
@@ -187,7 +205,7 @@ class _Writer:
             self.emit(f"(O{self.opt.program_number})")
         if self.title:
             self.emit(_comment(self.title))
-        self.emit(_comment(f"millpath post: LinuxCNC, units {self.tp.units}"))
+        self.emit(_comment(f"millpath post: {self.d.title}, units {self.tp.units}"))
         used = sorted({op.tool for op in self.tp.ops})
         for n in used:
             t = self.tools.get(n)
@@ -225,8 +243,14 @@ class _Writer:
                 self.spindle = None
             if TOOL_CHANGES[self.opt.tool_change]:
                 self.emit(TOOL_CHANGES[self.opt.tool_change])
-            self.emit(f"T{op.tool} M6")
-            self.emit(f"G43 H{op.tool}")
+            if self.d.tool_change == "pause":
+                t = self.tools.get(op.tool)
+                what = f"T{op.tool}" + (f" {t.type} D{_num(t.diameter, 4)}" if t else "")
+                self.emit(_comment(f"MSG, load {what}, set Z zero at its tip, resume"))
+                self.emit(f"T{op.tool} M0")
+            else:
+                self.emit(f"T{op.tool} M6")
+                self.emit(f"G43 H{op.tool}")
             self.tool = op.tool
             self.pos = [None, None, None]
             self.motion = None
@@ -240,6 +264,9 @@ class _Writer:
                 self.emit(f"S{_num(abs(op.spindle), 0)} {code}")
             self.spindle = op.spindle
         coolant = self.opt.coolant or op.coolant
+        if coolant == "mist" and not self.d.mist:
+            self.fell_back(f"mist coolant written as flood (M8): {self.d.title} has no M7")
+            coolant = "flood"
         if coolant != self.coolant:
             self.emit({"flood": "M8", "mist": "M7", "off": "M9"}[coolant])
             self.coolant = coolant
@@ -343,12 +370,16 @@ class _Writer:
         words.append(_IJK[a1] + self.f.s(i1))
         words.append(_IJK[a2] + self.f.s(i2))
         if m.turns > 1:
+            if not self.d.arc_turns:
+                raise ValueError(f"{self.d.title} has no P word on arcs (extra turns)")
             words.append(f"P{m.turns}")
         self.emit(" ".join(words) + self._feed_word(m.feed))
         self.motion = code
         self.pos = list(e)
 
     def cubic(self, m: Move) -> None:
+        if not self.d.g5:
+            raise ValueError(f"{self.d.title} has no G5 cubic splines")
         if self.comp != "off":
             raise ValueError("G5 splines cannot be written with cutter compensation on")
         if any(p is None for p in self.pos):
@@ -366,6 +397,8 @@ class _Writer:
         self._moved(m.end)
 
     def drill(self, m: Move) -> None:
+        if m.cycle not in self.d.cycles:
+            raise ValueError(f"{self.d.title} has no {m.cycle} cycle")
         if self.comp != "off":
             raise ValueError("canned cycles cannot be used with cutter compensation on")
         if any(p is None for p in self.pos):
@@ -396,6 +429,8 @@ class _Writer:
         self.pos = [self.f.r(m.end[0]), self.f.r(m.end[1]), z_clear]
 
     def compensation(self, m: Move) -> None:
+        if not self.d.cutter_comp:
+            raise ValueError(f"{self.d.title} has no cutter radius compensation (G41/G42)")
         self._end_cycle()
         self._set_plane("XY")           # LinuxCNC compensates in the XY plane only
         if m.comp == "off":
@@ -429,21 +464,39 @@ class _Writer:
         return out
 
 
+@dataclass
+class Written:
+    """A posted program: its text, the 1-based line that carries each move (None where
+    a move writes no motion, e.g. a rapid to where the tool already is) and what was
+    written otherwise than planned because the dialect lacks it."""
+
+    text: str
+    move_lines: list[int | None]
+    fallbacks: list[str]
+
+
 def post(toolpath: Toolpath, tools: dict[int, Tool], *, title: str = "",
          options: PostOptions | None = None) -> str:
-    """RS274NGC text (LinuxCNC dialect) for ``toolpath``; ``tools`` gives tool comments.
+    """Program text in the options' dialect for ``toolpath``; ``tools`` gives tool
+    comments.
 
-    Raises ValueError for moves LinuxCNC cannot run as written (non-positive feeds,
-    splines or cycles under cutter compensation, degenerate arcs).
+    Raises ValueError for moves the control cannot run as written (non-positive feeds,
+    splines or cycles under cutter compensation, degenerate arcs, what the dialect
+    lacks).
     """
-    return post_with_lines(toolpath, tools, title=title, options=options)[0]
+    return write(toolpath, tools, title=title, options=options).text
 
 
 def post_with_lines(toolpath: Toolpath, tools: dict[int, Tool], *, title: str = "",
                     options: PostOptions | None = None) -> tuple[str, list[int | None]]:
-    """Like :func:`post`, also returning for each move the 1-based program line that
-    carries it (None where the move writes no motion, e.g. a rapid to where the tool
-    already is)."""
+    """Like :func:`post`, also returning each move's program line (see :class:`Written`)."""
+    w = write(toolpath, tools, title=title, options=options)
+    return w.text, w.move_lines
+
+
+def write(toolpath: Toolpath, tools: dict[int, Tool], *, title: str = "",
+          options: PostOptions | None = None) -> Written:
+    """The program for ``toolpath`` (see :func:`post`) with its line map and fallbacks."""
     toolpath.check_finite()
     w = _Writer(toolpath, tools, title, options)
     w.preamble()
@@ -460,4 +513,4 @@ def post_with_lines(toolpath: Toolpath, tools: dict[int, Tool], *, title: str = 
         else:
             where.append(len(w.lines))
     w.end()
-    return "\n".join(w.numbered()) + "\n", where
+    return Written("\n".join(w.numbered()) + "\n", where, w.fallbacks)
