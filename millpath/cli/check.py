@@ -243,7 +243,8 @@ def summary(motions: MotionList, units: str, max_feed: float = math.inf) -> dict
 def command(program: Path, tools: Path | None, machine_units: str | None,
             spindle_tool: int, max_feed: float | None, as_json: bool,
             setup: MachineSetup) -> None:
-    """Interpret PROGRAM.ngc as LinuxCNC 2.9 would and summarize or dump its motion."""
+    """Interpret PROGRAM as its control would (LinuxCNC 2.9 unless --dialect names
+    another) and summarize or dump its motion."""
     from millpath.io.tooltable import file_table_units
     if max_feed is not None and not (max_feed > 0 and math.isfinite(max_feed)):
         raise MillpathError(f"--max-feed must be a positive feed, not {max_feed}")
@@ -257,7 +258,8 @@ def command(program: Path, tools: Path | None, machine_units: str | None,
     try:
         result = run(program, tools, machine_units=machine_units,
                      sink=None if acc is None else acc.add, spindle_tool=spindle_tool,
-                     units=setup.units, params=setup.for_machine(machine_units))
+                     units=setup.units, params=setup.for_machine(machine_units),
+                     dialect=setup.dialect)
     except ValueError:
         raise MillpathError(f"--tool {spindle_tool}: no such tool in the tool table "
                             "(give --tools with it)", program) from None

@@ -19,6 +19,7 @@ from pathlib import Path
 import click
 
 from millpath.errors import MillpathError
+from millpath.model.dialect import DIALECTS
 from millpath.model.units import default, length_scale
 
 
@@ -50,11 +51,13 @@ class ProgramArgs:
 @dataclass
 class MachineSetup:
     """The control as the program finds it: ``units`` it starts in (None: mm, as
-    rs274), ``params`` its stored parameters (work offsets, G92) in ``params_units``."""
+    rs274), ``params`` its stored parameters (work offsets, G92) in ``params_units``,
+    ``dialect`` the control family it reads the program as."""
 
     units: str | None = None
     params: dict[int, float] | None = None
     params_units: str | None = None
+    dialect: str = "linuxcnc"
 
     def for_machine(self, machine_units: str) -> dict[int, float] | None:
         """The parameters in the interpreter's machine units."""
@@ -78,11 +81,14 @@ def setup_options(func):
         click.option("--var", "var_file", type=click.Path(path_type=Path), default=None,
                      help="LinuxCNC parameter file (.var): work offsets G54-G59.3, the work "
                           "system in force, G92, G28/G30, in the machine units."),
+        click.option("--dialect", "dialect", type=click.Choice(sorted(DIALECTS)),
+                     default="linuxcnc", help="The control the program is written for, read "
+                     "as it reads it (default linuxcnc)."),
     ]
 
     @functools.wraps(func)
     def command(*args, start_units: str | None, work_offset: str | None,
-                var_file: Path | None, **kw):
+                var_file: Path | None, dialect: str, **kw):
         from millpath.io.varfile import read_var, work_offset_params
         params: dict[int, float] = {}
         if var_file is not None:
@@ -90,7 +96,7 @@ def setup_options(func):
         if work_offset is not None:
             params.update(work_offset_params(work_offset))
         return func(*args, setup=MachineSetup(start_units, params or None,
-                                              kw.get("machine_units")), **kw)
+                                              kw.get("machine_units"), dialect), **kw)
     for option in reversed(options):
         command = option(command)
     return command
@@ -188,7 +194,7 @@ def interpret_program(program: Path, tool_arg, units: str, spindle_tool: int = 0
     setup = setup or MachineSetup()
     try:
         res = run(program, tool_arg, machine_units=units, spindle_tool=spindle_tool,
-                  units=setup.units, params=setup.for_machine(units))
+                  units=setup.units, params=setup.for_machine(units), dialect=setup.dialect)
     except ValueError:
         raise MillpathError(f"--tool {spindle_tool}: no such tool in the tool table "
                             "(give --tools with it)", program) from None

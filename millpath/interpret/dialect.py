@@ -6,8 +6,11 @@ Where a control differs (for the dialects of :mod:`millpath.model.dialect`):
 
 - the codes, letters, parameters and expressions it lacks, a P word on an arc and a
   block longer than its line buffer (blanks and comments left out) are refused;
-- it starts in G0 motion mode (LinuxCNC starts with none); a streamed program needs
-  no M2 or M30 (one is read after its last line);
+- GRBL and Fanuc start in G0 motion mode (LinuxCNC starts with none); a streamed
+  program needs no M2 or M30 (one is read after its last line);
+- Fanuc-style controls: ``O<n>`` after ``%`` names the program; a length (X Y Z I J K
+  R Q) written without a decimal point counts least increments (``X10`` is 0.010 mm,
+  0.0010 in); P of a dwell (G4) or of G82/G89 is in milliseconds;
 - with a ``pause`` tool change, ``M0`` after a ``T`` word is the operator's tool change
   with Z set to zero at the new tool's tip: read as ``M6 G43 H<n>`` (the new tool's own
   length compensated), then the pause; a tool the table lacks is read as ``T0``, no
@@ -24,6 +27,8 @@ from millpath.interpret.errors import GCodeError
 from millpath.model.dialect import LINUXCNC, Dialect
 
 _ARCS = (20, 30)
+_BARE_LENGTH = re.compile(r"([xyzijkrqXYZIJKRQ])\s*([+-]?)\s*([0-9]+)(?![0-9.])")
+_P_WORD = re.compile(r"[pP]\s*([+]?[0-9]+\.?[0-9]*)")
 _T_WORD = re.compile(r"[tT]\s*[+]?[0-9][0-9 ]*(?:\.[0-9 ]*)?")
 
 
@@ -40,11 +45,15 @@ def as_linuxcnc(text: str, d: Dialect, known: Collection[int] = ()
     pending: int | None = None          # a T word waiting for its M0
     first_motion = True
     motion: int | None = None
+    inch = False
     lines = text.split("\n")
     for n, raw in enumerate(lines, start=1):
         s = raw.strip()
         if not s or s == "%":
             out.append(raw)
+            continue
+        if d.program_number and s[:1] in ("o", "O") and n <= 3:
+            out.append(f"({s.replace('(', '[').replace(')', ']')})")     # the program number
             continue
         why = _bare_refusal(raw, d)
         if not why:
@@ -58,9 +67,16 @@ def as_linuxcnc(text: str, d: Dialect, known: Collection[int] = ()
         if why:
             return text, (n, f"{d.title} does not accept this block: {why}")
         extra = ""
+        if blk.g.get(6) is not None:
+            inch = blk.g[6] == 200
+        if d.decimal_point:
+            raw = _code_sub(raw, _BARE_LENGTH, _increments(0.0001 if inch else 0.001))
+        if d.dwell_ms and "p" in blk.words and (blk.g.get(0) == 40 or motion in (820, 890)):
+            raw = _code_sub(raw, _P_WORD, lambda m: f"P{float(m.group(1)) / 1000.0!r}")
         if first_motion and blk.g.get(1) is not None:
             first_motion = False
-        elif first_motion and blk.g.get(0, 530) == 530 and any(a in blk.words for a in "xyz"):
+        elif first_motion and d.starts_in_g0 and blk.g.get(0, 530) == 530 \
+                and any(a in blk.words for a in "xyz"):
             extra += " G0"              # the motion mode the control starts in
             motion = 0
             first_motion = False
@@ -77,7 +93,14 @@ def as_linuxcnc(text: str, d: Dialect, known: Collection[int] = ()
     return "\n".join(out), None
 
 
-def _code_sub(raw: str, pattern: re.Pattern, repl: str) -> str:
+def _increments(step: float):
+    """A replacement for a length written without a decimal point: it counts ``step``."""
+    def repl(m: re.Match) -> str:
+        return f"{m.group(1)}{m.group(2)}{int(m.group(3)) * step:.6f}"
+    return repl
+
+
+def _code_sub(raw: str, pattern: re.Pattern, repl) -> str:
     """``raw`` with ``pattern`` replaced outside its comments."""
     parts = re.split(r"(\([^)]*\)|;.*$)", raw)
     return "".join(p if p[:1] in ("(", ";") else pattern.sub(repl, p) for p in parts)

@@ -28,7 +28,13 @@ class Dialect:
     own length compensated); ``max_line``: characters of a block the control buffers,
     blanks and comments left out (None: no limit); ``parameters``: ``#`` parameters,
     expressions and O-words; ``needs_end``: a program must end with M2 or M30 (a
-    streamed program just stops); ``extension``: the program file's suffix.
+    streamed program just stops); ``extension``: the program file's suffix;
+    ``arc_center_code``: ``G91.1`` (incremental arc centres) is a code of the control
+    (where it is not, I J K are incremental anyway); ``decimal_point``: a length written
+    without a decimal point counts least increments (0.001 mm, 0.0001 in), so every
+    length is written with one; ``dwell_ms``: P of a dwell or cycle is in milliseconds;
+    ``program_number``: the program sits between ``%`` lines, headed by ``O<n>``;
+    ``starts_in_g0``: G0 is the motion mode at power-on (LinuxCNC has none).
     """
 
     name: str
@@ -46,6 +52,11 @@ class Dialect:
     parameters: bool
     needs_end: bool
     extension: str
+    arc_center_code: bool = True
+    decimal_point: bool = False
+    dwell_ms: bool = False
+    program_number: bool = False
+    starts_in_g0: bool = False
 
     def accepts_g(self, code10: int) -> bool:
         return code10 in self.g_codes
@@ -80,9 +91,43 @@ GRBL = Dialect(
     m_codes=frozenset((0, 1, 2, 30, 3, 4, 5, 8, 9)),
     letters=frozenset("fijklnprstxyz"),
     g5=False, cycles=frozenset(), cutter_comp=False, arc_turns=False, mist=False,
-    tool_change="pause", max_line=79, parameters=False, needs_end=False, extension=".nc")
+    tool_change="pause", max_line=79, parameters=False, needs_end=False, extension=".nc",
+    starts_in_g0=True)
 
-DIALECTS = {d.name: d for d in (LINUXCNC, GRBL)}
+_FANUC_G = _codes(0, 1, 2, 3, 4, 10, 17, 18, 19, 20, 21, 28, 30, 40, 41, 42, 43, 49, 52, 53,
+                  54, 55, 56, 57, 58, 59, 73, 74, 76, 80, 81, 82, 83, 84, 85, 86, 87, 88, 89,
+                  90, 91, 92, 94, 95, 98, 99)
+_FANUC_M = frozenset((0, 1, 2, 3, 4, 5, 6, 8, 9, 30, 98, 99))
+
+#: Fanuc 0i-MF style (ISO code): every length with a decimal point, dwell P in
+#: milliseconds, no G91.1 (I J K always incremental), no G5, no M7, program O-number
+#: between % lines
+FANUC = Dialect(
+    name="fanuc", title="Fanuc 0i", g_codes=_FANUC_G, m_codes=_FANUC_M,
+    letters=frozenset("dfhijklmnopqrstxyz"),
+    g5=False, cycles=frozenset(("G73", "G81", "G82", "G83", "G85", "G89")),
+    cutter_comp=True, arc_turns=False, mist=False, tool_change="M6", max_line=None,
+    parameters=False, needs_end=True, extension=".nc", arc_center_code=False,
+    decimal_point=True, dwell_ms=True, program_number=True, starts_in_g0=True)
+
+#: Haas mills (Fanuc-style programming; the codes millpath writes are read alike)
+HAAS = Dialect(**{**FANUC.__dict__, "name": "haas", "title": "Haas (Fanuc-style)",
+                  "g_codes": _FANUC_G | _codes(187), "m_codes": _FANUC_M | {88, 89}})
+
+#: Mach3 / Mach4: LinuxCNC-like, without G5, O-word subroutines or P turns on arcs
+MACH3 = Dialect(
+    name="mach3", title="Mach3/Mach4",
+    g_codes=_codes(0, 1, 2, 3, 4, 10, 12, 13, 15, 16, 17, 18, 19, 20, 21, 28, 28.1, 30,
+                   31, 40, 41, 42, 43, 49, 50, 51, 52, 53, 54, 55, 56, 57, 58, 59, 61, 64,
+                   68, 69, 73, 80, 81, 82, 83, 84, 85, 86, 87, 88, 89, 90, 90.1, 91, 91.1,
+                   92, 92.1, 92.2, 92.3, 93, 94, 95, 98, 99),
+    m_codes=frozenset((0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 30, 47, 48, 49, 98, 99)),
+    letters=frozenset("abcdefhijklmnpqrstuvwxyz"),
+    g5=False, cycles=frozenset(("G73", "G81", "G82", "G83", "G85", "G89")),
+    cutter_comp=True, arc_turns=False, mist=True, tool_change="M6", max_line=None,
+    parameters=False, needs_end=True, extension=".tap")
+
+DIALECTS = {d.name: d for d in (LINUXCNC, GRBL, FANUC, HAAS, MACH3)}
 
 
 def dialect(name: str) -> Dialect:

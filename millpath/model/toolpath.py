@@ -21,7 +21,7 @@ from typing import Iterator, Literal
 import numpy as np
 
 Vec3 = tuple[float, float, float]
-MoveKind = Literal["rapid", "line", "arc", "cubic", "drill", "comp"]
+MoveKind = Literal["rapid", "line", "arc", "cubic", "drill", "comp", "dwell"]
 Plane = Literal["XY", "XZ", "YZ"]
 
 #: indices (first, second, normal) of each plane's axes in (x, y, z), as in RS274NGC:
@@ -48,6 +48,7 @@ class Move:
       ``"G81"``, ``"G82"``, ``"G83"``, ``"G73"``, ``"G85"`` or ``"G89"``, ``r_plane`` the Z
       of the R plane, ``peck`` the Q increment, ``dwell`` the P seconds, ``feed``. The
       tool returns to the R plane (G99) or to the Z it started at (G98, ``retract_initial``).
+    - ``dwell``: ``dwell`` seconds where the tool stands (``end`` is that point).
     - ``comp``: cutter radius compensation state change, ``comp`` in
       ``"left"`` (G41), ``"right"`` (G42) or ``"off"`` (G40); ``comp_d`` is the D word
       (tool number whose table diameter is used). Takes effect on the next motion.

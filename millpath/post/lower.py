@@ -2,10 +2,8 @@
 
 - cubic splines (G5) -> straight lines within the tolerance of the curve (halved until
   flat);
-- canned drilling cycles the dialect lacks -> the rapids and feeds LinuxCNC's cycle
-  makes (preliminary rise to R, XY at the clearance height, pecks retracting to R for
-  G83 or backing off 0.010 in for G73, the return to R or to the initial level); a dwell
-  at the bottom (G82, G89) has no move to carry it and is left out;
+- canned drilling cycles the dialect lacks -> the rapids, feeds and dwells LinuxCNC's
+  cycle makes (:func:`cycle_moves`);
 - arcs of several turns (a P word) -> one arc per turn, the helix's rise shared by angle.
 
 Cutter radius compensation cannot be rewritten without the tool's offset path: a
@@ -50,11 +48,9 @@ def lower(tp: Toolpath, d: Dialect, tolerance: float) -> tuple[Toolpath, list[st
         elif m.kind == "drill" and m.cycle not in d.cycles and pos is not None:
             if initial is None:
                 initial = pos[2]
-            moves = _cycle_moves(pos, m, initial, tp.units)
+            moves = cycle_moves(pos, m, initial, tp.units)
             out.extend(moves)
             note(f"{m.cycle} cycles written as moves ({d.title} has no {m.cycle})")
-            if m.cycle in ("G82", "G89") and m.dwell > 0:
-                note(f"the dwell of {m.cycle} at the hole bottom left out (no cycle)")
             pos = moves[-1].end
             continue
         elif m.kind == "arc" and m.turns > 1 and not d.arc_turns and pos is not None:
@@ -122,8 +118,15 @@ def _halves(q):
     return (q[0], p01, p012, c), (c, p123, p23, q[3])
 
 
-def _cycle_moves(pos, m: Move, initial: float, units: str) -> list[Move]:
-    """The moves of one canned cycle (XY plane) as LinuxCNC makes them."""
+def cycle_moves(pos, m: Move, initial: float, units: str) -> list[Move]:
+    """The moves of canned cycle ``m`` (XY plane) from ``pos`` as LinuxCNC makes them;
+    ``initial``: the Z where the run of cycles began (G98 returns there, at least to R).
+
+    If the initial Z is below R, rapid up to R first; rapid in XY at the clearance
+    height, down to R; then feed to the bottom (G83: pecks of ``peck``, each followed by
+    a rapid back to R and down to 0.010 in above the depth reached; G73: a 0.010 in
+    back-off after each peck), dwell (G82, G89), and leave: rapid to the clearance (G81,
+    G82, G83, G73), feed to R then rapid (G85), feed (G89)."""
     x, y, bottom = m.end
     r = m.r_plane
     z = pos[2]
@@ -145,9 +148,13 @@ def _cycle_moves(pos, m: Move, initial: float, units: str) -> list[Move]:
     c = m.cycle
     if c in ("G81", "G82"):
         go("line", bottom)
+        if c == "G82" and m.dwell > 0:
+            out.append(Move("dwell", (x, y, bottom), 0.0, m.op, dwell=m.dwell))
         go("rapid", clear)
     elif c in ("G85", "G89"):
         go("line", bottom)
+        if c == "G89" and m.dwell > 0:
+            out.append(Move("dwell", (x, y, bottom), 0.0, m.op, dwell=m.dwell))
         go("line", r if c == "G85" else clear)
         if c == "G85":
             go("rapid", clear)
@@ -168,7 +175,8 @@ def _cycle_moves(pos, m: Move, initial: float, units: str) -> list[Move]:
     else:
         raise ValueError(f"unknown drilling cycle {c!r}")
     return [mv for i, mv in enumerate(out)
-            if i == 0 or mv.end != out[i - 1].end or mv.kind != out[i - 1].kind]
+            if i == 0 or mv.end != out[i - 1].end or mv.kind != out[i - 1].kind
+            or mv.kind == "dwell"]
 
 
 def _turns(p0, m: Move) -> list[Move]:

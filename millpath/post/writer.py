@@ -43,10 +43,11 @@ _IJK = "IJK"
 
 
 class _Fmt:
-    def __init__(self, units: str):
+    def __init__(self, units: str, point: bool = False):
         self.decimals = int(default("decimals", units))
         self.q = 10.0 ** -self.decimals
         self.spec = f".{self.decimals}f"
+        self.point = point              # every length with a decimal point ("10.")
 
     def r(self, v: float) -> float:
         """The value as it will be written (rounded), as a float."""
@@ -58,6 +59,8 @@ class _Fmt:
             t = t.rstrip("0").rstrip(".")
         if t in ("-0", ""):
             t = "0"
+        if self.point and "." not in t:
+            t += "."
         return t
 
 
@@ -74,9 +77,10 @@ class PostOptions:
     ``end``: "M2" | "M30"; ``line_numbers``: N words in steps of 10 on every line but
     comments; ``tool_change``: "G30" | "G53 G0 Z0" | "none", the move written before each
     ``M6``; ``program_number``: written first as the comment ``(O<n>)`` (LinuxCNC has no
-    program-number O word); ``preamble`` / ``postamble``: G-code lines written after the
+    program-number O word), or as ``O<n>`` after ``%`` for a control that numbers its
+    programs (1 if not given); ``preamble`` / ``postamble``: G-code lines written after the
     setup and before the program end; ``safe_z``: lowest height (job units) of the move
-    after a tool change.
+    after a tool change; ``dialect``: the control (:mod:`millpath.model.dialect`).
     """
 
     coolant: str | None = None
@@ -125,11 +129,11 @@ class _Writer:
     def __init__(self, tp: Toolpath, tools: dict[int, Tool], title: str,
                  options: PostOptions | None = None):
         self.opt = options or PostOptions()
-        self.d: Dialect = dialect(self.opt.dialect)
         self.fallbacks: list[str] = []
         self.tp = tp
         self.tools = tools
-        self.f = _Fmt(tp.units)
+        self.d: Dialect = dialect(self.opt.dialect)
+        self.f = _Fmt(tp.units, self.d.decimal_point)
         self.lines: list[str] = []
         self.pos: list[float | None] = [None, None, None]   # last written position
         self.motion: str | None = None
@@ -201,7 +205,10 @@ class _Writer:
 
     # --- program parts ------------------------------------------------------------
     def preamble(self) -> None:
-        if self.opt.program_number is not None:
+        if self.d.program_number:
+            self.emit("%")
+            self.emit(f"O{self.opt.program_number or 1:04d}")
+        elif self.opt.program_number is not None:
             self.emit(f"(O{self.opt.program_number})")
         if self.title:
             self.emit(_comment(self.title))
@@ -215,7 +222,8 @@ class _Writer:
                     desc += f" R{_num(t.corner_radius, 4)}"
                 self.emit(_comment(desc + (f" {t.comment}" if t.comment else "")))
         self.emit("G17 G90 G94 G40 G49 G80")
-        self.emit("G91.1")
+        if self.d.arc_center_code:
+            self.emit("G91.1")
         self.emit("G20" if self.tp.units == "inch" else "G21")
         self.emit(self.opt.work_offset)
         self._block(self.opt.preamble)
@@ -329,6 +337,10 @@ class _Writer:
             self.drill(m)
         elif k == "comp":
             self.compensation(m)
+        elif k == "dwell":
+            if m.dwell > 0:
+                self.emit(f"G4 P{round(m.dwell * 1000)}" if self.d.dwell_ms
+                          else f"G4 P{_num(m.dwell, 3)}")
         else:
             raise ValueError(f"unknown move kind {k!r}")
 
@@ -417,7 +429,8 @@ class _Writer:
                     raise ValueError(f"{m.cycle} needs a positive peck increment")
                 words.append(f"Q{self.f.s(m.peck)}")
             if m.cycle in ("G82", "G89") or (m.dwell and m.cycle in ("G83",)):
-                words.append(f"P{_num(m.dwell, 3)}")
+                words.append(f"P{round(m.dwell * 1000)}" if self.d.dwell_ms
+                             else f"P{_num(m.dwell, 3)}")
             self.feed = None
             self.emit(" ".join(words) + self._feed_word(m.feed))
             self.cycle_key = key
@@ -449,14 +462,17 @@ class _Writer:
         if self.coolant != "off":
             self.emit("M9")
         self.emit(self.opt.end)
+        if self.d.program_number:
+            self.emit("%")
 
     def numbered(self) -> list[str]:
-        """The lines, with N words in steps of 10 when asked (comments left bare)."""
+        """The lines, with N words in steps of 10 when asked (comments, ``%`` and the
+        program number left bare)."""
         if not self.opt.line_numbers:
             return self.lines
         out, n = [], 0
         for ln in self.lines:
-            if ln.startswith("("):
+            if ln.startswith(("(", "%", "O")):
                 out.append(ln)
             else:
                 n += 10

@@ -17,59 +17,28 @@ import numpy as np
 
 from millpath.model.motion import Motion
 from millpath.model.toolpath import PLANE_AXES, Move, Toolpath
+from millpath.post.lower import cycle_moves
 
 Vec3 = tuple[float, float, float]
 
 
 # --- Toolpath -> motion ---------------------------------------------------------------
 
-def _drill_motions(m: Move, pos: Vec3, initial_z: float, tool: int, line: int,
-                   units: str) -> list[Motion]:
-    """Expand one canned-cycle move from ``pos`` the way LinuxCNC does (G81-G89).
+_MOTION_OF = {"rapid": "traverse", "line": "feed", "dwell": "dwell"}
 
-    Preliminary motion: if Z is below the R plane, traverse up to R; traverse in XY to
-    the hole; traverse down to R. Then feed to the bottom (G83: pecks of ``peck`` with a
-    traverse back to R and down to just above the previous depth; G73: a small
-    chip-breaking retract after each peck), dwell (G82/G89), leave the hole (feed for
-    G85/G89, traverse otherwise) to R (G99) or to the initial Z (G98, at least R).
-    """
-    x, y, zb = m.end
-    r = m.r_plane
-    back = 0.254 if units == "mm" else 0.010          # LinuxCNC's G83/G73 "a bit"
+
+def _drill_motions(m: Move, pos: Vec3, tool: int, line: int, units: str) -> list[Motion]:
+    """One canned-cycle move from ``pos`` as LinuxCNC runs it (the moves of
+    :func:`millpath.post.lower.cycle_moves`, the run of cycles starting at ``pos``)."""
     out: list[Motion] = []
     cur = tuple(pos)
-
-    def go(kind: str, p: Vec3, feed: float = 0.0, dwell: float = 0.0) -> None:
-        nonlocal cur
-        if kind == "dwell":
-            out.append(Motion("dwell", line, cur, cur, dwell=dwell, tool=tool))
-            return
-        if any(abs(a - b) > 0.0 for a, b in zip(cur, p)):
-            out.append(Motion(kind, line, cur, p, feed=feed, tool=tool))
-        cur = p
-
-    if cur[2] < r:
-        go("traverse", (cur[0], cur[1], r))
-    go("traverse", (x, y, cur[2]))
-    go("traverse", (x, y, r))
-    feed = m.feed
-    if m.cycle in ("G83", "G73") and m.peck > 0:
-        depth = r
-        while depth - m.peck > zb + 1e-12:
-            depth -= m.peck
-            go("feed", (x, y, depth), feed)
-            if m.cycle == "G83":
-                go("traverse", (x, y, r))
-                go("traverse", (x, y, min(depth + back, r)))
-            else:
-                go("traverse", (x, y, min(depth + back, r)))
-        go("feed", (x, y, zb), feed)
-    else:
-        go("feed", (x, y, zb), feed)
-    if m.cycle in ("G82", "G89") and m.dwell > 0:
-        go("dwell", cur, dwell=m.dwell)
-    clear = max(initial_z, r) if m.retract_initial else r
-    go("feed" if m.cycle in ("G85", "G89") else "traverse", (x, y, clear), feed)
+    for mv in cycle_moves(pos, m, pos[2], units):
+        if mv.kind == "dwell":
+            out.append(Motion("dwell", line, cur, cur, dwell=mv.dwell, tool=tool))
+        elif any(a != b for a, b in zip(cur, mv.end)):
+            out.append(Motion(_MOTION_OF[mv.kind], line, cur, mv.end, feed=mv.feed,
+                              tool=tool))
+            cur = mv.end
     return out
 
 
@@ -111,7 +80,7 @@ def toolpath_motions(tp: Toolpath) -> tuple[list[Motion], list[int]]:
         if k == "drill":
             # G98 returns to the Z the move starts at: for a series of holes posted as
             # one cycle that is max(Z before the series, R), the same for every hole
-            ms = _drill_motions(m, pos, pos[2], tool, i, tp.units)
+            ms = _drill_motions(m, pos, tool, i, tp.units)
         elif k == "arc":
             assert m.center is not None
             a1, a2, an = PLANE_AXES[m.plane]
@@ -123,6 +92,8 @@ def toolpath_motions(tp: Toolpath) -> tuple[list[Motion], list[int]]:
         elif k == "cubic":
             ms = [Motion("cubic", i, pos, m.end, feed=m.feed, tool=tool,
                          controls=(m.c1, m.c2))]
+        elif k == "dwell":
+            ms = [Motion("dwell", i, pos, pos, dwell=m.dwell, tool=tool)]
         else:
             raise ValueError(f"move {i}: unknown move kind {k!r}")
         for mo in ms:

@@ -139,8 +139,8 @@ def compare_toolpath(toolpath: Toolpath, move_lines: list[int | None],
                 block.append(_segment(m, pos, line))
             pos = m.end
             continue
-        if agree is not None and agree[i]:
-            pos = m.end
+        if m.kind == "dwell" or (agree is not None and agree[i]):
+            pos = m.end                 # a dwell stands where the tool is
             continue
         got = by_line.get(line, []) if line is not None else []
         if m.kind in ("rapid", "line"):

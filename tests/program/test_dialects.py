@@ -48,7 +48,8 @@ def _job() -> Toolpath:
     tp.drill(20, 40, -12, 2, 120, cycle="G83", peck=3)
     tp.drill(35, 40, -12, 2, 120, cycle="G83", peck=3)
     tp.drill(50, 40, -6, 2, 150, cycle="G81", retract_initial=True)
-    tp.rapid(50, 40, 10)
+    tp.drill(65, 40, -2, 2, 150, cycle="G82", dwell=0.5)
+    tp.rapid(65, 40, 10)
     return tp
 
 
@@ -63,6 +64,7 @@ def test_grbl_program_holds_only_what_grbl_accepts_and_names_each_rewrite():
     for word in ("G5 ", "G83", "G81", "M6", "G43 ", "M7", "P3"):
         assert word not in text, word
     assert "T2 M0" in text and "(MSG, load T2 drill D5" in text
+    assert "G4 P0.5" in text                    # G82's dwell at the bottom
     assert any("G5 splines written as lines" in f for f in prog.fallbacks)
     assert any("G83 cycles written as moves" in f for f in prog.fallbacks)
     assert any("one turn per arc" in f for f in prog.fallbacks)
@@ -242,3 +244,82 @@ def test_full_circle_angle_for_reference():
     total = 2 * 2 * math.pi + math.pi / 2
     assert [round(m.end[2], 9) for m in arcs] == [round(-9 * 2 * math.pi / total, 9),
                                                  round(-9 * 4 * math.pi / total, 9), -9.0]
+
+
+def test_check_reads_each_dialect(tmp_path):
+    """``millpath check --dialect grbl`` reads a GRBL program that LinuxCNC refuses (no
+    motion mode at the first move), and refuses, naming the line, a block GRBL lacks."""
+    from click.testing import CliRunner
+    from millpath.cli.main import cli
+    f = tmp_path / "part.nc"
+    f.write_text("G21\nX10 Y5\nG1 Z-1 F100\nG2 X20 Y5 I5 J0\n")
+    r = CliRunner().invoke(cli, ["check", str(f), "--dialect", "grbl"])
+    assert r.exit_code == 0, r.output
+    assert "4 moves" in r.output or "3 moves" in r.output
+    r = CliRunner().invoke(cli, ["check", str(f)])
+    assert r.exit_code == 1
+    f.write_text("G21\nG0 X10 Y5\nG81 Z-3 R1 F100\n")
+    r = CliRunner().invoke(cli, ["check", str(f), "--dialect", "grbl"])
+    assert r.exit_code == 1
+    assert f"{f}:3: GRBL 1.1 does not accept this block: G81" in r.output
+
+
+# --- Fanuc 0i, Haas, Mach3/4 -----------------------------------------------------------
+# Fanuc rules covered (FANUC Series 0i-MF programming manual: decimal point programming,
+# dwell, canned cycles, program number): a length word without a decimal point counts
+# least input increments (0.001 mm / 0.0001 in) -- the writer puts a point in every
+# length, the reader scales bare numbers; dwell P (G04, G82, G89) in milliseconds; the
+# program between % lines headed by O<n>; no G91.1 (I J K incremental), no G5, no P turns
+# on arcs, no M7. Not covered: macro B (#) variables, G54.1 P extended offsets, G68
+# rotation, G05.1 AI contour control, parameter-dependent modal defaults.
+
+def _words_without_point(text: str) -> list[str]:
+    import re
+    bad = []
+    for ln in text.splitlines():
+        if ln.startswith(("(", "%", "O")):
+            continue
+        code = re.sub(r"\([^)]*\)", "", ln)
+        bad += [w for w in re.findall(r"[XYZIJKRQ][-+]?[0-9.]+", code) if "." not in w]
+    return bad
+
+
+@pytest.mark.parametrize("name", ["fanuc", "haas", "mach3"])
+def test_program_reads_back_as_rs274_reads_the_linuxcnc_one(name, rs274):
+    """The same tool path written for the control and for LinuxCNC: millpath reading
+    the control's program as that control does moves as LinuxCNC's rs274 moves for the
+    LinuxCNC program (lines, arcs, helices cut per turn, cycles, dwells)."""
+    from millpath.verify.rs274 import run_rs274
+    from support.difftest import compare_motions
+    tp = _job()
+    tp.moves = [m for m in tp.moves if m.kind != "cubic"]       # G5: lines, compared below
+    prog = make_program(tp, TOOLS, options=PostOptions(dialect=name, safe_z=5.0))
+    ours = interpret(prog.text, TOOLS, machine_units="mm", dialect=name)
+    lc = make_program(prog.toolpath, TOOLS, options=PostOptions(safe_z=5.0))
+    theirs = run_rs274(lc.text, TOOLS, table_units="mm")
+    assert theirs.ok, theirs.error
+    assert compare_motions(ours, theirs.motions, 1.5e-4) == []
+    assert "G83" in prog.text and "G5 " not in prog.text and " P3" not in prog.text
+    if name in ("fanuc", "haas"):
+        assert prog.text.startswith("%\nO0001\n") and prog.text.endswith("%\n")
+        assert "G91.1" not in prog.text
+        assert _words_without_point(prog.text) == []
+    else:
+        assert "G91.1" in prog.text and "M7" in prog.text
+
+
+def test_fanuc_reads_bare_numbers_as_increments_and_dwell_in_ms():
+    """X10 is 0.010 mm (0.0010 in after G20); I5000 is 5 mm; G04 P1500 and a G82's
+    P1500 dwell 1.5 s; the O number line is the program's name."""
+    text = ("%\nO0012 (part)\nG21 G17 G90\nG0 X10 Y5. Z5.\nG1 Z-1. F100\nG4 P1500\n"
+            "G82 X20. Y5. Z-3. R1. P1500 F100\nG80\nG2 X30. Y5. I5000 J0\n"
+            "G20\nG0 X10\nM30\n%\n")
+    ms = interpret(text, dialect="fanuc")
+    assert ms[0].end == pytest.approx((0.010, 5.0, 5.0))
+    dwells = [m.dwell for m in ms if m.kind == "dwell"]
+    assert dwells == [1.5, 1.5]
+    arc = next(m for m in ms if m.kind == "arc")
+    assert arc.center[:2] == pytest.approx((25.0, 5.0)) and arc.end[0] == pytest.approx(30.0)
+    assert ms[-1].end[0] == pytest.approx(0.0010)               # inch, program units
+    with pytest.raises(InterpreterError, match="G91.1"):
+        interpret("%\nO1\nG91.1\nM30\n%\n", dialect="fanuc")

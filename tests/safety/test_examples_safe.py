@@ -3,7 +3,7 @@ with the tool table written for each [machine] units setting, its compensated mo
 equals millpath's interpretation; after each tool change the first motion rises
 straight to the safe height before any XY move, and no end mill goes straight down
 into material (Z-map simulation of the motion before each vertical feed); its program
-written for GRBL reads as the npm reader gcode-toolpath reads it and is proven."""
+written for each other control is read as that control runs it and proven."""
 
 from __future__ import annotations
 
@@ -66,27 +66,31 @@ def test_safe_approach_and_no_straight_plunge_into_material(example):
 
 
 @pytest.mark.slow
-def test_grbl_program_moves_as_gcode_toolpath_reads_it_and_is_proven(example, gcode_toolpath,
-                                                                      tmp_path):
-    """Each example written for GRBL 1.1: the npm reader gcode-toolpath and millpath's
-    GRBL reader see the same motion (0.0002 mm); the motion gives back the tool path as
-    written; and it is proven: where the dialect made nothing be rewritten, the tip moves
-    exactly as in the proven LinuxCNC program; else the whole run with ``--post grbl``
-    is proven and written."""
+@pytest.mark.parametrize("dialect", ["grbl", "fanuc", "haas", "mach3"])
+def test_program_for_each_control_is_read_as_it_runs_and_proven(example, dialect, request,
+                                                                 tmp_path):
+    """Each example written for each control: for GRBL the npm reader gcode-toolpath and
+    millpath's GRBL reader see the same motion (0.0002 mm); the motion millpath reads
+    gives back the tool path as written; and the program is proven: where nothing was
+    rewritten for the control, its tip moves as in the LinuxCNC program (checked against
+    rs274 above, proven by the examples' runs); else the whole run with ``--post`` is
+    proven and written."""
     name, job, stock, program, tp = example
-    gjob, replanned = for_control(dataclasses.replace(job, post={**job.post,
-                                                                 "dialect": "grbl"}))
+    cjob, replanned = for_control(dataclasses.replace(job, post={**job.post,
+                                                                 "dialect": dialect}))
     if replanned:
-        tp = fit_job(gjob, plan_job(gjob)[0])
-    grbl = post_job(gjob, tp, stock)
+        tp = fit_job(cjob, plan_job(cjob)[0])
+    prog = post_job(cjob, tp, stock)
     entries = parse_tool_table(tool_table_text(job.tools, job.units, job.table_units))
-    ours = interpret(grbl.text, entries, machine_units=job.table_units, dialect="grbl")
-    assert compare(our_moves(ours), their_moves(gcode_toolpath, grbl.text), 2e-4) == [], name
+    ours = interpret(prog.text, entries, machine_units=job.table_units, dialect=dialect)
+    if dialect == "grbl":
+        home = request.getfixturevalue("gcode_toolpath")
+        assert compare(our_moves(ours), their_moves(home, prog.text), 2e-4) == [], name
     scale = length_scale(job.table_units, job.units)
     radii = {e.number: e.diameter / 2 * scale for e in entries}
-    assert compare_toolpath(grbl.toolpath, grbl.move_lines, ours,
+    assert compare_toolpath(prog.toolpath, prog.move_lines, ours,
                             default("roundtrip", job.units), radii) == [], name
-    if not (replanned or grbl.fallbacks):
+    if not replanned and prog.toolpath is tp:
         lc = interpret(program, entries, machine_units=job.table_units)
         a = [m for m in tip_motions(lc, job.units) if m.kind != "dwell"]
         b = [m for m in tip_motions(ours, job.units) if m.kind != "dwell"]
@@ -94,7 +98,7 @@ def test_grbl_program_moves_as_gcode_toolpath_reads_it_and_is_proven(example, gc
         assert max((max(abs(p - q) for p, q in zip(x.end, y.end)) for x, y in zip(a, b)),
                    default=0.0) < 1e-9, name
     else:
-        res = run_job(EXAMPLES / name / "job.toml", tmp_path / "out", dialect="grbl",
+        res = run_job(EXAMPLES / name / "job.toml", tmp_path / "out", dialect=dialect,
                       pictures=False)
         assert res.report["safety"]["status"] == "ok", name
-        assert (tmp_path / "out" / "program.nc").exists()
+        assert (tmp_path / "out" / res.report["program"]).exists()
