@@ -320,8 +320,8 @@ def _run(job_path: str | Path, outdir: str | Path, prog: Progress, force: bool,
     with staged_dir(out) as tmp, prog.task("rendering pictures and viewer", total=4) as bar:
         if force or not problems:
             (tmp / program_name).write_text(program)
-            if d.tool_change == "M6":        # a control with a tool table
-                (tmp / "tools.tbl").write_text(table)
+            if d.tool_table:
+                (tmp / d.tool_table).write_text(table)
         if draw:
             from millpath.report.preview import render_preview
             render_preview(tp, tmp / "preview.png", title=job.name, stock=stock)

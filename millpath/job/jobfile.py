@@ -89,6 +89,9 @@ POST = {
                          doc="move written before each M6"),
     "program_number": Param("int", None, nonneg=True,
                             doc="written first as the comment (O<n>)"),
+    "machine": Param("str", None, doc="a TOML file (relative to the job) whose [post] "
+                     "table holds one machine's post settings; the job's own [post] keys "
+                     "win"),
     "dialect": Param("str", "linuxcnc", choices=tuple(DIALECTS),
                      doc="the control the program is written for and proven as: "
                          + "; ".join(f"{d.name} ({d.title})" for d in DIALECTS.values())),
@@ -188,7 +191,9 @@ def job_from_dict(data: dict, path: Path | None = None) -> Job:
         bad = check_cells(stock.size[0], stock.size[1], sim["resolution"], limits.max_cells)
         if bad:
             problems.add(JobError(f"simulation.resolution: {bad}", path))
-    post = validate(top["post"] or {}, POST, "post", path, base, problems)
+    post = validate(_post_table(top["post"], path, base, problems), POST, "post", path,
+                    base, problems)
+    post.pop("machine", None)
     for key in ("preamble", "postamble"):
         with problems.gather():
             _check_gcode(post[key], f"post.{key}", path)
@@ -305,6 +310,31 @@ def _check_scale(params: dict[str, Any], tools: dict[int, Tool], resolution: flo
                        f"than the {tool.diameter:g} {units} tool {tool.number} of {where}: "
                        f"the simulation could not see what it cuts (use at most "
                        f"{tool.diameter / 4:g})", path)
+
+
+def _post_table(table: Any, path: Path | None, base: Path | None,
+                problems: Problems) -> Any:
+    """The job's [post] table over the [post] table of the machine file it names
+    (``machine``: a TOML file, relative to the job, holding the shop's post settings for
+    one machine; the job's own keys win). Errors in the machine file name it."""
+    if not isinstance(table, dict) or not isinstance(table.get("machine"), str):
+        return table or {}
+    mpath = Path(table["machine"])
+    if not mpath.is_absolute() and base is not None:
+        mpath = base / mpath
+    with problems.gather():
+        top = parse_toml(read_text(mpath, "machine file", JobError), mpath)
+        extra = sorted(set(top) - {"post"})
+        if extra:
+            raise JobError(f"a machine file holds a [post] table only, not {extra[0]!r}",
+                           mpath)
+        own = {k: v for k, v in (top.get("post") or {}).items() if k != "machine"}
+        before = len(problems)
+        validate(own, POST, "post", mpath, base, problems)
+        if len(problems) > before:      # named once, in the machine file
+            own = {}
+        return {**own, **{k: v for k, v in table.items() if k != "machine"}}
+    return {k: v for k, v in table.items() if k != "machine"}
 
 
 def _check_gcode(text: str, key: str, path: Path | None) -> None:

@@ -34,7 +34,9 @@ class Dialect:
     without a decimal point counts least increments (0.001 mm, 0.0001 in), so every
     length is written with one; ``dwell_ms``: P of a dwell or cycle is in milliseconds;
     ``program_number``: the program sits between ``%`` lines, headed by ``O<n>``;
-    ``starts_in_g0``: G0 is the motion mode at power-on (LinuxCNC has none).
+    ``starts_in_g0``: G0 is the motion mode at power-on (LinuxCNC has none);
+    ``tool_table``: the file the control reads its tools from, written beside the
+    program (None: the tools are listed in the program's header comments only).
     """
 
     name: str
@@ -57,6 +59,7 @@ class Dialect:
     dwell_ms: bool = False
     program_number: bool = False
     starts_in_g0: bool = False
+    tool_table: str | None = None
 
     def accepts_g(self, code10: int) -> bool:
         return code10 in self.g_codes
@@ -79,7 +82,7 @@ LINUXCNC = Dialect(
     letters=frozenset("abcdefhijklmnpqrstuvwxyz"),
     g5=True, cycles=frozenset(("G73", "G81", "G82", "G83", "G85", "G89")),
     cutter_comp=True, arc_turns=True, mist=True, tool_change="M6", max_line=None,
-    parameters=True, needs_end=True, extension=".ngc")
+    parameters=True, needs_end=True, extension=".ngc", tool_table="tools.tbl")
 
 #: GRBL 1.1 as built by default (no M7, no canned cycles, no tool changer, 80-character
 #: line buffer)

@@ -18,7 +18,7 @@ def path_runs(tp: Toolpath, step: float):
     moves (rapid, line) are given by their end points, as they are drawn (a straight
     segment stays straight in the picture's projection); arcs and cubics are sampled
     about ``step`` apart."""
-    moves = [m for m in tp.moves if m.kind != "comp"]
+    moves = [m for m in tp.moves if m.kind not in ("comp", "dwell")]
     if len(moves) < 2:
         return
     ends = np.array([m.end for m in moves], dtype=float)

@@ -15,6 +15,7 @@ applies), G38 probing, soft limits, $ settings and real-time commands.
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -323,3 +324,24 @@ def test_fanuc_reads_bare_numbers_as_increments_and_dwell_in_ms():
     assert ms[-1].end[0] == pytest.approx(0.0010)               # inch, program units
     with pytest.raises(InterpreterError, match="G91.1"):
         interpret("%\nO1\nG91.1\nM30\n%\n", dialect="fanuc")
+
+
+def test_machine_file_holds_a_shops_post_settings(tmp_path):
+    """``[post] machine = "shop/haas.toml"``: that file's [post] keys, under the job's
+    own; an unknown key there is an error naming the machine file and its key."""
+    from millpath.errors import JobErrors
+    from millpath.job.jobfile import load_job
+    src = Path(__file__).resolve().parents[2] / "millpath" / "examples" / "pocket-thesis"
+    job = tmp_path / "job.toml"
+    job.write_text((src / "job.toml").read_text()
+                   + '\n[post]\nmachine = "shop/haas.toml"\nend = "M2"\n')
+    (tmp_path / "shop").mkdir()
+    (tmp_path / "shop" / "haas.toml").write_text(
+        '[post]\ndialect = "haas"\nline_numbers = true\nend = "M30"\n')
+    post = load_job(job).post
+    assert (post["dialect"], post["line_numbers"], post["end"]) == ("haas", True, "M2")
+    assert "machine" not in post
+    (tmp_path / "shop" / "haas.toml").write_text('[post]\ndialect = "haas"\nspeed = 3\n')
+    with pytest.raises(JobErrors) as e:
+        load_job(job)
+    assert "haas.toml" in str(e.value) and "speed" in str(e.value)
