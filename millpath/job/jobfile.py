@@ -89,9 +89,9 @@ POST = {
                          doc="move written before each M6"),
     "program_number": Param("int", None, nonneg=True,
                             doc="written first as the comment (O<n>)"),
-    "machine": Param("str", None, doc="a TOML file (relative to the job) whose [post] "
-                     "table holds one machine's post settings; the job's own [post] keys "
-                     "win"),
+    "machine": Param("str", None, doc="a TOML file (relative to the job) describing one "
+                     "machine: its [post] settings and [machine] rates and units; the "
+                     "job's own keys win"),
     "dialect": Param("str", "linuxcnc", choices=tuple(DIALECTS),
                      doc="the control the program is written for and proven as: "
                          + "; ".join(f"{d.name} ({d.title})" for d in DIALECTS.values())),
@@ -176,8 +176,10 @@ def job_from_dict(data: dict, path: Path | None = None) -> Job:
             stock = _stock(validate(top["stock"], STOCK, "stock", path), limits, units, path)
     machine = Machine.default_for(units)
     machine_units = ""
-    if top["machine"] is not None:
-        m = validate(top["machine"], MACHINE, "machine", path, problems=problems)
+    post_table, machine_table = _machine_file(top["post"], top["machine"], path, base,
+                                              problems)
+    if machine_table is not None:
+        m = validate(machine_table, MACHINE, "machine", path, problems=problems)
         machine = Machine(rapid=m["rapid"] or machine.rapid,
                           max_feed=m["max_feed"] or machine.max_feed,
                           acceleration=m["acceleration"] or machine.acceleration)
@@ -191,8 +193,7 @@ def job_from_dict(data: dict, path: Path | None = None) -> Job:
         bad = check_cells(stock.size[0], stock.size[1], sim["resolution"], limits.max_cells)
         if bad:
             problems.add(JobError(f"simulation.resolution: {bad}", path))
-    post = validate(_post_table(top["post"], path, base, problems), POST, "post", path,
-                    base, problems)
+    post = validate(post_table, POST, "post", path, base, problems)
     post.pop("machine", None)
     for key in ("preamble", "postamble"):
         with problems.gather():
@@ -312,29 +313,35 @@ def _check_scale(params: dict[str, Any], tools: dict[int, Tool], resolution: flo
                        f"{tool.diameter / 4:g})", path)
 
 
-def _post_table(table: Any, path: Path | None, base: Path | None,
-                problems: Problems) -> Any:
-    """The job's [post] table over the [post] table of the machine file it names
-    (``machine``: a TOML file, relative to the job, holding the shop's post settings for
-    one machine; the job's own keys win). Errors in the machine file name it."""
-    if not isinstance(table, dict) or not isinstance(table.get("machine"), str):
-        return table or {}
-    mpath = Path(table["machine"])
+def _machine_file(post: Any, machine: Any, path: Path | None, base: Path | None,
+                  problems: Problems) -> tuple[Any, Any]:
+    """The job's [post] and [machine] tables over those of the machine file its [post]
+    names (``machine``: a TOML file, relative to the job, describing one machine: its
+    [post] settings and its [machine] rates and units; the job's own keys win). Errors
+    in the machine file name it."""
+    if not isinstance(post, dict) or not isinstance(post.get("machine"), str):
+        return post or {}, machine
+    own_post = {k: v for k, v in post.items() if k != "machine"}
+    mpath = Path(post["machine"])
     if not mpath.is_absolute() and base is not None:
         mpath = base / mpath
     with problems.gather():
         top = parse_toml(read_text(mpath, "machine file", JobError), mpath)
-        extra = sorted(set(top) - {"post"})
+        extra = sorted(set(top) - {"post", "machine"})
         if extra:
-            raise JobError(f"a machine file holds a [post] table only, not {extra[0]!r}",
-                           mpath)
-        own = {k: v for k, v in (top.get("post") or {}).items() if k != "machine"}
-        before = len(problems)
-        validate(own, POST, "post", mpath, base, problems)
-        if len(problems) > before:      # named once, in the machine file
-            own = {}
-        return {**own, **{k: v for k, v in table.items() if k != "machine"}}
-    return {k: v for k, v in table.items() if k != "machine"}
+            raise JobError(f"a machine file holds [post] and [machine] tables, not "
+                           f"{extra[0]!r}", mpath)
+        merged = []
+        for name, schema, job_table in (("post", POST, own_post), ("machine", MACHINE, machine)):
+            table = {k: v for k, v in (top.get(name) or {}).items() if k != "machine"}
+            before = len(problems)
+            validate(table, schema, name, mpath, base, problems)
+            if len(problems) > before:  # named once, in the machine file
+                table = {}
+            merged.append({**table, **(job_table or {})} if table or job_table is not None
+                          else None)
+        return merged[0] or {}, merged[1]
+    return own_post, machine
 
 
 def _check_gcode(text: str, key: str, path: Path | None) -> None:

@@ -327,8 +327,9 @@ def test_fanuc_reads_bare_numbers_as_increments_and_dwell_in_ms():
 
 
 def test_machine_file_holds_a_shops_post_settings(tmp_path):
-    """``[post] machine = "shop/haas.toml"``: that file's [post] keys, under the job's
-    own; an unknown key there is an error naming the machine file and its key."""
+    """``[post] machine = "shop/haas.toml"``: that file's [post] and [machine] keys,
+    under the job's own; an unknown key there is an error naming the machine file and
+    its key."""
     from millpath.errors import JobErrors
     from millpath.job.jobfile import load_job
     src = Path(__file__).resolve().parents[2] / "millpath" / "examples" / "pocket-thesis"
@@ -337,10 +338,13 @@ def test_machine_file_holds_a_shops_post_settings(tmp_path):
                    + '\n[post]\nmachine = "shop/haas.toml"\nend = "M2"\n')
     (tmp_path / "shop").mkdir()
     (tmp_path / "shop" / "haas.toml").write_text(
-        '[post]\ndialect = "haas"\nline_numbers = true\nend = "M30"\n')
-    post = load_job(job).post
+        '[post]\ndialect = "haas"\nline_numbers = true\nend = "M30"\n'
+        '[machine]\nrapid = 25400\nmax_feed = 16510\n')
+    loaded = load_job(job)
+    post = loaded.post
     assert (post["dialect"], post["line_numbers"], post["end"]) == ("haas", True, "M2")
     assert "machine" not in post
+    assert (loaded.machine.rapid, loaded.machine.max_feed) == (25400, 16510)
     (tmp_path / "shop" / "haas.toml").write_text('[post]\ndialect = "haas"\nspeed = 3\n')
     with pytest.raises(JobErrors) as e:
         load_job(job)
