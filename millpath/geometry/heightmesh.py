@@ -1,8 +1,11 @@
 """Triangle mesh of a height-field design ``height(x, y) -> z``, walls included.
 
 A quadtree over the box: a cell is kept whole when its centre and edge midpoints lie
-within ``flat_tol`` of the plane through its corners and its corners do not jump by more
-than ``slope * size``; otherwise it is split, down to cells of ``min_size``. Each
+within ``flat_tol`` of the plane through its corners, its corners do not jump by more
+than ``slope * size`` and its edges, sampled ``sqrt(8 size flat_tol)`` apart, stay
+within ``flat_tol`` of the lines between their corners (a wall curved with radius
+``size`` or more that crosses an edge is seen); otherwise it is split, down to cells of
+``min_size``. Each
 smooth leaf becomes two triangles through its corner heights. A smallest cell crossed
 by one wall (its corners fall into a high and a low group, each smooth, flat or
 sloped, the jump between them larger than either group's spread) is cut along the
@@ -44,6 +47,9 @@ def height_field_mesh(design, box: tuple[float, float, float, float], *, size: f
     of at most ``wall_size``, before it becomes a ramp; a ramp is then off the design by
     at most the diagonal of such a cell."""
     wall_size = min_size if wall_size is None else min(float(wall_size), min_size)
+    # edge samples close enough that a wall curved with radius >= size crossing an edge
+    # between two of them dips into the cell by at most flat_tol: h^2 / (8 r) <= flat_tol
+    edge_step = math.sqrt(8.0 * size * flat_tol)
     x0, y0, x1, y1 = map(float, box)
     nx = max(1, int(math.ceil((x1 - x0) / size)))
     ny = max(1, int(math.ceil((y1 - y0) / size)))
@@ -72,6 +78,11 @@ def height_field_mesh(design, box: tuple[float, float, float, float], *, size: f
         spread = Z[:, :4].max(axis=1) - Z[:, :4].min(axis=1)
         size_ = np.maximum(cw, ch)
         rough = (dev > flat_tol) | (spread > slope * size_)
+        smooth = np.flatnonzero(~rough)
+        if len(smooth):                 # a wall may cross an edge between its samples
+            rough[smooth] = _edges_off(design, cx[smooth], cy[smooth], cw[smooth],
+                                       ch[smooth], Z[smooth, :4], floor, flat_tol,
+                                       edge_step)
         split = rough & (size_ > min_size)
         walls = np.flatnonzero(rough & ~split)
         handled = np.zeros(0, np.int64)
@@ -118,6 +129,27 @@ def height_field_mesh(design, box: tuple[float, float, float, float], *, size: f
         on = np.abs(tri[:, :, a] - g) <= 1e-9 * u
         tri[:, :, a] = np.where(on, g, tri[:, :, a])
     return merge_horizontal(tri, 4.0 * max(w, hgt))
+
+
+def _edges_off(design, cx, cy, cw, ch, corners, floor, flat_tol, step, chunk=20_000):
+    """Whether a cell's edges leave the straight line between their corner heights by
+    more than ``flat_tol`` somewhere, sampled at most ``step`` apart (the mesh follows
+    that line; a wall crossing an edge between the centre and midpoint samples shows
+    here)."""
+    k = max(1, int(math.ceil(float(np.max(np.maximum(cw, ch))) / step)) - 1)
+    t = np.arange(1, k + 1) / (k + 1)
+    out = np.zeros(len(cx), bool)
+    for a in range(0, len(cx), chunk):
+        b = slice(a, a + chunk)
+        x, y, w, h, z = cx[b, None], cy[b, None], cw[b, None], ch[b, None], corners[b]
+        # edges 0-1 (y = cy), 1-2 (x = cx + w), 3-2 (y = cy + h), 0-3 (x = cx)
+        X = np.concatenate([x + t * w, x + w + 0 * t, x + t * w, x + 0 * t], axis=1)
+        Y = np.concatenate([y + 0 * t, y + t * h, y + h + 0 * t, y + t * h], axis=1)
+        z0, z1, z2, z3 = (z[:, i:i + 1] for i in range(4))
+        line = np.concatenate([z0 + t * (z1 - z0), z1 + t * (z2 - z1), z3 + t * (z2 - z3),
+                               z0 + t * (z3 - z0)], axis=1)
+        out[b] = (np.abs(_h(design, X, Y, floor) - line) > flat_tol).any(axis=1)
+    return out
 
 
 def _wall_cells(design, X, Y, Z, cw, ch, floor, flat_tol, slope):

@@ -87,3 +87,33 @@ def test_wall_cells_are_vertical_faces_on_the_boundary():
     assert np.allclose(n[sel, :2] @ N, 1.0, atol=1e-9)          # facing the pocket
     v = tri[sel].reshape(-1, 3)
     assert np.abs((v[:, :2] - ORIGIN) @ N).max() < 1e-6         # on the wall's plane
+
+
+class RoundHole:
+    """A hole of radius 2.055 (z = -10 inside, 0 outside) whose rim crosses the bottom
+    edge of the cell [2.25, 3] x [3, 3.75] between its corner and its midpoint, 0.004
+    deep: every corner, edge midpoint and centre of that cell lies outside the hole."""
+
+    C = (2.40, 3.004 - 2.055)
+    R = 2.055
+
+    def height(self, x, y):
+        x, y = np.broadcast_arrays(np.asarray(x, float), np.asarray(y, float))
+        return np.where(np.hypot(x - self.C[0], y - self.C[1]) < self.R, -10.0, 0.0)
+
+
+def test_top_face_does_not_overhang_a_wall_crossing_a_cell_edge_between_samples():
+    """The top face's triangles stay out of the hole (analytic circle) but for the flat
+    tolerance: the rim crossing an edge between its samples splits the cell."""
+    from millpath.geometry.heightmesh import height_field_mesh
+    flat = 0.0005
+    tri = height_field_mesh(RoundHole(), (0.0, 0.0, 6.0, 6.0), size=0.75, min_size=0.05,
+                            flat_tol=flat, floor=-20.0, wall_size=0.0005)
+    top = tri[np.all(np.abs(tri[:, :, 2]) < 1e-12, axis=1)]
+    t = np.linspace(0.0, 1.0, 201)[:, None]
+    worst = 0.0
+    for a, b in ((0, 1), (1, 2), (2, 0)):
+        P = top[:, None, a, :2] + t[None] * (top[:, None, b, :2] - top[:, None, a, :2])
+        inside = RoundHole.R - np.hypot(P[..., 0] - RoundHole.C[0], P[..., 1] - RoundHole.C[1])
+        worst = max(worst, float(inside.max()))
+    assert worst <= flat + 1e-6, worst
