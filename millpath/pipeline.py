@@ -305,7 +305,7 @@ def _run(job_path: str | Path, outdir: str | Path, prog: Progress, force: bool,
     report.plans = [PlanSection(i, op_type, r.report)
                     for i, ((op_type, _), r) in enumerate(zip(job.operations, results))]
 
-    problems = _safety_gate(report.to_json(), job, tp, move_lines, motions, sim)
+    problems = _safety_gate(report.to_json(), job, tp, lmap, motions, sim)
     program_name = "program" + d.extension
     posted = program                  # as interpreted: the viewer's lines refer to it
     if problems:
@@ -409,13 +409,14 @@ def _accuracy(units: str) -> float:
     return default("verify_accuracy", units)
 
 
-def _safety_gate(report: dict, job: Job, tp: Toolpath, move_lines, motions, sim) -> list:
+def _safety_gate(report: dict, job: Job, tp: Toolpath, lmap: LineMap, motions,
+                 sim) -> list:
     """Problems that forbid writing the program (millpath.verify.gate), worst first."""
     from millpath.verify.gate import GateInput, find_problems, position_map
     g = GateInput(op_names=[o.name for o in tp.ops],
                   op_tolerances=[o.tolerance for o in tp.ops],
                   fit_tolerance=job.fit_tolerance if job.fit != "none" else 0.0,
-                  op_of_line=LineMap.of_toolpath(tp, move_lines).op_of_line,
+                  op_of_line=lmap.op_of_line,
                   position_of_line=position_map(motions),
                   holder_lines=sim.holder_lines if sim is not None else [],
                   rapid_lines=sim.rapid_lines if sim is not None else [],

@@ -22,11 +22,12 @@ from __future__ import annotations
 import re
 from collections.abc import Collection
 
-from millpath.gcode.lexer import MAX_PARAM, read_block
+from millpath.gcode.lexer import MAX_PARAM, normalize, read_block
 from millpath.interpret.errors import GCodeError
 from millpath.model.dialect import LINUXCNC, Dialect
 
 _ARCS = (20, 30)
+_COMMENTS = re.compile(r"(\([^)]*\)|;.*$)")     # a block's comments, split out whole
 _BARE_LENGTH = re.compile(r"([xyzijkrqXYZIJKRQ])\s*([+-]?)\s*([0-9]+)(?![0-9.])")
 _P_WORD = re.compile(r"[pP]\s*([+]?[0-9]+\.?[0-9]*)")
 _T_WORD = re.compile(r"[tT]\s*[+]?[0-9][0-9 ]*(?:\.[0-9 ]*)?")
@@ -102,40 +103,32 @@ def _increments(step: float):
 
 def _code_sub(raw: str, pattern: re.Pattern, repl) -> str:
     """``raw`` with ``pattern`` replaced outside its comments."""
-    parts = re.split(r"(\([^)]*\)|;.*$)", raw)
+    parts = _COMMENTS.split(raw)
     return "".join(p if p[:1] in ("(", ";") else pattern.sub(repl, p) for p in parts)
 
 
 def _with(raw: str, extra: str) -> str:
     """``raw`` with the words ``extra`` added before its ``;`` comment, if any."""
-    depth = 0
-    for i, c in enumerate(raw):
-        if c == "(":
-            depth += 1
-        elif c == ")":
-            depth = max(0, depth - 1)
-        elif c == ";" and depth == 0:
-            return raw[:i] + extra + " " + raw[i:]
+    parts = _COMMENTS.split(raw)
+    for k, p in enumerate(parts):
+        if p.startswith(";"):
+            return "".join(parts[:k]) + extra + " " + "".join(parts[k:])
     return raw + extra
 
 
 def _bare_refusal(raw: str, d: Dialect) -> str:
     """Why ``d`` refuses the block's text ('' if it does not)."""
-    if not d.parameters or d.max_line is not None:
-        code = raw.split(";")[0]
-        depth, bare = 0, []
-        for c in code:
-            if c == "(":
-                depth += 1
-            elif c == ")":
-                depth = max(0, depth - 1)
-            elif depth == 0:
-                bare.append(c)
-        bare_s = "".join(bare).replace(" ", "").replace("\t", "")
-        if not d.parameters and ("#" in bare_s or "[" in bare_s or bare_s[:1] in ("o", "O")):
-            return "no parameters, expressions or O-words"
-        if d.max_line is not None and len(bare_s) > d.max_line:
-            return f"{len(bare_s)} characters, more than its {d.max_line}"
+    if d.parameters and d.max_line is None:
+        return ""
+    try:
+        text, _ = normalize(raw)        # blanks and comments out (a comment is one "(")
+    except GCodeError:
+        return ""                       # the reader names the bad comment
+    bare = text.replace("(", "")
+    if not d.parameters and ("#" in bare or "[" in bare or bare[:1] == "o"):
+        return "no parameters, expressions or O-words"
+    if d.max_line is not None and len(bare) > d.max_line:
+        return f"{len(bare)} characters, more than its {d.max_line}"
     return ""
 
 

@@ -5,6 +5,7 @@ carries out, and what was written otherwise than planned."""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 from millpath.model import Tool, Toolpath
 from millpath.model.dialect import Dialect, dialect
@@ -26,9 +27,9 @@ class Program:
     move_lines: list[int | None]
     fallbacks: list[str]
 
-    @property
+    @cached_property
     def lines(self) -> LineMap:
-        """Program line -> planned move and operation."""
+        """Program line -> planned move and operation (made once)."""
         return LineMap.of_toolpath(self.toolpath, self.move_lines)
 
 
