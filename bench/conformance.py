@@ -66,7 +66,7 @@ def check_one(path_str: str) -> tuple[str, str, str]:
     """Return (path, outcome, detail): outcome identical|errors matched|different|skipped."""
     from support.difftest import compare_results
     from millpath.interpret import run
-    from millpath.verify.rs274 import run_rs274
+    from support.rs274 import run_rs274
 
     path = Path(path_str)
     text = path.read_text(errors="replace")

@@ -308,7 +308,7 @@ def check_program(program: Path, tools_tbl: Path, units: str,
     """Interpret ``program`` with rs274 and check its tool tips against ``g`` (or, per
     tool number, against ``g[tool]``: each cutter against its own geometry)."""
     from millpath.simulate.tip import tip_motions
-    from millpath.verify.rs274 import run_rs274
+    from support.rs274 import run_rs274
     r = run_rs274(program, tools_tbl, table_units=units)
     if not r.ok:
         return CheckResult(False, [f"rs274: line {r.error_line}: {r.error}"])

@@ -39,6 +39,7 @@ import numpy as np
 from shapely.geometry import Polygon
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))   # support.rs274
 import generated_check as gc  # noqa: E402
 import generated_shapes as gs  # noqa: E402
 

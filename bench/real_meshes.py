@@ -4,7 +4,7 @@ Each row is a whole ``millpath run`` of a job written here, in a child process (
 CPU seconds include numba's start-up, the simulation and the report), on:
 
 - ``box-wheel``: a 200 x 200 x 50 mm block with a pocket and a wheel in it, vertical walls
-  (:func:`millpath.part.surface.prism.box_and_wheel`); rough 12 mm flat, steep-shallow
+  (:func:`support.prism.box_and_wheel`); rough 12 mm flat, steep-shallow
   finish 6 mm ball, scallop 0.05 mm, tolerance 0.01 mm;
 - ``textbox``: OpenCAMLib's ``pycam-textbox.stl``; rough 6 mm flat, waterline 2 mm ball,
   scallop 0.02 mm;
@@ -213,7 +213,8 @@ def main() -> None:
     ap.add_argument("--keep", type=Path, help="write the jobs and outputs here")
     a = ap.parse_args()
     from millpath.part.surface.mesh import write_stl
-    from millpath.part.surface.prism import box_and_wheel
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+    from support.prism import box_and_wheel
     work = a.keep or Path(tempfile.mkdtemp(prefix="real_meshes_"))
     work.mkdir(parents=True, exist_ok=True)
     wheel = work / "box_wheel.stl"

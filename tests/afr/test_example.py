@@ -42,7 +42,7 @@ def test_example_report_lists_what_is_not_machinable(planned):
 def test_example_is_accepted_by_rs274_and_cut_to_the_solid(planned, rs274):
     from millpath.post.writer import post
     from millpath.simulate import simulate_toolpath
-    from millpath.verify.rs274 import run_rs274
+    from support.rs274 import run_rs274
     job, r = planned
     res = run_rs274(post(r.toolpath, job.tools, title="solid-hole-model"), job.tools,
                     table_units="mm")

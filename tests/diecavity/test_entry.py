@@ -65,7 +65,7 @@ def test_each_g41_is_followed_by_a_straight_move_and_the_tangent_arc(arc_job):
 
 
 def test_rs274_accepts_and_millpath_interprets_like_rs274(arc_job, rs274):
-    from millpath.verify.rs274 import run_rs274
+    from support.rs274 import run_rs274
     name, job, res, program = arc_job
     r = run_rs274(program, job.tools)
     assert r.ok, (r.error, r.error_line)
@@ -92,7 +92,7 @@ def _ccw_points(m, n=32) -> np.ndarray:
 def test_lead_in_and_lead_out_keep_the_tool_off_the_wall(arc_job, rs274):
     """The tool centre on the entry and exit moves (as rs274 moves it) stays at least
     a radius inside the true curve."""
-    from millpath.verify.rs274 import run_rs274
+    from support.rs274 import run_rs274
     name, job, res, program = arc_job
     r = run_rs274(program, job.tools)
     lines = program.splitlines()

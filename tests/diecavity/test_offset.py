@@ -65,7 +65,7 @@ def test_reversing_move_in_a_tight_concave_corner_is_a_gouge():
 @pytest.mark.parametrize("seed", [0, 1])
 @pytest.mark.parametrize("where", ["inside", "outside"])
 def test_compensation_matches_linuxcnc_rs274(rs274, side, seed, where):
-    from millpath.verify.rs274 import run_rs274
+    from support.rs274 import run_rs274
     poly = _wavy(seed=seed)
     if (side == "right") == (where == "inside"):
         poly = poly[::-1]
@@ -154,7 +154,7 @@ def test_reachable_contour_is_compensated_from_any_start_chord(start):
 def test_reachable_contour_start_next_to_a_corner_is_accepted_by_rs274(rs274):
     """The contour kept from a start chord just before the wedge's corner, written
     under G41 with LinuxCNC's own rs274: accepted, no concave-corner error."""
-    from millpath.verify.rs274 import run_rs274
+    from support.rs274 import run_rs274
     v = _mouth()
     r = 4.0
     keep = chords_on_offset(v, r, "left", Polygon(v).buffer(-r, quad_segs=64), 2e-3)

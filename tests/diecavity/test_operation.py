@@ -122,7 +122,7 @@ def test_control_compensation_interprets_like_the_cam_offset(example, published,
 @pytest.mark.parametrize("comp", ["cam", "control"])
 def test_programs_are_accepted_by_rs274(rs274, blanking, comp):
     from millpath.post.writer import post
-    from millpath.verify.rs274 import run_rs274
+    from support.rs274 import run_rs274
     job, res = blanking[comp]
     r = run_rs274(post(res.toolpath, job.tools), job.tools)
     assert r.ok, (r.error, r.error_line)
@@ -131,7 +131,7 @@ def test_programs_are_accepted_by_rs274(rs274, blanking, comp):
 
 def test_rs274_compensates_the_control_variant_like_the_cam_offset(rs274, published):
     from millpath.post.writer import post
-    from millpath.verify.rs274 import run_rs274
+    from support.rs274 import run_rs274
     job = published["cam"][0]
     got = {}
     for c in ("cam", "control"):
@@ -243,7 +243,7 @@ def test_inch_job_control_and_cam_interpret_alike(rs274):
     from millpath.io.schema import validate
     from millpath.model import Machine, Stock, Tool
     from millpath.post.writer import post
-    from millpath.verify.rs274 import run_rs274
+    from support.rs274 import run_rs274
     from millpath.part.curve.points import read_points_csv
     pts = read_points_csv(EXAMPLES / "die-blanking" / "outline.csv") / 25.4
     tools = {3: Tool(3, "flat", 0.375)}
@@ -342,7 +342,7 @@ def test_sharp_cornered_cavity_control_matches_cam_with_arcs_and_trims(tmp_path,
     round the outside ones, by the control and by the CAM offset alike."""
     from millpath.interpret import interpret
     from millpath.post.writer import post
-    from millpath.verify.rs274 import run_rs274
+    from support.rs274 import run_rs274
     neck = [(0, 0), (40, 0), (40, 17), (60, 17), (60, 0), (100, 0), (100, 40), (60, 40),
             (60, 23), (40, 23), (40, 40), (0, 40)]
     path = _square_job(tmp_path, neck, diameter=5.0)

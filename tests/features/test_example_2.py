@@ -59,7 +59,7 @@ def test_make_part_writes_the_bundled_file():
 
 def test_pipeline_machines_the_papers_volume(tmp_path, rs274):
     from millpath.pipeline import run_job
-    from millpath.verify.rs274 import run_rs274
+    from support.rs274 import run_rs274
     res = run_job(EXAMPLE / "job.toml", tmp_path)
     rep = res.report
     assert rep["reference"]["stock"] == list(STOCK)

@@ -36,7 +36,7 @@ def test_there_are_five_examples():
 def test_example_is_accepted_by_rs274_and_cuts_the_features(name, rs274):
     from millpath.post.writer import post
     from millpath.simulate import simulate_toolpath
-    from millpath.verify.rs274 import run_rs274
+    from support.rs274 import run_rs274
 
     job, r = plan_example(name)
     rep = r.report["features"]

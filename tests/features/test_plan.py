@@ -149,7 +149,7 @@ def test_missing_step_file_is_a_user_error(tmp_path):
 @pytest.mark.parametrize("name", sorted(PRISMATIC))
 def test_rs274_accepts_the_program(name, planned, rs274):
     from millpath.post.writer import post
-    from millpath.verify.rs274 import run_rs274
+    from support.rs274 import run_rs274
     units, tools, _ = PRISMATIC[name]
     r = planned[name]
     res = run_rs274(post(r.toolpath, tools, title=name), tools,
@@ -278,7 +278,7 @@ def test_planar_faces_are_face_milled(tmp_path, width, centre_y, rs274):
     from millpath.part.step.build import Ap224Builder
     from millpath.post.writer import post
     from millpath.simulate import simulate_toolpath
-    from millpath.verify.rs274 import run_rs274
+    from support.rs274 import run_rs274
     b = Ap224Builder("FACE", units="mm", material="aluminium")
     b.block(100.0, 50.0, 20.0)
     b.planar_face((0.0, centre_y, 20.0), (1.0, 0.0), 100.0, width, 1.5)

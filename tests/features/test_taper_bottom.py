@@ -40,7 +40,7 @@ def test_taper_bottom_is_read_with_either_angle_name(tmp_path, angle_name):
 def test_taper_hole_is_machined_to_the_analytic_volume(tmp_path, rs274):
     from millpath.post.writer import post
     from millpath.simulate import simulate_toolpath
-    from millpath.verify.rs274 import run_rs274
+    from support.rs274 import run_rs274
     job = load_job(_part(tmp_path))
     ctx = PlanContext(units=job.units, stock=None, machine=job.machine, tools=job.tools,
                       base_dir=job.base_dir, job_file=job.path)

@@ -44,7 +44,7 @@ def _moves(motions):
 @pytest.mark.parametrize("name", PROGRAMS)
 def test_linuxcnc_test_programs_fit_within_tolerance(shared_dir, rs274, fitkit, name):
     from millpath.interpret import interpret
-    from millpath.verify.rs274 import run_rs274
+    from support.rs274 import run_rs274
     path = shared_dir / TP / name
     if not path.is_file():
         pytest.skip(f"{name} is not in ../shared")

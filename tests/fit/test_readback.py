@@ -67,7 +67,7 @@ def test_fit_keeps_n_words_first_and_the_output_interprets(tmp_path):
 
 @pytest.mark.rs274
 def test_linuxcnc_reads_the_fitted_fusion_program(rs274):
-    from millpath.verify.rs274 import run_rs274
+    from support.rs274 import run_rs274
     src = fusion_program()
     out = fit_program(src, 0.005)
     tools = stand_in_tools(src)

@@ -61,7 +61,7 @@ def shapes(rng):
 
 def test_rs274_runs_fitted_toolpaths_within_tolerance(rs274, fitkit):
     from millpath.post.writer import post
-    from millpath.verify.rs274 import run_rs274
+    from support.rs274 import run_rs274
     rng = np.random.default_rng(3)
     tol = 0.005
     for name, P in shapes(rng):
@@ -81,7 +81,7 @@ def test_rs274_runs_fitted_toolpaths_within_tolerance(rs274, fitkit):
 
 def test_rs274_accepts_cubic_programs(rs274):
     from millpath.post.writer import post
-    from millpath.verify.rs274 import run_rs274
+    from support.rs274 import run_rs274
     t = np.linspace(0, 6 * math.pi, 900)
     P = np.column_stack([t * 2, 3 * np.sin(t) * np.exp(-t / 10), np.full_like(t, -1.0)])
     fitted = fit_toolpath(toolpath_from([tuple(p) for p in P]), 0.005, "arcs+cubics")
@@ -97,7 +97,7 @@ def test_rs274_accepts_cubic_programs(rs274):
        plane=st.sampled_from(["XY", "XZ", "YZ", "helix"]),
        mode=st.sampled_from(["arcs", "arcs+cubics"]))
 def test_rs274_accepts_every_fitted_program(rs274, fitkit, seed, tol, plane, mode):
-    from millpath.verify.rs274 import run_rs274
+    from support.rs274 import run_rs274
     rng = np.random.default_rng(seed)
     n = 300
     t = np.cumsum(rng.uniform(0.02, 0.3, n))
@@ -129,7 +129,7 @@ def test_rs274_accepts_every_fitted_program(rs274, fitkit, seed, tol, plane, mod
 
 
 def test_rs274_accepts_fit_program_cubics_in_a_row(rs274):
-    from millpath.verify.rs274 import run_rs274
+    from support.rs274 import run_rs274
     t = np.linspace(0.5, 6 * math.pi, 1200)
     lines = ["G21 G90 G18 G94", "G0 X0 Y0 Z5", "G1 Z-1 F200", "F900"]
     lines += [f"G1 X{a * math.cos(a):.4f} Y{0.5 * a * math.sin(a):.4f}" for a in t]

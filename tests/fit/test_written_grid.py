@@ -21,7 +21,7 @@ from millpath.model import Tool
 from millpath.model.toolpath import Operation, Toolpath
 from millpath.model.units import as_written, default
 from millpath.post.writer import post_with_lines
-from millpath.verify.rs274 import run_rs274
+from support.rs274 import run_rs274
 from millpath.verify.roundtrip import compare_toolpath
 
 TOOLS = {1: Tool(1, diameter=6.0)}

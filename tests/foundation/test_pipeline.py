@@ -8,7 +8,7 @@ import pytest
 from millpath.errors import MillpathError
 from millpath.io.tooltable import read_tool_table
 from millpath.pipeline import run_job
-from millpath.verify.rs274 import run_rs274
+from support.rs274 import run_rs274
 
 
 def test_run_writes_program_tools_report_and_pictures(tmp_path, job_file):

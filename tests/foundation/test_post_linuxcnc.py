@@ -7,7 +7,7 @@ import pytest
 
 from millpath.model import Operation, Tool, Toolpath
 from millpath.post.writer import post, post_with_lines
-from millpath.verify.rs274 import run_rs274
+from support.rs274 import run_rs274
 
 TOOLS = {1: Tool(1, "flat", 6.0, stickout=30, flute_length=18),
          2: Tool(2, "drill", 5.0, stickout=60, flute_length=40)}

@@ -28,7 +28,7 @@ def test_uniform_parameters_recover_a_cubic_sampled_at_even_parameters():
 
 def test_flat_bottom_wall_pass_is_written_as_g5_within_the_tolerance(gp, tmp_path, rs274):
     from millpath.post.writer import post
-    from millpath.verify.rs274 import run_rs274
+    from support.rs274 import run_rs274
     net = "[[-0.3, -0.3], [-0.3, -0.3]]"
     op = (f"tool = 1\npolygon = {POLY}\nbottom = {{ bezier = {net} }}\ngrid = [0.125, 0.125]\n"
           "motion = \"bezier\"\ntolerance = 0.0005\nfeed = 10.0\nz_mode = \"tool\"\n")

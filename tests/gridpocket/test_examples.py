@@ -43,7 +43,7 @@ def test_interpreter_motion_matches_the_plan(example):
 
 
 def test_rs274_accepts_the_program_and_moves_as_planned(example, rs274):
-    from millpath.verify.rs274 import run_rs274
+    from support.rs274 import run_rs274
     name, job, res, program, lines, sim = example
     r = run_rs274(program, job.tools, table_units="inch")
     assert r.ok, f"{name}: rs274 rejected line {r.error_line}: {r.error}"

@@ -284,7 +284,7 @@ def test_flat_concave_pocket_wall_corners_as_xy_arcs_or_g5_accepted_by_rs274(
     from millpath.interpret import interpret
     from millpath.post.writer import post_with_lines
     from millpath.verify.roundtrip import compare_toolpath
-    from millpath.verify.rs274 import run_rs274
+    from support.rs274 import run_rs274
     p = gp.write_job(tmp_path, "tool = 1\n" + L_POCKET + 'bottom = { bezier = [[-0.3, -0.3], '
                      f'[-0.3, -0.3]] }}\nfeed = 10\nmotion = "{mode}"\nzigzag = false\n'
                      "grid = [0.15, 0.15]\n")

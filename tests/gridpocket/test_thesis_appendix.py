@@ -161,7 +161,7 @@ def test_job_reference_numbers_are_the_appendix_counts(job, appendix):
 @pytest.mark.parametrize("name", ["pocket-thesis", "pocket-thesis-arc", "pocket-thesis-bezier"])
 def test_rs274_accepts_the_thesis_programs(gp, name, rs274):
     from millpath.post.writer import post_with_lines
-    from millpath.verify.rs274 import run_rs274
+    from support.rs274 import run_rs274
     from millpath.verify.roundtrip import compare_toolpath
     jobfile, res = gp.plan_file(EXAMPLE.parent / name / "job.toml")
     program, lines = post_with_lines(res.toolpath, jobfile.tools, title=name)

@@ -100,7 +100,7 @@ def test_rest_cuts_a_small_fraction_and_report_measures(planned):
 
 def test_example_program_accepted_by_rs274(planned, rs274):
     from millpath.post.writer import post
-    from millpath.verify.rs274 import run_rs274
+    from support.rs274 import run_rs274
     job, tp, _, _ = planned
     r = run_rs274(post(tp, job.tools), job.tools)
     assert r.ok, (r.error, r.error_line)

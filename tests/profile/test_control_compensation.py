@@ -14,7 +14,7 @@ from millpath.interpret import interpret
 from millpath.job.jobfile import load_job
 from millpath.pipeline import fit_job, plan_job, post_job, run_job
 from millpath.plan.profile.operation import FILLET_SEGS, followable, on_grain, reachable
-from millpath.verify.rs274 import run_rs274
+from support.rs274 import run_rs274
 
 JOBS = Path(__file__).parent / "jobs"
 

@@ -84,7 +84,7 @@ def test_inside_profile_stays_inside_and_cam_equals_control():
 
 @pytest.mark.parametrize("comp", ["cam", "control"])
 def test_profile_programs_accepted_by_rs274(rs274, comp):
-    from millpath.verify.rs274 import run_rs274
+    from support.rs274 import run_rs274
     res = _plan(side="outside", compensation=comp, tabs=2, tab_height=3.0)
     r = run_rs274(post(res.toolpath, TOOLS), TOOLS)
     assert r.ok, (r.error, r.error_line)

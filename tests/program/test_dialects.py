@@ -100,7 +100,7 @@ def test_grbl_tool_change_runs_each_tool_at_its_tip():
 def test_cycles_as_moves_make_rs274s_motion(gcode_toolpath, rs274):
     """The G83/G81 run written as moves for GRBL (read by gcode-toolpath) moves as
     LinuxCNC's rs274 runs the canned cycles of the LinuxCNC program."""
-    from millpath.verify.rs274 import run_rs274
+    from support.rs274 import run_rs274
     tp = Toolpath("mm")
     tp.begin(Operation("drill", "holes", 2, 3000))
     tp.rapid(20, 40, 5)
@@ -290,7 +290,7 @@ def test_program_reads_back_as_rs274_reads_the_linuxcnc_one(name, rs274):
     """The same tool path written for the control and for LinuxCNC: millpath reading
     the control's program as that control does moves as LinuxCNC's rs274 moves for the
     LinuxCNC program (lines, arcs, helices cut per turn, cycles, dwells)."""
-    from millpath.verify.rs274 import run_rs274
+    from support.rs274 import run_rs274
     from support.difftest import compare_motions
     tp = _job()
     tp.moves = [m for m in tp.moves if m.kind != "cubic"]       # G5: lines, compared below

@@ -42,7 +42,7 @@ def example(request):
 @pytest.mark.slow
 @pytest.mark.parametrize("machine_units", ["mm", "inch"])
 def test_rs274_runs_the_program_with_the_table_as_written(example, machine_units, rs274):
-    from millpath.verify.rs274 import run_rs274
+    from support.rs274 import run_rs274
     name, job, stock, program, _ = example
     job = dataclasses.replace(job, machine_units=machine_units)
     text = tool_table_text(job.tools, job.units, job.table_units)

@@ -59,7 +59,7 @@ def test_every_option_is_written():
 
 
 def test_rs274_runs_the_options_as_millpath_does(rs274):
-    from millpath.verify.rs274 import run_rs274
+    from support.rs274 import run_rs274
     text = post(_tp(), TOOLS, options=PostOptions(**OPTIONS))
     ours = interpret(text, TOOLS, machine_units="mm")
     theirs = run_rs274(text, TOOLS, table_units="mm")

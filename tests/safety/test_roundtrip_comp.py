@@ -23,7 +23,7 @@ from millpath.plan.base import PlanContext
 from millpath.plan.profile import operation as profile
 from millpath.post.writer import post_with_lines
 from millpath.verify.roundtrip import compare_toolpath
-from millpath.verify.rs274 import run_rs274
+from support.rs274 import run_rs274
 
 TOL = 2e-4              # mm: the round trip's tolerance (post rounds to 0.0001)
 L_SHAPE = [[0, 0], [60, 0], [60, 40], [30, 40], [30, 25], [0, 25]]
@@ -195,7 +195,7 @@ def test_a_short_arc_is_compared_by_where_it_runs_not_by_its_centre(rs274):
     """rs274 runs the short arc within 0.0002 of the planned one although its centre is
     0.0011 away: the round trip passes. A half circle of radius 10 with its centre
     written 0.0005 off (the arc itself moved by about that) is seen."""
-    from millpath.verify.rs274 import run_rs274
+    from support.rs274 import run_rs274
     tp, prog, lines = _short_arc_program()
     ref = run_rs274(prog, TOOLS)
     assert ref.ok, ref.error

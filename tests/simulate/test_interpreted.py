@@ -111,7 +111,7 @@ def test_drilling_cycles_and_arcs_expand_like_millpath_interpreter():
 
 
 def test_rs274_motion_simulates_like_the_toolpath(rs274):
-    from millpath.verify.rs274 import run_rs274
+    from support.rs274 import run_rs274
     res = run_rs274(_posted(), TOOLS, table_units="mm")
     assert res.ok, res.error
     _compare(res.motions)

@@ -324,7 +324,7 @@ def test_first_move_after_a_tool_change_against_opencascade(rs274, shared_dir, t
 def test_rs274_motion_carries_the_tool_number_not_its_slot(rs274, tmp_path):
     """rs274 prints CHANGE_TOOL with the tool table's slot; the motion read back carries
     the number SELECT_TOOL named, as millpath's interpreter does."""
-    from millpath.verify.rs274 import run_rs274
+    from support.rs274 import run_rs274
     tbl = tmp_path / "t.tbl"
     tbl.write_text("T9 P9 D6 Z40 ;\nT10 P10 D12 Z50 ;\n")
     ngc = tmp_path / "p.ngc"

@@ -56,7 +56,7 @@ def test_planning_an_arm_file_cuts_its_features(shared_dir, rs274):
     from millpath.plan.features.operation import PARAMS, plan
     from millpath.post.writer import post
     from millpath.simulate import simulate_toolpath
-    from millpath.verify.rs274 import run_rs274
+    from support.rs274 import run_rs274
 
     tools = {1: Tool(1, "flat", 10.0, flutes=3, flute_length=30, stickout=45),
              2: Tool(2, "flat", 6.0, flutes=3, flute_length=20, stickout=35),

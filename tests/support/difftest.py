@@ -97,7 +97,7 @@ def compare_results(program: str, ours, theirs, tol: float = 1e-4) -> Comparison
 def differential(program: str, tools=None, *, machine_units: str = "inch",
                  tol: float = 1e-4) -> Comparison:
     """Run our interpreter and rs274 on ``program``; tool values in ``machine_units``."""
-    from millpath.verify.rs274 import run_rs274
+    from support.rs274 import run_rs274
     ours = run(program, tools, machine_units=machine_units)
     theirs = run_rs274(program, tools, table_units=machine_units)
     return compare_results(program, ours, theirs, tol)

@@ -116,7 +116,7 @@ def test_sideways_cavity_is_turned_up_placed_and_finished_without_gouge(sideways
 
 @pytest.mark.parametrize("example", ["mould", "cavity", "sideways"])
 def test_program_round_trips_and_rs274_accepts_it(example, request, rs274):
-    from millpath.verify.rs274 import run_rs274
+    from support.rs274 import run_rs274
     job, tp, results, sim, program, lines = request.getfixturevalue(example)
     motions = interpret(program, job.tools, machine_units="mm")
     assert compare_toolpath(tp, lines, motions, 1e-3) == []

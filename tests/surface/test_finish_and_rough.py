@@ -124,7 +124,7 @@ def test_feed_steps_verified_at_the_midpoint_within_tolerance(variable):
 
 
 def test_program_interprets_back_to_the_plan_and_rs274_accepts_it(variable, rs274):
-    from millpath.verify.rs274 import run_rs274
+    from support.rs274 import run_rs274
     res, _ = variable
     program, lines = post_with_lines(res.toolpath, TOOLS, title="surface test")
     motions = interpret(program, TOOLS, machine_units="mm")

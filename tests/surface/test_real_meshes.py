@@ -15,7 +15,7 @@ from millpath.errors import JobError, PlanningError
 from millpath.part.surface.load import load_surface
 from millpath.part.surface.mesh import Mesh, write_stl
 from millpath.part.surface.placement import rotation
-from millpath.part.surface.prism import box_and_wheel
+from support.prism import box_and_wheel
 from millpath.plan.surface.polyline import densify, merge_collinear
 
 TRI = np.array([[[1.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 3.0]]])
@@ -329,7 +329,7 @@ def test_finish_region_is_the_silhouette_the_ball_never_rides_down_outside(tmp_p
     out it touches nothing. So no cutting move may end farther than r from the discs or
     below -r (it would be riding down the outside to the bottom)."""
     from shapely.geometry import Point
-    from millpath.part.surface.prism import stepped_solid
+    from support.prism import stepped_solid
     discs = Point(-18.0, 0.0).buffer(12.0, quad_segs=64).union(
         Point(18.0, 0.0).buffer(12.0, quad_segs=64))
     write_stl(stepped_solid([(discs, 0.0)], -10.0), tmp_path / "d.stl")

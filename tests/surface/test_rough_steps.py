@@ -20,7 +20,7 @@ from millpath.io.schema import validate
 from millpath.model.stock import Machine, Stock
 from millpath.model.tool import Tool
 from millpath.part.surface.mesh import write_stl
-from millpath.part.surface.prism import stepped_solid
+from support.prism import stepped_solid
 from millpath.plan.base import PlanContext
 from millpath.plan.surface import rough as rough_op
 
