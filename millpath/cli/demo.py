@@ -3,6 +3,8 @@
 By default one example of each family (:data:`SHORT`: features from a STEP file, a
 die-blanking contour, a grid-navigation pocket, an adaptive pocket from a DXF drawing, a
 3-axis surface); ``--all`` runs every example, ``-k TEXT`` those whose name contains TEXT.
+Without ``-k``, the kernels are compiled first, once per install, on two processes (see
+:mod:`millpath.cli.warm`).
 
 An example the proof refuses (see :mod:`millpath.verify.gate`) is listed in red with
 its report and pictures written and no program; it does not make the demo fail, since
@@ -71,8 +73,11 @@ def command(outdir: Path, only: str | None, every: bool) -> None:
     for col in ("example", "units", "ops", "lines", "moves", "cycle s", "removed",
                 "max gouge", "max left", "run s"):
         table.add_column(col, justify="left" if col == "example" else "right")
-    from millpath.cli.warm import wait_for_warm
-    wait_for_warm()
+    from millpath.cli.warm import cache_dir, compile_kernels, wait_for_warm
+    if only is None and cache_dir() is not None:
+        console.print(compile_kernels(console.print), highlight=False)
+    else:
+        wait_for_warm()
     failures = 0
     refused: list[str] = []
     views: list[tuple[str, Path]] = []

@@ -2,10 +2,11 @@
 
 millpath's hot loops are numba kernels, compiled on their first call and cached per
 install (see :mod:`millpath`): the first job after an install or an upgrade spends
-most of its time compiling. ``millpath warm`` does it ahead, visibly: it runs the
-examples of ``millpath demo`` (one of each family, no pictures) into a temporary folder,
-which calls every kernel a job calls, and leaves a mark in the cache folder so that a
-second ``millpath warm`` returns at once.
+most of its time compiling. ``millpath warm`` does it ahead, visibly, on two processes:
+the examples of ``millpath demo`` planned and posted, and one of them run through the
+proof, into a temporary folder, which calls every kernel a job calls; it leaves a mark
+in the cache folder so that a second ``millpath warm`` returns at once. ``millpath
+demo`` does the same before its first example.
 
 Two compiles at once would do the same work twice: ``warm`` holds a lock in the cache
 folder while it runs, and ``millpath run`` / ``millpath demo`` started meanwhile wait for
@@ -59,25 +60,12 @@ def wait_for_warm() -> None:
         pass
 
 
-@click.command()
-def command() -> None:
-    """Compile millpath's kernels now (once per install), so the first job starts
-    quickly."""
-    from millpath.cli.demo import chosen_jobs
-    from millpath.errors import MillpathError
-    from millpath.pipeline import run_job
-    d = cache_dir()
-    if d is None:
-        raise MillpathError("no writable kernel cache folder (set MILLPATH_CACHE_DIR): "
-                            "kernels are compiled in each run")
-    if (d / DONE).exists():
-        click.echo(f"kernels already compiled for this install ({d})")
-        return
+def _counted(fn, *args) -> int:
+    """Call ``fn(*args)``; the number of numba compiles it made."""
     from numba.core.event import Listener, register, unregister
 
-    class _Count(Listener):
-        def __init__(self):
-            self.n = 0
+    class Count(Listener):
+        n = 0
 
         def on_start(self, event):
             pass
@@ -85,22 +73,84 @@ def command() -> None:
         def on_end(self, event):
             self.n += 1
 
-    counter = _Count()
+    counter = Count()
+    register("numba:compile", counter)
+    try:
+        fn(*args)
+    finally:
+        unregister("numba:compile", counter)
+    return counter.n
+
+
+def _plan(jobs: list[str]) -> None:
+    from millpath.job.jobfile import load_job
+    from millpath.pipeline import fit_job, plan_job, post_job
+    for path in jobs:
+        job = load_job(path)
+        tp, _, stock = plan_job(job)
+        post_job(job, fit_job(job, tp), stock)
+
+
+def _prove(job: str, out: str) -> None:
+    from millpath.pipeline import run_job
+    run_job(job, out, progress=False, pictures=False)
+
+
+def _plan_only(jobs: list[str]) -> int:
+    """Plan, fit and post ``jobs`` (the planners' kernels; a worker process's task):
+    the number of compiles."""
+    return _counted(_plan, jobs)
+
+
+def _full_run(job: str, out: str) -> int:
+    """``millpath run`` of ``job`` without pictures (the proof's kernels; a worker
+    process's task): the number of compiles."""
+    return _counted(_prove, job, out)
+
+
+def compile_kernels(echo=click.echo) -> str:
+    """Compile every kernel the examples of ``millpath demo`` call, unless this install
+    has done it already; returns what was done. One compile per install: the exclusive
+    lock makes a second caller wait and then find the kernels compiled.
+
+    The work is split over two processes when the machine has two cores: one runs the
+    proof (features-plate, no pictures), the other plans and posts the other examples
+    (the planners' kernels); numba's cache is per function, so both fill it at once."""
+    import multiprocessing as mp
+    from concurrent.futures import ProcessPoolExecutor
+    from millpath.cli.demo import chosen_jobs
+    from millpath.errors import MillpathError
+    d = cache_dir()
+    if d is None:
+        raise MillpathError("no writable kernel cache folder (set MILLPATH_CACHE_DIR): "
+                            "kernels are compiled in each run")
+    if (d / DONE).exists():
+        return f"kernels already compiled for this install ({d})"
     t0 = time.perf_counter()
     with _locked(d / LOCK, True, "millpath: another `millpath warm` is compiling; "
                  "waiting for it"):
         if (d / DONE).exists():
-            click.echo(f"kernels already compiled for this install ({d})")
-            return
-        register("numba:compile", counter)
-        try:
-            with tempfile.TemporaryDirectory(prefix="millpath-warm-") as tmp:
-                for job in chosen_jobs(None, False):
-                    click.echo(f"compiling with {job.parent.name} ...", err=True)
-                    run_job(job, Path(tmp) / job.parent.name, progress=True,
-                            pictures=False)
-        finally:
-            unregister("numba:compile", counter)
+            return f"kernels already compiled for this install ({d})"
+        jobs = [str(j) for j in chosen_jobs(None, False)]
+        proof = next((j for j in jobs if Path(j).parent.name == "features-plate"), jobs[0])
+        plans = [j for j in jobs if j != proof]
+        echo("compiling kernels, once per install (about a minute on 2 cores) ...")
+        with tempfile.TemporaryDirectory(prefix="millpath-warm-") as tmp:
+            out = str(Path(tmp) / "proof")
+            if (os.cpu_count() or 1) >= 2:
+                with ProcessPoolExecutor(2, mp_context=mp.get_context("spawn")) as ex:
+                    a = ex.submit(_full_run, proof, out)
+                    b = ex.submit(_plan_only, plans)
+                    n = a.result() + b.result()
+            else:
+                n = _full_run(proof, out) + _plan_only(plans)
         seconds = time.perf_counter() - t0
-        (d / DONE).write_text(f"{counter.n} compiles in {seconds:.0f} s\n")
-    click.echo(f"compiled {counter.n} kernels in {seconds:.0f} s; cached in {d}")
+        (d / DONE).write_text(f"{n} compiles in {seconds:.0f} s\n")
+    return f"compiled {n} kernels in {seconds:.0f} s; cached in {d}"
+
+
+@click.command()
+def command() -> None:
+    """Compile millpath's kernels now (once per install), so the first job starts
+    quickly."""
+    click.echo(compile_kernels(lambda m: click.echo(m, err=True)))
