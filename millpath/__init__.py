@@ -14,6 +14,12 @@ the code it calls has changed.
 numba's parallel kernels run on OpenMP threads, which by default keep spinning after
 each parallel loop, waiting for the next: CPU burnt on a busy machine for nothing.
 Unless ``OMP_WAIT_POLICY`` is already set, they sleep instead (``PASSIVE``).
+
+The Python API (imported on first use, so ``import millpath`` stays cheap):
+:func:`run_job` (a job file to an output folder, as ``millpath run``), and its stages
+:func:`load_job`, :func:`plan_job`, :func:`fit_job`, :func:`post_job`; a program's
+motion, as the control runs it, from :func:`millpath.interpret.interpret`. See
+docs/api.md.
 """
 
 import os as _os
@@ -47,3 +53,18 @@ def _numba_cache_dir() -> None:
 
 _numba_cache_dir()
 _os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
+
+
+#: public names -> the module defining them (imported on first use)
+_API = {"run_job": "millpath.pipeline", "plan_job": "millpath.pipeline",
+        "fit_job": "millpath.pipeline", "post_job": "millpath.pipeline",
+        "load_job": "millpath.job.jobfile"}
+
+__all__ = sorted(_API)
+
+
+def __getattr__(name: str):
+    if name in _API:
+        import importlib
+        return getattr(importlib.import_module(_API[name]), name)
+    raise AttributeError(f"module 'millpath' has no attribute {name!r}")

@@ -18,6 +18,7 @@ import numpy as np
 
 from millpath.errors import MillpathError, PlanningError, warn
 from millpath.io.atomic import staged_dir
+from millpath.io.tomllines import place
 from millpath.io.tooltable import parse_tool_table, tool_table_text
 from millpath.job.jobfile import Job, load_job
 from millpath.model import Stock, Toolpath
@@ -29,10 +30,20 @@ from millpath.model.units import default, length_scale
 
 
 class MinDesign:
-    """The part after several operations: the lowest of their designs at each point."""
+    """The part after several operations: the lowest of their designs at each point.
+    Where every one of them designs nothing (their ``waste``, as a profile's scrap), the
+    part designs nothing either."""
 
     def __init__(self, designs: list[Any]):
         self.designs = designs
+        if all(hasattr(d, "waste") for d in designs):
+            self.waste = self._waste
+
+    def _waste(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+        w = np.asarray(self.designs[0].waste(x, y), bool)
+        for d in self.designs[1:]:
+            w = w & d.waste(x, y)
+        return w
 
     def height(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
         z = np.asarray(self.designs[0].height(x, y), dtype=float)
@@ -54,7 +65,17 @@ class RunResult:
 def plan_job(job: Job, progress: Progress = QUIET) -> tuple[Toolpath, list[PlanResult], Stock]:
     """Plan every operation of ``job`` and join their toolpaths in order. Jobs with a
     pocket or profile operation or a ``rest`` key carry the in-process stock from
-    operation to operation (``ctx.remaining``, see :func:`advance_stock`)."""
+    operation to operation (``ctx.remaining``, see :func:`advance_stock`). An error
+    naming a key of the job file is given that key's line."""
+    try:
+        return _plan_all(job, progress)
+    except MillpathError as e:
+        if e.line is None and job.path is not None and e.file == str(job.path):
+            raise place(e, Path(job.path).read_text()) from None
+        raise
+
+
+def _plan_all(job: Job, progress: Progress) -> tuple[Toolpath, list[PlanResult], Stock]:
     ctx = PlanContext(units=job.units, stock=job.stock, machine=job.machine, tools=job.tools,
                       base_dir=job.base_dir, job_file=job.path, progress=progress)
     carry = any(t in ("pocket", "profile") or p.get("rest") for t, p in job.operations)

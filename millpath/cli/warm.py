@@ -60,8 +60,8 @@ def wait_for_warm() -> None:
         pass
 
 
-def _counted(fn, *args) -> int:
-    """Call ``fn(*args)``; the number of numba compiles it made."""
+def _counted(fn, *args) -> tuple[int, float]:
+    """Call ``fn(*args)``; the number of numba compiles it made and its wall seconds."""
     from numba.core.event import Listener, register, unregister
 
     class Count(Listener):
@@ -74,15 +74,17 @@ def _counted(fn, *args) -> int:
             self.n += 1
 
     counter = Count()
+    t0 = time.perf_counter()
     register("numba:compile", counter)
     try:
         fn(*args)
     finally:
         unregister("numba:compile", counter)
-    return counter.n
+    return counter.n, time.perf_counter() - t0
 
 
 def _plan(jobs: list[str]) -> None:
+    """Plan, fit and post ``jobs``: the planners' kernels compiled."""
     from millpath.job.jobfile import load_job
     from millpath.pipeline import fit_job, plan_job, post_job
     for path in jobs:
@@ -92,20 +94,9 @@ def _plan(jobs: list[str]) -> None:
 
 
 def _prove(job: str, out: str) -> None:
+    """``millpath run`` of ``job`` without pictures: the proof's kernels compiled."""
     from millpath.pipeline import run_job
     run_job(job, out, progress=False, pictures=False)
-
-
-def _plan_only(jobs: list[str]) -> int:
-    """Plan, fit and post ``jobs`` (the planners' kernels; a worker process's task):
-    the number of compiles."""
-    return _counted(_plan, jobs)
-
-
-def _full_run(job: str, out: str) -> int:
-    """``millpath run`` of ``job`` without pictures (the proof's kernels; a worker
-    process's task): the number of compiles."""
-    return _counted(_prove, job, out)
 
 
 def compile_kernels(echo=click.echo) -> str:
@@ -134,18 +125,20 @@ def compile_kernels(echo=click.echo) -> str:
         jobs = [str(j) for j in chosen_jobs(None, False)]
         proof = next((j for j in jobs if Path(j).parent.name == "features-plate"), jobs[0])
         plans = [j for j in jobs if j != proof]
-        echo("compiling kernels, once per install (about a minute on 2 cores) ...")
+        echo("compiling kernels, once per install (about two minutes on 2 cores) ...")
         with tempfile.TemporaryDirectory(prefix="millpath-warm-") as tmp:
             out = str(Path(tmp) / "proof")
             if (os.cpu_count() or 1) >= 2:
                 with ProcessPoolExecutor(2, mp_context=mp.get_context("spawn")) as ex:
-                    a = ex.submit(_full_run, proof, out)
-                    b = ex.submit(_plan_only, plans)
-                    n = a.result() + b.result()
+                    a = ex.submit(_counted, _prove, proof, out)
+                    b = ex.submit(_counted, _plan, plans)
+                    (na, ta), (nb, tb) = a.result(), b.result()
             else:
-                n = _full_run(proof, out) + _plan_only(plans)
+                (na, ta), (nb, tb) = _counted(_prove, proof, out), _counted(_plan, plans)
+        n = na + nb
         seconds = time.perf_counter() - t0
-        (d / DONE).write_text(f"{n} compiles in {seconds:.0f} s\n")
+        (d / DONE).write_text(f"{n} compiles in {seconds:.0f} s (the proof: {na} in "
+                              f"{ta:.0f} s; the planners: {nb} in {tb:.0f} s)\n")
     return f"compiled {n} kernels in {seconds:.0f} s; cached in {d}"
 
 

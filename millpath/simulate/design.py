@@ -62,10 +62,6 @@ class HeightFieldDesign:
             raise ValueError("height field needs at least 2 samples in X and Y")
         self.outside = float(outside)
 
-    @classmethod
-    def from_zmap(cls, zmap) -> "HeightFieldDesign":
-        return cls(zmap.xs(), zmap.ys(), zmap.heights.copy())
-
     def height(self, x, y):
         x = np.asarray(x, float)
         y = np.asarray(y, float)

@@ -9,6 +9,8 @@ Heights are in the Z-map's units. A cell's design height is taken at its centre 
 four corners (see :mod:`millpath.simulate.simulator`): ``lo`` / ``hi`` are the lowest
 and highest of the five, NaN and ``-inf`` (no part: through holes) counted as the stock
 bottom, and never below it; ``centre`` keeps the design's own value at the centre.
+A design with ``waste(x, y)`` (bool: nothing designed there, as a profile's scrap) marks
+those cells ``free``: they are neither gouged nor left.
 """
 
 from __future__ import annotations
@@ -32,6 +34,7 @@ class DesignGrid:
     centre: np.ndarray          # the design's value at each cell centre, as it gave it
     lo: np.ndarray              # lowest of centre and corners, >= stock bottom
     hi: np.ndarray              # highest of centre and corners, >= stock bottom
+    free: np.ndarray | None = None   # bool: the cell centre is in the design's waste
 
     def bottomed(self, j0: int, j1: int) -> np.ndarray:
         """Centre heights of rows [j0, j1), NaN and below the stock bottom as the bottom."""
@@ -57,9 +60,13 @@ def design_grid(zmap: ZMap, design) -> DesignGrid:
     ys = zmap.ys()
     xk = zmap.x0 + np.arange(nx + 1) * zmap.dx
     zf = zmap.zmin
+    waste = getattr(design, "waste", None)
+    free = np.zeros((ny, nx), bool) if waste is not None else None
     for j0, j1 in row_blocks(zmap):
         X, Y = np.meshgrid(xs, ys[j0:j1])
         dc = np.asarray(design.height(X, Y), float).reshape(X.shape)
+        if waste is not None:
+            free[j0:j1] = np.asarray(waste(X, Y), bool).reshape(X.shape)
         yk = zmap.y0 + np.arange(j0, j1 + 1) * zmap.dy
         XK, YK = np.meshgrid(xk, yk)
         dk = np.asarray(design.height(XK, YK), float).reshape(XK.shape)
@@ -71,7 +78,7 @@ def design_grid(zmap: ZMap, design) -> DesignGrid:
             np.fmax(b, c, out=b)
         lo[j0:j1] = np.maximum(np.where(np.isnan(a), -np.inf, a), zf)
         hi[j0:j1] = np.maximum(np.where(np.isnan(b), -np.inf, b), zf)
-    return DesignGrid(design, zmap, centre, lo, hi)
+    return DesignGrid(design, zmap, centre, lo, hi, free)
 
 
 def grid_of(zmap: ZMap, design, known: DesignGrid | None = None) -> DesignGrid:

@@ -220,6 +220,9 @@ def compare_design(zmap: ZMap, design) -> Comparison:
     for j0, j1 in row_blocks(zmap):
         dc, lo, hi = grid.bottomed(j0, j1), grid.lo[j0:j1], grid.hi[j0:j1]
         h = zmap.heights[j0:j1]
+        if grid.free is not None:                   # waste: neither gouged nor left
+            f = grid.free[j0:j1]
+            dc, lo, hi = np.where(f, h, dc), np.where(f, h, lo), np.where(f, h, hi)
         g = np.where(_cut_mask(zmap, h, j0), lo - h, 0.0)
         k = int(np.argmax(g))
         if g.flat[k] > gouge:
@@ -247,8 +250,8 @@ def compare(zmap: ZMap, design) -> tuple[float, float, float]:
 def deviation(zmap: ZMap, design) -> np.ndarray:
     """Signed deviation per cell (ny, nx): positive = material left above the design
     (highest design value over the cell), negative = gouge (lowest value, cut cells),
-    0 within the cell's own design range. ``design``: a design or its
-    :class:`DesignGrid` on ``zmap``."""
+    0 within the cell's own design range and in the design's waste. ``design``: a
+    design or its :class:`DesignGrid` on ``zmap``."""
     grid = design if isinstance(design, DesignGrid) else design_grid(zmap, design)
     out = np.zeros_like(zmap.heights)
     for j0, j1 in row_blocks(zmap):
@@ -259,6 +262,8 @@ def deviation(zmap: ZMap, design) -> np.ndarray:
         o[above] = (h - hi)[above]
         below = (h < lo) & _cut_mask(zmap, h, j0)
         o[below] = (h - lo)[below]
+        if grid.free is not None:
+            o[grid.free[j0:j1]] = 0.0
     return out
 
 

@@ -99,3 +99,48 @@ def test_lead_radius_and_tab_height_errors():
         _plan(side="outside", tabs=2, tab_height=12.0)
     with pytest.raises(PlanningError, match="does not fit inside the contour"):
         _plan(side="inside", polygon=[[0, 0], [5, 0], [5, 5], [0, 5]])
+
+
+def test_zmap_comparison_leaves_the_waste_out_and_still_sees_a_real_gouge():
+    """A 40 x 20 plate cut from a sheet 10 deep: the design is the plate and a 4 mm slot
+    around it; the sheet beyond (scrap, where leads and entries run) is not designed.
+    Truth: cells set by hand. A 10 mm deep disc in the scrap is neither gouge nor left;
+    the same disc in the plate is a 10 mm gouge; a stub left in the slot is left."""
+    from millpath.plan.profile.design import ProfileDesign
+    from millpath.simulate.designgrid import design_grid
+    from millpath.simulate.simulator import compare_design, deviation
+    from millpath.simulate.zmap import ZMap
+    plate = Polygon([(0, 0), (40, 0), (40, 20), (0, 20)])
+    band = plate.buffer(4.0, join_style="mitre").difference(plate)
+    ring = np.array(plate.exterior.coords[:-1])
+    design = ProfileDesign(plate, [ring], band, -10.0, 0.0, through=False)
+    zmap = ZMap.from_stock(Stock(-15, -15, -12, 55, 35, 0), 0.25)
+    X, Y = np.meshgrid(zmap.xs(), zmap.ys())
+    zmap.heights[shapely.contains_xy(band, X, Y)] = -10.0     # the slot cut as designed
+
+    def disc(cx, cy, r=2.0):
+        return (X - cx) ** 2 + (Y - cy) ** 2 < r * r
+
+    zmap.heights[disc(50, 30)] = -10.0                         # an entry in the scrap
+    grid = design_grid(zmap, design)
+    c = compare_design(zmap, grid)
+    assert c.max_gouge == 0.0 and c.max_left == 0.0
+    assert deviation(zmap, grid)[disc(50, 30)].tolist() == [0.0] * int(disc(50, 30).sum())
+    zmap.heights[disc(20, 10)] = -10.0                         # a hole in the plate
+    zmap.heights[disc(-2, 10, 1.0)] = -4.0                     # a stub in the slot
+    c = compare_design(zmap, design_grid(zmap, design))
+    assert c.max_gouge == pytest.approx(10.0) and c.max_left == pytest.approx(6.0)
+
+
+def test_a_job_designs_nothing_only_where_every_operation_designs_nothing():
+    from millpath.pipeline import MinDesign
+    from millpath.plan.profile.design import ProfileDesign
+    from millpath.simulate.design import PlaneDesign
+    square = Polygon([(0, 0), (10, 0), (10, 10), (0, 10)])
+    ring = np.array(square.exterior.coords[:-1])
+    a = ProfileDesign(square, [ring], square.buffer(2.0).difference(square), -5, 0, False)
+    b = ProfileDesign(square.buffer(20.0), [ring], square.buffer(1.0), -5, 0, False)
+    x, y = np.array([20.0, 5.0, 11.0]), np.array([20.0, 5.0, 5.0])
+    assert a.waste(x, y).tolist() == [True, False, False]
+    assert MinDesign([a, b]).waste(x, y).tolist() == [False, False, False]
+    assert not hasattr(MinDesign([a, PlaneDesign(0.0)]), "waste")

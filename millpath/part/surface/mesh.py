@@ -56,9 +56,6 @@ class Mesh:
         n[ok] /= ln[ok, None]
         return n
 
-    def translated(self, dx: float = 0.0, dy: float = 0.0, dz: float = 0.0) -> "Mesh":
-        return Mesh(self.triangles + np.array([dx, dy, dz]), self.name)
-
 
 def read_stl(path: str | Path) -> Mesh:
     """Read a binary or ASCII STL file (job units are the file's numbers as they are)."""

@@ -35,6 +35,7 @@ class ProfileDesign:
         self.material = material
         self.walls = walls
         self.band = band
+        shapely.prepare(self.material)
         shapely.prepare(self.band)
         self.floor = float(floor)
         self.top = float(top)
@@ -48,6 +49,15 @@ class ProfileDesign:
         y = np.asarray(y, float)
         cut = shapely.contains_xy(self.band, x, y)
         return np.where(cut, -np.inf if self.through else self.floor, self.top)
+
+    def waste(self, x, y):
+        """Where nothing is designed (bool): neither the part's material nor a slot
+        beside a wall. Leads and entries may cut there; the Z-map comparison and its
+        pictures leave those cells out, as the mesh leaves them open."""
+        x = np.asarray(x, float)
+        y = np.asarray(y, float)
+        return ~(shapely.contains_xy(self.material, x, y)
+                 | shapely.contains_xy(self.band, x, y))
 
     def mesh(self, box=None) -> np.ndarray:
         """Triangles (n, 3, 3), normals out of the material: the top over the material,

@@ -12,7 +12,6 @@ For CAM compensation the same leads are offset by R toward the tool side.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -26,11 +25,6 @@ class Leads:
     B: np.ndarray          # lead-out arc end
     E: np.ndarray          # exit end
     ccw: bool              # arc direction
-
-
-def start_on_longest(ring: np.ndarray) -> np.ndarray:
-    """``ring`` (n, 2, not closed) rotated to start at the middle of its longest chord."""
-    return start_on_chord(ring, chords_by_length(ring, 1)[0])
 
 
 def start_on_chord(ring: np.ndarray, k: int) -> np.ndarray:
@@ -59,7 +53,3 @@ def leads(P0: np.ndarray, t: np.ndarray, side: int, rho: float, d: float,
     A = C - r * t
     B = C + r * t
     return Leads(A + d * n, A, C, B, B + d * n, ccw=side > 0)
-
-
-def arc_length(r: float) -> float:
-    return 0.5 * math.pi * r

@@ -20,8 +20,6 @@ chords (r = 12 mm at 0.01 mm: about 490). Polygon keys are taken as exact.
 
 from __future__ import annotations
 
-from shapely.geometry import Polygon
-
 from millpath.errors import JobError
 from millpath.io.schema import Param
 from millpath.part.cache import PartCache
@@ -84,9 +82,3 @@ def load_regions(params: dict, units: str, file=None,
                     for p in q)):
             raise JobError(f"islands[{k}]: expected a list of at least 3 points [x, y]", file)
     return [region_from_polygon(params["polygon"], islands, file)]
-
-
-def union_polygon(regions: list[Region]) -> Polygon:
-    """All regions as one (multi)polygon."""
-    from shapely.ops import unary_union
-    return unary_union([r.polygon for r in regions])

@@ -38,11 +38,6 @@ def rings(poly: Polygon) -> list[np.ndarray]:
     return out
 
 
-def ring_length(r: np.ndarray) -> float:
-    d = np.diff(np.vstack([r, r[:1]]), axis=0)
-    return float(np.hypot(d[:, 0], d[:, 1]).sum())
-
-
 def start_at(r: np.ndarray, p) -> np.ndarray:
     """The ring rotated to start at its vertex nearest ``p``."""
     k = int(np.argmin(np.hypot(r[:, 0] - p[0], r[:, 1] - p[1])))

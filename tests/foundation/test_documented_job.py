@@ -1,5 +1,6 @@
-"""The job example in README.md runs as written: it is taken from the README
-itself, so the README cannot drift from what millpath accepts."""
+"""The complete job example of the documentation (docs/concepts.md, "Job files") runs as
+written: it is taken from the page itself, so the page cannot drift from what millpath
+accepts."""
 
 from __future__ import annotations
 
@@ -9,12 +10,12 @@ from pathlib import Path
 
 from millpath.pipeline import run_job
 
-README = Path(__file__).resolve().parents[2] / "README.md"
+PAGE = Path(__file__).resolve().parents[2] / "docs" / "concepts.md"
 
 
-def test_readme_job_example_runs(tmp_path):
-    text = README.read_text()
-    section = text[text.index("### Job files"):]
+def test_documented_job_example_runs(tmp_path):
+    text = PAGE.read_text()
+    section = text[text.index("## Job files"):]
     job = re.search(r"```toml\n(.*?)```", section, re.S).group(1)
     (tmp_path / "job.toml").write_text(job)
     res = run_job(tmp_path / "job.toml", tmp_path / "out")
