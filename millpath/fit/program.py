@@ -36,6 +36,7 @@ from millpath.gcode.errors import GCodeError
 from millpath.gcode.lexer import MAX_PARAM, normalize, read_block
 from millpath.fit import FitSettings, fit_points
 from millpath.fit.segment import PLANE_NAMES, PLANES
+from millpath.model.numbers import plain
 from millpath.model.units import default
 
 _OWORD = re.compile(r"(?:/)?(?:n[\d.]*)?o")     # normalized text of an O-word line
@@ -50,13 +51,6 @@ _NEUTRAL_G = {4.0, 17.0, 18.0, 19.0, 40.0, 41.0, 42.0, 61.0, 61.1, 64.0, 90.0, 9
               20.0, 21.0, 64.0, 49.0, 43.0, 43.1, 43.2, 44.0}
 _MOTION_G = {0.0, 1.0, 2.0, 3.0, 5.0, 73.0, 74.0, 80.0, 81.0, 82.0, 83.0, 84.0, 85.0, 86.0,
              87.0, 88.0, 89.0, 5.1, 5.2, 5.3, 33.0, 33.1, 38.2, 38.3, 38.4, 38.5, 76.0}
-
-
-def _fmt(v: float, d: int) -> str:
-    t = f"{v:.{d}f}"
-    if "." in t:
-        t = t.rstrip("0").rstrip(".")
-    return "0" if t in ("-0", "", "-") else t
 
 
 def with_code(code: str, raw: str) -> str:
@@ -301,7 +295,7 @@ class _Emitter:
         self.plane = st.plane
         self.motion = st.motion
         self.arc_absolute = st.arc_absolute
-        self.pos = [_fmt(v, d) for v in st.pos]   # type: ignore[arg-type]
+        self.pos = [plain(v, d) for v in st.pos]   # type: ignore[arg-type]
         self.lines: list[str] = []
         self.feed = ""                  # F word of the run, until a block carries it
 
@@ -319,7 +313,7 @@ class _Emitter:
     def _axes(self, end, skip: tuple[int, ...] = ()) -> list[str]:
         words = []
         for k in range(3):
-            s = _fmt(end[k], self.d)
+            s = plain(end[k], self.d)
             if s != self.pos[k] and k not in skip:
                 words.append("XYZ"[k] + s)
             self.pos[k] = s
@@ -352,24 +346,24 @@ class _Emitter:
             prefix = " ".join(self._head("G1"))
             self.lines.append(with_code(prefix, block.raw) if prefix else block.raw)
         for k in range(3):
-            self.pos[k] = _fmt(end[k], self.d)
+            self.pos[k] = plain(end[k], self.d)
 
     def arc(self, start, end, plane: str, c1: float, c2: float, cw: bool) -> None:
         a1, a2, _ = PLANES[PLANE_NAMES.index(plane)]
         words = self._head("G2" if cw else "G3", plane) + self._axes(end)
         if self.arc_absolute:
-            words += [_IJK[a1] + _fmt(c1, self.d), _IJK[a2] + _fmt(c2, self.d)]
+            words += [_IJK[a1] + plain(c1, self.d), _IJK[a2] + plain(c2, self.d)]
         else:
-            words += [_IJK[a1] + _fmt(c1 - start[a1], self.d),
-                      _IJK[a2] + _fmt(c2 - start[a2], self.d)]
+            words += [_IJK[a1] + plain(c1 - start[a1], self.d),
+                      _IJK[a2] + plain(c2 - start[a2], self.d)]
         self._emit(words)
 
     def cubic(self, start, end, ctrl) -> None:
         words = self._head("G5", "XY")
-        words += [f"X{_fmt(end[0], self.d)}", f"Y{_fmt(end[1], self.d)}",
-                  f"I{_fmt(ctrl[0] - start[0], self.d)}", f"J{_fmt(ctrl[1] - start[1], self.d)}",
-                  f"P{_fmt(ctrl[2] - end[0], self.d)}", f"Q{_fmt(ctrl[3] - end[1], self.d)}"]
-        self.pos[0], self.pos[1] = _fmt(end[0], self.d), _fmt(end[1], self.d)
+        words += [f"X{plain(end[0], self.d)}", f"Y{plain(end[1], self.d)}",
+                  f"I{plain(ctrl[0] - start[0], self.d)}", f"J{plain(ctrl[1] - start[1], self.d)}",
+                  f"P{plain(ctrl[2] - end[0], self.d)}", f"Q{plain(ctrl[3] - end[1], self.d)}"]
+        self.pos[0], self.pos[1] = plain(end[0], self.d), plain(end[1], self.d)
         self._emit(words)
 
 

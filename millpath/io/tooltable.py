@@ -17,6 +17,7 @@ from pathlib import Path
 
 from millpath.errors import MillpathError
 from millpath.model.limits import MAX_COORDINATE
+from millpath.model.numbers import plain
 from millpath.model.units import length_scale
 
 _FIELDS = "XYZABCUVWDIJQ"
@@ -42,23 +43,18 @@ class ToolEntry:
         return self.offsets.get("Z", 0.0)
 
 
-def _fmt(v: float) -> str:
-    s = f"{v:.6f}".rstrip("0").rstrip(".")
-    return "0" if s in ("-0", "") else s
-
-
 def format_tool_table(entries: list[ToolEntry]) -> str:
     lines = []
     for e in sorted(entries, key=lambda e: e.number):
         parts = [f"T{e.number}", f"P{e.pocket}"]
         for a in "XYZABCUVW":
             if a in e.offsets:
-                parts.append(f"{a}{_fmt(e.offsets[a])}")
-        parts.append(f"D{_fmt(e.diameter)}")
+                parts.append(f"{a}{plain(e.offsets[a], 6)}")
+        parts.append(f"D{plain(e.diameter, 6)}")
         if e.front_angle:
-            parts.append(f"I{_fmt(e.front_angle)}")
+            parts.append(f"I{plain(e.front_angle, 6)}")
         if e.back_angle:
-            parts.append(f"J{_fmt(e.back_angle)}")
+            parts.append(f"J{plain(e.back_angle, 6)}")
         if e.orientation:
             parts.append(f"Q{e.orientation}")
         line = " ".join(parts)

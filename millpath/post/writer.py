@@ -35,6 +35,7 @@ from dataclasses import dataclass
 
 from millpath.model import Tool, Toolpath
 from millpath.model.dialect import Dialect, dialect
+from millpath.model.numbers import plain
 from millpath.model.toolpath import PLANE_AXES, Move
 from millpath.model.units import default
 
@@ -106,13 +107,6 @@ class PostOptions:
             raise ValueError("tool_change must be G30, \"G53 G0 Z0\" or none")
 
 
-def _num(v: float, digits: int = 3) -> str:
-    t = f"{v:.{digits}f}"
-    if "." in t:
-        t = t.rstrip("0").rstrip(".")
-    return "0" if t in ("-0", "") else t
-
-
 def round_feed(feed: float, units: str) -> float:
     """The feed as written: a whole number in mm/min, one decimal in in/min
     (``feed_step`` of :mod:`millpath.model.units`), never rounded down to zero."""
@@ -171,7 +165,7 @@ class _Writer:
         feed = round_feed(feed, self.tp.units)
         if self.feed is None or abs(feed - self.feed) > 1e-9:
             self.feed = feed
-            return " F" + _num(feed)
+            return " F" + plain(feed)
         return ""
 
     def _end_cycle(self) -> None:
@@ -217,9 +211,9 @@ class _Writer:
         for n in used:
             t = self.tools.get(n)
             if t is not None:
-                desc = f"T{n} {t.type} D{_num(t.diameter, 4)}"
+                desc = f"T{n} {t.type} D{plain(t.diameter, 4)}"
                 if t.type == "bull":
-                    desc += f" R{_num(t.corner_radius, 4)}"
+                    desc += f" R{plain(t.corner_radius, 4)}"
                 self.emit(_comment(desc + (f" {t.comment}" if t.comment else "")))
         self.emit("G17 G90 G94 G40 G49 G80")
         if self.d.arc_center_code:
@@ -253,7 +247,7 @@ class _Writer:
                 self.emit(TOOL_CHANGES[self.opt.tool_change])
             if self.d.tool_change == "pause":
                 t = self.tools.get(op.tool)
-                what = f"T{op.tool}" + (f" {t.type} D{_num(t.diameter, 4)}" if t else "")
+                what = f"T{op.tool}" + (f" {t.type} D{plain(t.diameter, 4)}" if t else "")
                 self.emit(_comment(f"MSG, load {what}, set Z zero at its tip, resume"))
                 self.emit(f"T{op.tool} M0")
             else:
@@ -269,7 +263,7 @@ class _Writer:
                 self.emit("M5")
             else:
                 code = "M3" if op.spindle > 0 else "M4"
-                self.emit(f"S{_num(abs(op.spindle), 0)} {code}")
+                self.emit(f"S{plain(abs(op.spindle), 0)} {code}")
             self.spindle = op.spindle
         coolant = self.opt.coolant or op.coolant
         if coolant == "mist" and not self.d.mist:
@@ -340,7 +334,7 @@ class _Writer:
         elif k == "dwell":
             if m.dwell > 0:
                 self.emit(f"G4 P{round(m.dwell * 1000)}" if self.d.dwell_ms
-                          else f"G4 P{_num(m.dwell, 3)}")
+                          else f"G4 P{plain(m.dwell, 3)}")
         else:
             raise ValueError(f"unknown move kind {k!r}")
 
@@ -430,7 +424,7 @@ class _Writer:
                 words.append(f"Q{self.f.s(m.peck)}")
             if m.cycle in ("G82", "G89") or (m.dwell and m.cycle in ("G83",)):
                 words.append(f"P{round(m.dwell * 1000)}" if self.d.dwell_ms
-                             else f"P{_num(m.dwell, 3)}")
+                             else f"P{plain(m.dwell, 3)}")
             self.feed = None
             self.emit(" ".join(words) + self._feed_word(m.feed))
             self.cycle_key = key

@@ -13,8 +13,8 @@ inside corner and the arc about an outside corner all satisfy it; a wrong radius
 or coordinate does not. (Whether the tool comes too near another, far part of the
 contour is a gouge, for the gouge check, not a round-trip difference.)
 One exception is LinuxCNC's own: where the contour turns by less than
-:data:`STRAIGHT_JOIN` radians, the control joins the two offsets straight, without a
-corner arc or intersection, so the tool centre at that corner is ``r`` from the
+:data:`millpath.model.control.CONCAVE_CORNER` radians, the control joins the two offsets
+straight, without a corner arc or intersection, so the tool centre at that corner is ``r`` from the
 segment before and ``r cos(turn)`` from the next one: there (and only there) the next
 segment may be ``r (1 - cos(turn))`` nearer.
 
@@ -30,11 +30,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from millpath.model.control import CONCAVE_CORNER
 from millpath.model.motion import Motion
 
-#: LinuxCNC joins compensated moves turning by at most this (radians) straight
-#: (TOLERANCE_CONCAVE_CORNER in its interpreter)
-STRAIGHT_JOIN = 0.05
 TWO_PI = 2 * math.pi
 
 
@@ -127,7 +125,7 @@ def _join_slack(seg: _Segments, radius: float) -> np.ndarray:
     slack = np.zeros(len(t0))
     if len(t0) > 1:
         turn = np.abs((t0[1:] - t1[:-1] + math.pi) % TWO_PI - math.pi)
-        s = np.where((turn > 1e-12) & (turn <= STRAIGHT_JOIN + 1e-9),
+        s = np.where((turn > 1e-12) & (turn <= CONCAVE_CORNER + 1e-9),
                      radius * (1 - np.cos(turn)), 0.0)
         slack[:-1] = np.maximum(slack[:-1], s)
         slack[1:] = np.maximum(slack[1:], s)

@@ -92,15 +92,32 @@ def test_demo_runs_one_example_per_family_by_default():
 
 
 def test_warm_compiles_once_and_marks_the_cache(monkeypatch, tmp_path):
+    """The proof's and the planners' tasks each run once, their compiles are counted and
+    the cache marked; a second warm does nothing. (The tasks are stand-ins compiling one
+    small kernel each, run in this process: the real split over two processes runs in
+    the README's demo command, which CI runs first.)"""
     import millpath.cli.demo as demo
+    import millpath.cli.warm as warm
     monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path))
     one = [j for j in example_jobs() if j.parent.name == "pocket-casestudy-line"]
     monkeypatch.setattr(demo, "chosen_jobs", lambda only, every: one)
+    monkeypatch.setattr(warm.os, "cpu_count", lambda: 1)
+    calls = []
+
+    def task(name):
+        def run(*args):
+            calls.append((name, args))
+            njit(lambda x: x + 1)(1)
+        return run
+    monkeypatch.setattr(warm, "_prove", task("prove"))
+    monkeypatch.setattr(warm, "_plan", task("plan"))
     r = CliRunner().invoke(cli, ["warm"])
     assert r.exit_code == 0, r.output
-    assert "compiled" in r.output and (tmp_path / "warm.done").exists()
+    assert "compiled 2 kernels" in r.output and (tmp_path / "warm.done").exists()
+    assert [c[0] for c in calls] == ["prove", "plan"]
+    assert calls[0][1][0] == str(one[0]) and calls[1][1] == ([],)
     r = CliRunner().invoke(cli, ["warm"])
-    assert r.exit_code == 0 and "already compiled" in r.output
+    assert r.exit_code == 0 and "already compiled" in r.output and len(calls) == 2
 
 
 def test_a_run_waits_for_a_warm_in_progress(monkeypatch, tmp_path, capsys):

@@ -44,6 +44,7 @@ from shapely.validation import make_valid
 from millpath.errors import GeometryError, JobError, PlanningError
 from millpath.io.schema import Param
 from millpath.model import Operation, Toolpath
+from millpath.model.control import CONCAVE_CORNER
 from millpath.part.curve.blend import build_curve
 from millpath.part.curve.fourpoint import Curve
 from millpath.part.curve.linearize import linearize_curve
@@ -553,7 +554,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     ang = np.arctan2(t_q[:, 1], t_q[:, 0])
     turn = np.angle(np.exp(1j * (ang - np.roll(ang, 1))))         # at vertex k, left > 0
     on_curve = {tuple(v) for v in np.round(verts / grid).astype(np.int64).tolist()}
-    sharp = [k_ for k_ in np.flatnonzero(turn > 0.05)       # bridged corners: reported above
+    sharp = [k_ for k_ in np.flatnonzero(turn > CONCAVE_CORNER)  # bridged: reported above
              if tuple(np.round(q[k_] / grid).astype(np.int64).tolist()) in on_curve]
     if len(sharp):
         uncut = shapely.distance(swept, shapely.points(q[sharp]))
