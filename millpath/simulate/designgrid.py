@@ -36,10 +36,18 @@ class DesignGrid:
     hi: np.ndarray              # highest of centre and corners, >= stock bottom
     free: np.ndarray | None = None   # bool: the cell centre is in the design's waste
 
-    def bottomed(self, j0: int, j1: int) -> np.ndarray:
-        """Centre heights of rows [j0, j1), NaN and below the stock bottom as the bottom."""
+    def rows(self, j0: int, j1: int, h: np.ndarray
+             ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(centre, lo, hi)`` of rows [j0, j1) for stock heights ``h`` there: the centre
+        with NaN and below the stock bottom as the bottom; cells in the design's waste
+        take ``h`` itself in all three (neither gouged nor left)."""
         c = self.centre[j0:j1]
-        return np.maximum(np.where(np.isnan(c), -np.inf, c), self.zmap.zmin)
+        c = np.maximum(np.where(np.isnan(c), -np.inf, c), self.zmap.zmin)
+        lo, hi = self.lo[j0:j1], self.hi[j0:j1]
+        if self.free is not None:
+            f = self.free[j0:j1]
+            c, lo, hi = np.where(f, h, c), np.where(f, h, lo), np.where(f, h, hi)
+        return c, lo, hi
 
 
 def row_blocks(zmap: ZMap, rows: int = ROWS):

@@ -218,11 +218,8 @@ def compare_design(zmap: ZMap, design) -> Comparison:
     g_at = l_at = None
     xs, ys = zmap.xs(), zmap.ys()
     for j0, j1 in row_blocks(zmap):
-        dc, lo, hi = grid.bottomed(j0, j1), grid.lo[j0:j1], grid.hi[j0:j1]
         h = zmap.heights[j0:j1]
-        if grid.free is not None:                   # waste: neither gouged nor left
-            f = grid.free[j0:j1]
-            dc, lo, hi = np.where(f, h, dc), np.where(f, h, lo), np.where(f, h, hi)
+        dc, lo, hi = grid.rows(j0, j1, h)
         g = np.where(_cut_mask(zmap, h, j0), lo - h, 0.0)
         k = int(np.argmax(g))
         if g.flat[k] > gouge:
@@ -255,15 +252,13 @@ def deviation(zmap: ZMap, design) -> np.ndarray:
     grid = design if isinstance(design, DesignGrid) else design_grid(zmap, design)
     out = np.zeros_like(zmap.heights)
     for j0, j1 in row_blocks(zmap):
-        lo, hi = grid.lo[j0:j1], grid.hi[j0:j1]
         h = zmap.heights[j0:j1]
+        _, lo, hi = grid.rows(j0, j1, h)
         o = out[j0:j1]
         above = h > hi
         o[above] = (h - hi)[above]
         below = (h < lo) & _cut_mask(zmap, h, j0)
         o[below] = (h - lo)[below]
-        if grid.free is not None:
-            o[grid.free[j0:j1]] = 0.0
     return out
 
 
