@@ -18,7 +18,7 @@ import time
 import numpy as np
 
 from millpath.part.surface.mesh import function_mesh, mould_surface
-from millpath.plan.surface.cutter import Cutter
+from millpath.geometry.cutter import Cutter
 from millpath.plan.surface.dropcutter import build_index, drop
 
 

@@ -97,7 +97,7 @@ def command(surface: Path, tool_spec: str, points: Path, tool_length: float | No
     """
     from millpath.io.atomic import write_text
     from millpath.part.surface.load import load_surface
-    from millpath.plan.surface.cutter import Cutter
+    from millpath.geometry.cutter import Cutter
     from millpath.plan.surface.dropcutter import build_index, drop
     from millpath.plan.surface.sampler import Sampler
 

@@ -28,7 +28,7 @@ import math
 import numpy as np
 from numba import njit
 
-from millpath.geometry.cutterkind import BALL, BULL, CYL, DRILL, FLAT
+from millpath.geometry.cutter import BALL, BULL, CYL, DRILL, height
 from millpath.geometry.distance import segment_segment_dist2
 
 
@@ -462,15 +462,6 @@ def underside(P0, P1, kind, R, rc, k, zb, box, grow):
     z = min(P0[2], P1[2]) - grow
     if h > R:
         return np.inf
-    if h <= 0.0:
-        return z + (zb if kind == CYL else 0.0)
-    if kind == BALL:
-        return z + R - math.sqrt(R * R - h * h)
-    if kind == BULL and h > R - rc:
-        w = h - (R - rc)
-        return z + rc - math.sqrt(max(rc * rc - w * w, 0.0))
-    if kind == DRILL:
-        return z + min(h * k, k * R)
     if kind == CYL:
         return z + zb
-    return z
+    return z + height(kind, R, rc, k, h if h > 0.0 else 0.0)

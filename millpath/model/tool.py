@@ -82,26 +82,6 @@ class Tool:
             return self.length
         return self.stickout + sum(l for _, l in self.holder)
 
-    def point_depth(self) -> float:
-        """Axial length of a drill's conical point (0 for milling cutters)."""
-        if self.type != "drill":
-            return 0.0
-        return self.radius / math.tan(math.radians(self.point_angle) / 2.0)
-
-    def profile_height(self, r: float) -> float:
-        """Height of the cutter surface above the tip at radial distance ``r`` (r <= D/2)."""
-        R = self.radius
-        if self.type == "flat":
-            return 0.0
-        if self.type == "drill":
-            return r / math.tan(math.radians(self.point_angle) / 2.0)
-        rc = self.corner_radius
-        flat = R - rc
-        if r <= flat:
-            return 0.0
-        d = r - flat
-        return rc - math.sqrt(max(rc * rc - d * d, 0.0))
-
     def holder_cylinders(self) -> list[tuple[float, float, float]]:
         """Shank and holder as ``(radius, z_bottom, z_top)`` above the tip.
 

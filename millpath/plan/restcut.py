@@ -30,14 +30,14 @@ import math
 import numpy as np
 from numba import njit
 
-from millpath.geometry.cutterkind import BALL, BULL, FLAT
+from millpath.geometry.cutter import Cutter, height
 from millpath.model.toolpath import Move, Toolpath, sample_move
 
 @njit(cache=True)
-def meets_stock(P, H, gx, gy, h, R, kind, rc, thr, rin):
+def meets_stock(P, H, gx, gy, h, kind, R, rc, k, thr, rin):
     """For each tip point of ``P`` (n, 3): a cell of the height raster ``H`` (origin
     ``gx, gy``, cell ``h``) within ``R - rin`` of it stands more than ``thr`` above the
-    cutter's surface (``kind`` FLAT, BALL or BULL with corner radius ``rc``)."""
+    cutter's surface (``kind, R, rc, k`` a :class:`~millpath.geometry.cutter.Cutter`'s row)."""
     n = P.shape[0]
     ny, nx = H.shape
     out = np.zeros(n, np.bool_)
@@ -56,14 +56,7 @@ def meets_stock(P, H, gx, gy, h, R, kind, rc, thr, rin):
                 r = math.sqrt((xc - x) ** 2 + (yc - y) ** 2)
                 if r > rr:
                     continue
-                if kind == FLAT:
-                    prof = 0.0
-                elif kind == BALL:
-                    prof = R - math.sqrt(max(R * R - r * r, 0.0))
-                else:
-                    d = r - (R - rc)
-                    prof = 0.0 if d <= 0.0 else rc - math.sqrt(max(rc * rc - d * d, 0.0))
-                if H[j, i] > z + prof + thr:
+                if H[j, i] > z + height(kind, R, rc, k, r) + thr:
                     hit = True
                     break
             if hit:
@@ -86,10 +79,8 @@ class StockRaster:
         self.H = np.ascontiguousarray(remaining.height(X, Y), dtype=float)
 
     def meets(self, P: np.ndarray, tool, thr: float, rin: float) -> np.ndarray:
-        kind = {"ball": BALL, "bull": BULL}.get(tool.type, FLAT)
         return meets_stock(np.ascontiguousarray(P, dtype=float), self.H, self.gx, self.gy,
-                      self.h, float(tool.radius), kind, float(tool.corner_radius or 0.0),
-                      float(thr), float(rin))
+                           self.h, *Cutter.of(tool).row, float(thr), float(rin))
 
     def top_near(self, x: float, y: float, reach: float) -> float:
         """Highest stock within ``reach`` (a square) of (x, y)."""

@@ -27,7 +27,7 @@ import numpy as np
 from numba import njit
 
 from millpath.geometry.convex import depth, may_meet, meets, shape_rings, support_swept, underside
-from millpath.geometry.cutterkind import BALL, CYL, KIND
+from millpath.geometry.cutter import BALL, CYL, Cutter
 from millpath.geometry.distance import (ball_core, core_point_dist2, core_triangle_dist2,
                                         segment_segment_dist2)
 from millpath.geometry.index import (BoxIndex, box_candidates, bucket_range, first_bucket,
@@ -57,9 +57,9 @@ class ToolShapes:
         rows = []
         for t in tools:
             top = min(t.flute_length, t.stickout) if t.stickout > 0 else t.flute_length
-            k = 1.0 / math.tan(math.radians(t.point_angle) / 2.0) if t.type == "drill" else 0.0
-            top = max(top, t.point_depth() + 1e-6, t.corner_radius + 1e-6)
-            shp = [(KIND[t.type], t.radius, t.corner_radius, k, 0.0, top)]
+            c = Cutter.of(t)
+            top = max(top, c.tip_height + 1e-6)
+            shp = [(*c.row, 0.0, top)]
             for r, zb, zt in t.holder_cylinders():
                 shp.append((CYL, r, 0.0, 0.0, zb, zt))
             rows.append(shp)

@@ -16,7 +16,7 @@ exact at every cell centre (to rounding); the only approximation is the chord
 tolerance of arcs and cubics. Flat, ball and drill rows run branch-free so LLVM
 vectorises them; vertical chords and bull-nose cutters take a scalar path.
 
-Tool type codes: 0 flat, 1 ball, 2 bull, 3 drill. Heights never go below the stock
+Tool type codes and the profile ``f`` are :mod:`millpath.geometry.cutter`'s. Heights never go below the stock
 bottom ``zfloor``. The grid is processed in bands of ``B`` rows; each thread owns whole
 bands and visits the chords in program order, so every cell sees the cuts in order
 (needed to tell rapids through material and holder contacts) without locks.
@@ -29,24 +29,7 @@ import math
 import numpy as np
 from numba import njit
 
-from millpath.geometry.cutterkind import BALL, BULL, DRILL, FLAT
-
-
-@njit(cache=True, inline="always")
-def _profile(ttype: int, R: float, rc: float, k: float, d: float) -> float:
-    if ttype == FLAT:
-        return 0.0
-    if ttype == BALL:
-        q = R * R - d * d
-        return R - math.sqrt(q if q > 0.0 else 0.0)
-    if ttype == DRILL:
-        return k * d
-    a = R - rc
-    if d <= a:
-        return 0.0
-    e = d - a
-    q = rc * rc - e * e
-    return rc - math.sqrt(q if q > 0.0 else 0.0)
+from millpath.geometry.cutter import BALL, BULL, DRILL, FLAT, height
 
 
 @njit(cache=True)
@@ -115,7 +98,7 @@ def _envelope(px, py, x0, y0, z0, ux, uy, L, m, sq, ci, ttype, R, rc, k, zcap):
         d2 = dx * dx + dy * dy
         if d2 > R2:
             return np.inf
-        return z0 + _profile(ttype, R, rc, k, math.sqrt(d2))
+        return z0 + height(ttype, R, rc, k, math.sqrt(d2))
     s = dx * ux + dy * uy
     hh = dx * uy - dy * ux
     h2 = hh * hh
@@ -143,7 +126,7 @@ def _envelope(px, py, x0, y0, z0, ux, uy, L, m, sq, ci, ttype, R, rc, k, zcap):
     else:
         # lower bound: lowest Z along the interval plus the profile at the nearest
         # possible radius; if that does not reach the cell, skip the search
-        zlb = z0 + m * (s + (ulo if m > 0.0 else uhi)) + _profile(ttype, R, rc, k, abs(hh))
+        zlb = z0 + m * (s + (ulo if m > 0.0 else uhi)) + height(ttype, R, rc, k, abs(hh))
         if zlb >= zcap:
             return np.inf
         u = _bull_u(R, rc, h2, m, ulo, uhi)
@@ -154,7 +137,7 @@ def _envelope(px, py, x0, y0, z0, ux, uy, L, m, sq, ci, ttype, R, rc, k, zcap):
     d = math.sqrt(h2 + u * u)
     if d > R:
         d = R
-    return z0 + m * (s + u) + _profile(ttype, R, rc, k, d)
+    return z0 + m * (s + u) + height(ttype, R, rc, k, d)
 
 
 @njit(cache=True, inline="always")

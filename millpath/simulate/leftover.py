@@ -18,7 +18,7 @@ import numpy as np
 from numba import njit
 
 from millpath.geometry.convex import may_meet, meets, shape_rings, underside
-from millpath.geometry.cutterkind import BALL
+from millpath.geometry.cutter import BALL
 from millpath.geometry.distance import (ball_core, core_point_dist2, core_segment_dist2,
                                         point_triangle_dist2, ray_triangle,
                                         segment_segment_dist2)

@@ -16,13 +16,12 @@ bottom (or ``-inf``: through holes) count as the stock bottom.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
-from millpath.geometry.cutterkind import BALL, BULL, DRILL, FLAT
+from millpath.geometry.cutter import Cutter
 from millpath.model.motion import Motion
 from millpath.model.stock import Machine, Stock
 from millpath.model.tool import Tool
@@ -36,7 +35,6 @@ from millpath.simulate.path import Segments, motion_blocks, motion_segments, too
 from millpath.simulate.zmap import ZMap
 from millpath.threads import per_thread
 
-_TYPE = {"flat": FLAT, "ball": BALL, "bull": BULL, "drill": DRILL}
 BAND = 32                     # rows per band (and block width of the skip test)
 CHUNK = 20_000                # chords per kernel call (progress granularity)
 MOTION_BLOCK = 100_000        # motions turned into chords at a time (bounds memory)
@@ -134,12 +132,7 @@ def _tool_arrays(numbers: list[int], tools: dict[int, Tool]):
     hZ = np.zeros((n, mh))
     hN = np.zeros(n, np.int64)
     for s, t in enumerate(numbers):
-        tool = tools[t]
-        ttype[s] = _TYPE[tool.type]
-        tR[s] = tool.radius
-        trc[s] = tool.corner_radius
-        if tool.type == "drill":
-            tk[s] = 1.0 / math.tan(math.radians(tool.point_angle) / 2.0)
+        ttype[s], tR[s], trc[s], tk[s] = Cutter.of(tools[t]).row
         hN[s] = len(cyl[s])
         for c, (r, zb, _zt) in enumerate(cyl[s]):
             hR[s, c] = r

@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from millpath.geometry.cutter import Cutter
 from millpath.errors import MillpathError
 from millpath.io.schema import validate
 from millpath.model import Machine, Tool
@@ -72,7 +73,7 @@ def test_block_holes_slot_drills_matching_holes_and_mills_the_slot(planned):
     assert [(m.end[0], m.end[1]) for m in drills] == [(25.0, 20.0), (95.0, 20.0)]
     assert all(tp.tool_of(m) == 4 for m in drills)
     # through: the full diameter leaves the bottom face
-    assert all(m.end[2] + TOOLS_MM[4].point_depth() < 0.0 for m in drills)
+    assert all(m.end[2] + Cutter.of(TOOLS_MM[4]).tip_height < 0.0 for m in drills)
     slot_tool = tp.ops[0].tool
     assert TOOLS_MM[slot_tool].diameter <= 25.0
     assert r.report["features"]["tool_changes"] == len(tp.ops) == 2
@@ -240,7 +241,7 @@ def test_flat_holes_are_drilled_then_flattened_when_the_drill_comes_first(tmp_pa
     else:
         assert [(p["strategy"], p["tool"]) for p in hole] == [("drill", 8), ("flatten", 3)]
         flatten = hole[1]
-        assert flatten["z_start"] == pytest.approx(8.0 + TOOLS_MM[8].point_depth())
+        assert flatten["z_start"] == pytest.approx(8.0 + Cutter.of(TOOLS_MM[8]).tip_height)
     assert len(r.toolpath.ops) == len({op.tool for op in r.toolpath.ops})
     st = r.stock
     sim = simulate_toolpath(r.toolpath, TOOLS_MM, st, resolution=0.2, design=r.design)

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 import shapely
 
+from millpath.geometry.cutter import Cutter
 from millpath.job.jobfile import load_job
 from millpath.model.toolpath import sample_move
 from millpath.plan.base import PlanContext
@@ -60,7 +61,7 @@ def brute_force_gouge(P: np.ndarray, tool, surface) -> float:
     R = tool.radius
     rr, th = np.meshgrid(np.linspace(0, R, 13), np.linspace(0, 2 * np.pi, 49)[:-1])
     ox, oy = (rr * np.cos(th)).ravel(), (rr * np.sin(th)).ravel()
-    prof = np.array([tool.profile_height(r) for r in np.hypot(ox, oy)])
+    prof = Cutter.of(tool).height(np.hypot(ox, oy))
     worst = -np.inf
     for k in range(0, len(P), 2000):
         Q = P[k:k + 2000]

@@ -47,6 +47,7 @@ def plunge_violations(motions, tools, stock, resolution: float) -> list[str]:
     simulation of every motion before it (millpath.simulate, independent of the
     planners) still has material more than 1 % of the tool diameter above the cutter's
     surface (tip at the move's end) within half a radius of its axis."""
+    from millpath.geometry.cutter import Cutter
     from millpath.simulate.path import Segments, motion_segments
     from millpath.simulate.simulator import sweep
     from millpath.simulate.zmap import ZMap
@@ -72,7 +73,7 @@ def plunge_violations(motions, tools, stock, resolution: float) -> list[str]:
         near = rho <= 0.5 * t.radius
         if not near.any():
             continue
-        cutter = e[2] + np.array([t.profile_height(float(r)) for r in rho[near]])
+        cutter = e[2] + Cutter.of(t).height(rho[near])
         over = zmap.heights[near] - cutter
         top = float(zmap.heights[near][np.argmax(over)])
         if over.max() > 0.01 * t.diameter:

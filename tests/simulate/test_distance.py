@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from millpath.geometry.convex import depth, meets, shape_rings
-from millpath.geometry.cutterkind import BALL, FLAT
+from millpath.geometry.cutter import BALL, FLAT
 from millpath.geometry.distance import (ball_core, core_point_dist2, core_segment_dist2,
                                         core_triangle_dist2, point_triangle_dist2,
                                         segment_triangle_dist2, triangle_triangle_dist2)

@@ -7,6 +7,7 @@ import math
 import numpy as np
 import pytest
 
+from millpath.geometry.cutter import Cutter
 from millpath.model.motion import Motion
 from millpath.model import Operation, Stock, Tool, Toolpath
 from millpath.simulate import simulate_motions, simulate_toolpath
@@ -17,7 +18,8 @@ TOOLS = [Tool(1, "flat", 6.0), Tool(2, "ball", 6.0), Tool(3, "bull", 6.0, corner
 
 
 def _profile(tool: Tool, r: np.ndarray) -> np.ndarray:
-    """Tool.profile_height on arrays (checked against it below)."""
+    """The cutter's surface above the tip, written out per shape (checked against
+    :class:`~millpath.geometry.cutter.Cutter` below)."""
     R, rc = tool.radius, tool.corner_radius
     if tool.type == "flat":
         return np.zeros_like(r)
@@ -28,9 +30,9 @@ def _profile(tool: Tool, r: np.ndarray) -> np.ndarray:
 
 
 @pytest.mark.parametrize("tool", TOOLS, ids=lambda t: t.type)
-def test_array_profile_matches_tool_profile_height(tool):
+def test_array_profile_matches_the_cutter(tool):
     r = np.linspace(0.0, tool.radius, 37)
-    assert _profile(tool, r) == pytest.approx([tool.profile_height(v) for v in r], abs=1e-12)
+    assert _profile(tool, r) == pytest.approx(Cutter.of(tool).height(r), abs=1e-12)
 
 
 def _brute(tool: Tool, a, b, xs, ys, top, n=1001):

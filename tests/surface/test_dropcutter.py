@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from millpath.part.surface.mesh import Mesh, function_mesh, grid_triangles, random_mesh
-from millpath.plan.surface.cutter import Cutter
+from millpath.geometry.cutter import Cutter
 from millpath.plan.surface.dropcutter import MeshHeight, build_index, drop
 
 CUTTERS = {"ball": Cutter(3.0, 3.0), "flat": Cutter(3.0, 0.0), "bull": Cutter(3.0, 1.0)}

@@ -22,8 +22,7 @@ from millpath.part.surface.mesh import Mesh, function_mesh
 from millpath.plan.base import PlanContext
 from millpath.plan.surface import operation as finish_op
 from millpath.plan.surface import rough as rough_op
-from millpath.plan.surface.cutter import Cutter
-from millpath.plan.surface.dropcutter import build_index
+from millpath.plan.surface.dropcutter import build_index, surface_cutter
 from millpath.plan.surface.sampler import Sampler
 from millpath.plan.surface.toolchoice import choose_tool, mesh_concave_radius
 from millpath.post.writer import post_with_lines
@@ -98,7 +97,7 @@ def test_published_side_step_holds_h_with_more_passes_than_variable(variable, pu
 def test_every_cutting_point_sits_on_the_drop_cutter_surface(variable):
     res, _ = variable
     mesh = load_surface(NET, 60, Path("."))
-    s = Sampler(build_index(mesh), Cutter.from_tool(TOOLS[1]), 0.0,
+    s = Sampler(build_index(mesh), surface_cutter(TOOLS[1]), 0.0,
                 tuple(TOOLS[1].holder_cylinders()), z_floor=float(mesh.bounds[0][2]))
     ends = np.array([m.end for m in res.toolpath.moves if m.kind == "line"])
     z, _ = s.z_safe(ends[:, 0], ends[:, 1])
@@ -110,7 +109,7 @@ def test_every_cutting_point_sits_on_the_drop_cutter_surface(variable):
 def test_feed_steps_verified_at_the_midpoint_within_tolerance(variable):
     res, _ = variable
     mesh = load_surface(NET, 60, Path("."))
-    s = Sampler(build_index(mesh), Cutter.from_tool(TOOLS[1]), 0.0)
+    s = Sampler(build_index(mesh), surface_cutter(TOOLS[1]), 0.0)
     P = np.array([m.end for m in res.toolpath.moves])
     a, b = P[:-1], P[1:]
     cut = np.array([m.kind == "line" for m in res.toolpath.moves[1:]])

@@ -10,7 +10,7 @@ import numpy as np
 
 from millpath.part.surface.mesh import function_mesh
 from millpath.plan.surface import zigzag as zz
-from millpath.plan.surface.cutter import Cutter
+from millpath.geometry.cutter import Cutter
 from millpath.plan.surface.dropcutter import build_index, drop
 from millpath.plan.surface.sampler import Sampler
 from millpath.plan.surface.waterline import WaterlineSettings, waterline

@@ -13,7 +13,7 @@ from millpath.errors import GeometryError, JobError, MillpathError
 from millpath.part.surface.bezier import BezierPatch
 from millpath.part.surface.load import load_surface
 from millpath.part.surface.mesh import function_mesh, write_stl
-from millpath.plan.surface.cutter import Cutter
+from millpath.geometry.cutter import Cutter
 from millpath.plan.surface.dropcutter import MeshHeight, build_index, drop
 
 BALL = Cutter(3.0, 3.0)

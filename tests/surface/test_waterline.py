@@ -16,7 +16,7 @@ from millpath.job.jobfile import load_job
 from millpath.part.surface.mesh import function_mesh, write_stl
 from millpath.plan.base import PlanContext
 from millpath.plan.surface import operation
-from millpath.plan.surface.cutter import Cutter
+from millpath.geometry.cutter import Cutter
 from millpath.plan.surface.dropcutter import build_index, drop
 from millpath.plan.surface.sampler import Sampler
 from millpath.plan.surface.waterline import WaterlineSettings, waterline

@@ -53,6 +53,7 @@ from typing import Any
 import numpy as np
 
 from millpath.errors import JobError, PlanningError
+from millpath.geometry.cutter import Cutter
 from millpath.io.schema import Param
 from millpath.model import Operation, Stock, Tool, Toolpath
 from millpath.part.step.ap224 import read_part
@@ -382,7 +383,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
             start = _material_top(t.shape, done, z_top)
             if t.strategy == "flatten":
                 d = drilled[t.shape.id]
-                start = min(start, t.shape.z_bottom + d.point_depth())
+                start = min(start, t.shape.z_bottom + Cutter.of(d).tip_height)
             rec = _cut(tp, t, tool, sp, h, start, stock, data.chip_breaking, allowance,
                        stepover, step_down, breakthrough, cusp)
             if t.strategy == "drill" and isinstance(t.shape, HoleShape) \
@@ -595,7 +596,7 @@ def _cut(tp: Toolpath, t: _Task, tool: Tool, sp, h: paths.Heights, z_start: floa
     if isinstance(s, HoleShape):
         floor = stock.zmin - breakthrough if s.bottom == "through" else s.z_bottom
         if t.strategy == "drill":
-            tip = floor - (tool.point_depth() if s.bottom == "through" else 0.0)
+            tip = floor - (Cutter.of(tool).tip_height if s.bottom == "through" else 0.0)
             depth = z_start - tip          # drilled length in material
             if depth > 3 * tool.diameter:
                 cycle = "G73" if chip_breaking and depth <= 6 * tool.diameter else "G83"

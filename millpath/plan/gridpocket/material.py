@@ -22,19 +22,8 @@ import math
 
 import numpy as np
 
+from millpath.geometry.cutter import Cutter
 from millpath.model import Tool
-
-
-def profile(tool: Tool, r: np.ndarray) -> np.ndarray:
-    """Height of the cutter surface above the tip at radii ``r`` (clipped to [0, R])."""
-    r = np.clip(np.asarray(r, float), 0.0, tool.radius)
-    if tool.type == "flat":
-        return np.zeros_like(r)
-    if tool.type == "drill":
-        return r / math.tan(math.radians(tool.point_angle) / 2.0)
-    rc = tool.corner_radius if tool.type == "bull" else tool.radius
-    d = np.maximum(r - (tool.radius - rc), 0.0)
-    return rc - np.sqrt(np.maximum(rc * rc - d * d, 0.0))
 
 
 class MaterialBound:
@@ -44,6 +33,7 @@ class MaterialBound:
     def __init__(self, bounds, tool: Tool, top: float, spacing: float, lift: float,
                  decimals: int = 6):
         self.tool = tool
+        self.cutter = Cutter.of(tool)
         self.top = float(top)
         self.g = float(spacing)
         self.r0 = self.g / math.sqrt(2.0)
@@ -84,7 +74,7 @@ class MaterialBound:
             i, j, ok = self._window(c[:, 0], c[:, 1], R)
             d = np.hypot(self.x0 + i * self.g - c[:, :1], self.y0 + j * self.g - c[:, 1:2])
             ok &= d <= R - self.r0
-            v = c[:, 2:3] + profile(self.tool, d + self.r0) + self.lift
+            v = c[:, 2:3] + self.cutter.height(d + self.r0) + self.lift
             np.minimum.at(self.h, (i[ok], j[ok]), v[ok])
 
     def need_segment(self, a, b) -> float:
@@ -110,7 +100,7 @@ class MaterialBound:
         near = d <= R + self.r0
         if not near.any():
             return -math.inf
-        need = self.h[i[near], j[near]] - profile(self.tool, np.maximum(d[near] - self.r0, 0.0))
+        need = self.h[i[near], j[near]] - self.cutter.height(np.maximum(d[near] - self.r0, 0.0))
         return float(need.max())
 
     def need_at(self, p) -> float:

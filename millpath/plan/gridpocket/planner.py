@@ -27,6 +27,7 @@ import shapely
 from shapely.geometry import LineString, Polygon
 
 from millpath.errors import JobError
+from millpath.geometry.cutter import Cutter
 from millpath.model import Operation, Tool, Toolpath
 from millpath.model.toolpath import sample_move
 from millpath.plan.gridpocket.cells import PocketGrid, build_grid, check_grid
@@ -121,7 +122,7 @@ class _Builder:
         # clearance above cleared material: a tenth of the diameter plus the highest cusp
         # a ball or bull leaves between cell centres (half a cell diagonal from a pass)
         half_diag = min(spec.tool.radius, math.hypot(spec.dx, spec.dy) / 2.0)
-        self.clear = 0.1 * spec.tool.diameter + spec.tool.profile_height(half_diag)
+        self.clear = 0.1 * spec.tool.diameter + Cutter.of(spec.tool).height(half_diag)
         self.stats = _Stats()
         self.phase = ""
         # what the plan has left: links go over it (fit deviation and rounding lifted)

@@ -38,12 +38,11 @@ class ZField:
         self.mesh_error = 0.0
         if mode == "tool":
             from millpath.part.surface.mesh import Mesh
-            from millpath.plan.surface.cutter import Cutter
-            from millpath.plan.surface.dropcutter import build_index
+            from millpath.plan.surface.dropcutter import build_index, surface_cutter
             if tool.type == "drill":
                 raise PlanningError(f"tool {tool.number}: a drill cannot mill a pocket "
                                     "(use a flat, ball or bull end mill)", file)
-            self._cutter = Cutter.from_tool(tool)
+            self._cutter = surface_cutter(tool)
             xmin, ymin, xmax, ymax = box
             pad = 1.05 * tool.radius
             h = min(tool.radius / 4.0, max(xmax - xmin, ymax - ymin) / 64.0)

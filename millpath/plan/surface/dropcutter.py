@@ -4,7 +4,7 @@ For a point (x, y) the drop-cutter returns the lowest tool-tip Z at which the cu
 touches the mesh without cutting into it, i.e. the maximum over all triangles of the
 contact Z, and the contact point. Units are the mesh's (job units); the tool axis is +Z.
 
-The cutter is its profile (:class:`~millpath.plan.surface.cutter.Cutter`: radius R,
+The cutter is its profile (:class:`~millpath.geometry.cutter.Cutter`: radius R,
 corner radius rc, flat part a = R - rc). The algorithm is written once for that profile:
 
 - vertex: ``z = pz - h(d)`` for vertices at horizontal distance ``d <= R``;
@@ -42,8 +42,9 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
+from millpath.model.tool import Tool
 from millpath.part.surface.mesh import Mesh
-from millpath.plan.surface.cutter import Cutter
+from millpath.geometry.cutter import BULL, DRILL, Cutter, height
 from millpath.threads import over_range
 
 
@@ -187,18 +188,6 @@ def _inside_xy(tri, t, px, py, rel_eps):
 
 
 @njit(cache=True)
-def _h(r, rc, a):
-    """Profile height above the tip at radial distance r (corner rc, flat part a)."""
-    if r <= a:
-        return 0.0
-    dd = r - a
-    if dd > rc:
-        dd = rc
-    s = rc * rc - dd * dd
-    return rc - math.sqrt(s if s > 0.0 else 0.0)
-
-
-@njit(cache=True)
 def _bull_v(d, m, rc, a):
     """Stationary point |v| of f(v) = m v - h(sqrt(d^2 + v^2)) for a torus profile.
 
@@ -248,7 +237,7 @@ def _drop_one(x, y, R, rc, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts, 
         dy = wy - y
         d2 = dx * dx + dy * dy
         if d2 < R2:
-            best = wz - _h(math.sqrt(d2), rc, a)
+            best = wz - height(BULL, R, rc, 0.0, math.sqrt(d2))
             ccx = wx
             ccy = wy
             ccz = wz
@@ -288,7 +277,7 @@ def _drop_one(x, y, R, rc, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts, 
             dcell = math.sqrt(ddx * ddx + ddy * ddy)
             if dcell >= R:
                 continue
-            bound = ztop[items[k0]] - _h(dcell, rc, a)
+            bound = ztop[items[k0]] - height(BULL, R, rc, 0.0, dcell)
             if bound <= best:
                 continue
             j = m                                   # insertion into cb (descending)
@@ -317,7 +306,7 @@ def _drop_one(x, y, R, rc, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts, 
                 db2 = ddx * ddx + ddy * ddy
                 if db2 >= R2:
                     continue
-                if ztop[t] - _h(math.sqrt(db2), rc, a) <= best:
+                if ztop[t] - height(BULL, R, rc, 0.0, math.sqrt(db2)) <= best:
                     continue
                 # the drop onto the triangle's whole plane (contact at px, py, pz; tool
                 # tip at ``tip``) bounds the drop onto it, and is the facet's own drop
@@ -351,7 +340,7 @@ def _drop_one(x, y, R, rc, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts, 
                     dy = tri[t, i, 1] - y
                     d2 = dx * dx + dy * dy
                     if d2 <= R2:
-                        z = vz - _h(math.sqrt(d2), rc, a)
+                        z = vz - height(BULL, R, rc, 0.0, math.sqrt(d2))
                         if z > best:
                             best = z
                             ccx = tri[t, i, 0]
@@ -401,7 +390,7 @@ def _drop_one(x, y, R, rc, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts, 
                         continue
                     m = (z2 - z1) / L
                     zl = z1 + m * (hi if m > 0.0 else lo)
-                    if zl - _h(d, rc, a) <= best:
+                    if zl - height(BULL, R, rc, 0.0, d) <= best:
                         continue      # bound: highest edge point, nearest distance
                     vlo = lo - uc
                     vhi = hi - uc
@@ -422,7 +411,7 @@ def _drop_one(x, y, R, rc, tri, box, ztop, plane, x0, y0, cell, nx, ny, starts, 
                             v = vhi
                     u = uc + v
                     zl = z1 + m * u
-                    z = zl - _h(math.sqrt(d * d + v * v), rc, a)
+                    z = zl - height(BULL, R, rc, 0.0, math.sqrt(d * d + v * v))
                     if z > best:
                         best = z
                         ccx = x1 + tx * u
@@ -484,6 +473,9 @@ class DropResult:
 def drop(index: MeshIndex, cutter: Cutter, xy, z_floor: float = -np.inf) -> DropResult:
     """Drop ``cutter`` onto the indexed mesh at each of the points ``xy`` (``(n, 2)``,
     job units); return tip Z (at least ``z_floor``) and contact points."""
+    if cutter.kind == DRILL:
+        raise ValueError("a drill's cone has no drop-cutter contact: use a flat, ball or "
+                         "bull-nose cutter")
     pts = np.ascontiguousarray(np.asarray(xy, dtype=np.float64).reshape(-1, 2))
     z = np.empty(len(pts))
     cc = np.empty((len(pts), 3))
@@ -501,6 +493,13 @@ def drop(index: MeshIndex, cutter: Cutter, xy, z_floor: float = -np.inf) -> Drop
     if z_floor > -np.inf:
         np.maximum(z, z_floor, out=z)
     return DropResult(z, cc)
+
+
+def surface_cutter(tool: Tool) -> Cutter:
+    """The cutter of ``tool`` for drop-cutter queries; a drill is a ValueError."""
+    if tool.type == "drill":
+        raise ValueError(f"tool {tool.number}: a drill cannot finish surfaces")
+    return Cutter.of(tool)
 
 
 def drop_z(index: MeshIndex, cutter: Cutter, x, y, z_floor: float = -np.inf) -> np.ndarray:

@@ -40,8 +40,8 @@ from millpath.errors import JobError, PlanningError
 from millpath.io.schema import Param
 from millpath.model.toolpath import Operation, Toolpath
 from millpath.plan.base import PlanContext, PlanResult
-from millpath.plan.surface.cutter import Cutter
-from millpath.plan.surface.dropcutter import MeshHeight
+from millpath.geometry.cutter import BULL, Cutter
+from millpath.plan.surface.dropcutter import MeshHeight, surface_cutter
 from millpath.plan.surface.estimate import CoarseRaster, Estimate, estimate_finish
 from millpath.plan.surface.linking import add_passes
 from millpath.plan.surface.sampler import Sampler
@@ -128,7 +128,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     else:
         raise JobError("tool: give a tool number or choose_tool = true", file)
     try:
-        cutter = Cutter.from_tool(tool)
+        cutter = surface_cutter(tool)
     except ValueError as e:
         raise PlanningError(str(e), file) from None
     _refuse_flat(cutter, tool, file)
@@ -222,8 +222,8 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     n_lifted = (zres.n_lifted if zres is not None else 0) + removed.get("holder", 0)
     section = {
         "strategy": strategy,
-        "tool": tool.number, "cutter": f"{cutter.kind} D{2 * cutter.radius:g}"
-        + (f" r{cutter.corner:g}" if cutter.kind == "bull" else ""),
+        "tool": tool.number, "cutter": f"{cutter.name} D{2 * cutter.radius:g}"
+        + (f" r{cutter.corner:g}" if cutter.kind == BULL else ""),
         "triangles": len(mesh), "region": list(map(float, region)),
         "tolerance": tol, "scallop": scallop, "angle": params["angle"],
         "side_step": params["side_step"],
@@ -302,7 +302,7 @@ def refuse_impossible(est: Estimate, sampler: Sampler, region, strategy: str,
             break
     raise PlanningError(
         f"scallop {scallop:g} {unit} needs about {n:,} {what} with a {d:g} {unit} "
-        f"{sampler.cutter.kind} (at most {limit:,} are planned); "
+        f"{sampler.cutter.name} (at most {limit:,} are planned); "
         + (f"scallop {h2:g} {unit} needs about {n2:,}; or use a larger ball"
            if n2 <= limit else f"even scallop {h2:g} {unit} needs about {n2:,} (the "
            "slopes set the step)")
@@ -334,7 +334,7 @@ def preflight(ctx: PlanContext, params: dict) -> None:
     mesh = load_op_surface(ctx, params)
     tool = ctx.tool(params["tool"], "tool")
     try:
-        cutter = Cutter.from_tool(tool)
+        cutter = surface_cutter(tool)
     except ValueError:
         return
     _refuse_flat(cutter, tool, ctx.job_file)

@@ -18,7 +18,7 @@ import math
 import numpy as np
 from scipy import ndimage
 
-from millpath.geometry.cutterkind import BALL, BULL, FLAT
+from millpath.geometry.cutter import Cutter
 from millpath.plan.restcut import meets_stock
 from millpath.plan.surface.zigzag import Pass
 
@@ -41,14 +41,13 @@ def rest_passes(passes: list[Pass], remaining, tool, threshold: float,
     # higher (on a slope), and skipping must err toward cutting
     H = np.ascontiguousarray(ndimage.maximum_filter(remaining.height(X, Y), size=3),
                              dtype=float)
-    kind = {"flat": FLAT, "ball": BALL, "bull": BULL}.get(tool.type, FLAT)
     out: list[Pass] = []
     kept = total = 0
     for p in passes:
         P = np.ascontiguousarray(p.points, dtype=float)
         if not len(P):
             continue
-        t = meets_stock(P, H, x0, y0, h, R, kind, float(tool.corner_radius), threshold, 0.0)
+        t = meets_stock(P, H, x0, y0, h, *Cutter.of(tool).row, threshold, 0.0)
         total += len(P)
         if not t.any():
             continue

@@ -33,8 +33,8 @@ from millpath.errors import JobError, PlanningError
 from millpath.io.schema import Param
 from millpath.model.toolpath import Operation, Toolpath
 from millpath.plan.base import PlanContext, PlanResult
-from millpath.plan.surface.cutter import Cutter
-from millpath.plan.surface.dropcutter import MeshHeight
+from millpath.geometry.cutter import Cutter
+from millpath.plan.surface.dropcutter import MeshHeight, surface_cutter
 from millpath.plan.surface.estimate import (ROUGH_MAX_RASTER, CoarseRaster,
                                             RoughEstimate, estimate_rough)
 from millpath.plan.surface.linking import add_passes
@@ -201,14 +201,7 @@ def _stock_top_near(remaining, tool, tol: float):
     r = np.hypot(ox, oy)
     inside = r <= R
     ox, oy, r = ox[inside], oy[inside], r[inside]
-    if tool.type == "ball":
-        prof = R - np.sqrt(np.maximum(R * R - r * r, 0.0))
-    elif tool.type == "bull":
-        rc = tool.corner_radius
-        d = np.maximum(r - (R - rc), 0.0)
-        prof = rc - np.sqrt(np.maximum(rc * rc - d * d, 0.0))
-    else:
-        prof = np.zeros_like(r)
+    prof = Cutter.of(tool).height(r)
 
     def top(p) -> float:
         t = float(np.max(remaining.height(p[0] + ox, p[1] + oy) - prof))
@@ -227,7 +220,7 @@ def _settings(ctx: PlanContext, params: dict):
         raise JobError("tool: give the roughing tool's number", file)
     tool = ctx.tool(params["tool"], "tool")
     try:
-        cutter = Cutter.from_tool(tool)
+        cutter = surface_cutter(tool)
     except ValueError as e:
         raise PlanningError(str(e), file) from None
     lo, hi = mesh.bounds
@@ -324,7 +317,7 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     design = MeshHeight(index)
     section = {
         "operation": params["name"], "tool": tool.number,
-        "cutter": f"{cutter.kind} D{2 * cutter.radius:g}", "layers": len(levels),
+        "cutter": f"{cutter.name} D{2 * cutter.radius:g}", "layers": len(levels),
         "levels": [round(z, 4) for z in levels], "stepdown": stepdown,
         "stepover": step_over, "allowance": allowance, "pieces": len(passes),
         "retracts": links["retract"], "estimate": est.to_json(),

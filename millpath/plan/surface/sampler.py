@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from millpath.plan.surface.cutter import Cutter
+from millpath.geometry.cutter import Cutter
 from millpath.plan.surface.dropcutter import MeshIndex, build_index, drop
 
 

@@ -12,8 +12,7 @@ import numpy as np
 
 from millpath.geometry.rows import unique_rows
 from millpath.model.tool import Tool
-from millpath.plan.surface.cutter import Cutter
-from millpath.plan.surface.dropcutter import MeshIndex
+from millpath.plan.surface.dropcutter import MeshIndex, surface_cutter
 from millpath.plan.surface.sampler import Sampler
 
 #: concave edges sharper than this percentile are taken as faceting of the mesh (a
@@ -24,7 +23,7 @@ CURVATURE_PERCENTILE = 99.5
 def holder_collisions(index: MeshIndex, tool: Tool, region, spacing: float) -> int:
     """Number of grid points (``spacing`` apart over ``region``) where the shank or the
     holder of ``tool`` would touch the surface with the cutter on it."""
-    s = Sampler(index, Cutter.from_tool(tool), holder=tuple(tool.holder_cylinders()))
+    s = Sampler(index, surface_cutter(tool), holder=tuple(tool.holder_cylinders()))
     x0, y0, x1, y1 = region
     X, Y = np.meshgrid(np.arange(x0, x1 + 1e-12, spacing), np.arange(y0, y1 + 1e-12, spacing))
     _, lifted = s.z_safe(X.ravel(), Y.ravel())

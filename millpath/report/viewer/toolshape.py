@@ -10,39 +10,19 @@ ball, bull-nose or drill point). The shank and holder are cylinders
 
 from __future__ import annotations
 
-import math
-
+from millpath.geometry.cutter import Cutter
 from millpath.model.tool import Tool
 
 
 def cutter_profile(tool: Tool, steps: int = 12) -> list[tuple[float, float]]:
-    """``(r, z)`` outline of the cutting part from the tip to the top of the flutes.
-
-    Flat: the end face then the flank. Ball and bull: the corner arc of radius
-    ``corner_radius`` sampled every ``90 / steps`` degrees. Drill: the cone of
-    ``point_angle``.
-    """
-    R = tool.radius
-    out: list[tuple[float, float]] = [(0.0, 0.0)]
-    if tool.type == "flat":
-        out.append((R, 0.0))
-        tip_height = 0.0
-    elif tool.type == "drill":
-        tip_height = tool.point_depth()
-        out.append((R, tip_height))
-    else:                                  # ball, bull: corner arc of radius rc
-        rc = tool.corner_radius
-        flat = R - rc
-        if flat > 0:
-            out.append((flat, 0.0))
-        for k in range(1, steps + 1):
-            t = 0.5 * math.pi * k / steps
-            out.append((flat + rc * math.sin(t), rc - rc * math.cos(t)))
-        tip_height = rc
-    top = max(tool.flute_length, tip_height)
-    if top > tip_height:
-        out.append((R, top))
-    return [(float(r), float(z)) for r, z in out]
+    """``(r, z)`` outline of the cutting part from the tip to the top of the flutes: the
+    cutter's profile (:meth:`millpath.geometry.cutter.Cutter.outline`, a corner sampled
+    every ``90 / steps`` degrees), then the flank up to ``Tool.flute_length``."""
+    cutter = Cutter.of(tool)
+    out = cutter.outline(steps)
+    if tool.flute_length > cutter.tip_height:
+        out.append((float(cutter.radius), float(tool.flute_length)))
+    return out
 
 
 def tool_shape(tool: Tool) -> dict:
