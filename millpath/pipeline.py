@@ -319,10 +319,18 @@ def _run(job_path: str | Path, outdir: str | Path, prog: Progress, force: bool,
                                           "drill": 0})
         if m.kind in c:
             c[m.kind] += 1
+    n_lines = program.count("\n")
+    op_lines = lmap.line_counts(n_lines, len(tp.ops))
+    use = [None] * len(tp.ops)
+    if sim is not None and sim.removes is not None:
+        from millpath.simulate.airtime import time_use
+        use = time_use(motions, times, sim.removes, motion_op, len(tp.ops))
     report.operations = [
         OperationSection(o.type, o.name, o.tool, o.spindle, counts_by_op.get(i, {}),
-                         op_secs[i], o.info.get("in_process"))
+                         op_secs[i], o.info.get("in_process"), op_lines[i], use[i])
         for i, o in enumerate(tp.ops)]
+    job_ops = [i for i, r in enumerate(results) for _ in r.toolpath.ops]
+    _warn_time(job, report.operations, job_ops)
     report.plans = [PlanSection(i, op_type, r.report)
                     for i, ((op_type, _), r) in enumerate(zip(job.operations, results))]
 
@@ -374,6 +382,30 @@ def _run(job_path: str | Path, outdir: str | Path, prog: Progress, force: bool,
                                  f"{out}; --force writes program.unsafe{d.extension})",
                                  job.path, written, problems)
     return RunResult(job, tp, program, written, files, time.perf_counter() - t0)
+
+
+def _warn_time(job: Job, sections, job_ops: list[int]) -> None:
+    """A warning for each operation feeding through air over a third of its time or
+    running over two hours, at the line of the job's operation, naming its keys that
+    change it."""
+    from millpath.io.tomllines import key_lines, line_of
+    from millpath.plan.registry import time_keys
+    from millpath.simulate.airtime import time_note
+    lines = None
+    for k, sec in enumerate(sections):
+        note = time_note(sec.to_json())
+        if note is None or k >= len(job_ops):
+            continue
+        if lines is None:
+            lines = key_lines(Path(job.path).read_text()) if job.path else {}
+        text, air, long = note
+        i = job_ops[k]
+        op_type = job.operations[i][0]
+        keys = time_keys(op_type, air=air, long=long)
+        where = f"operations[{i}]"
+        warn(f"{where} ({op_type}, {sec.name}): {text}"
+             + (f"; {', '.join(keys)} change it" if keys else ""),
+             job.path, line_of(where + ":", lines))
 
 
 def _references(job: Job, results: list[PlanResult], stock: Stock, tp: Toolpath):

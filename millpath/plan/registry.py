@@ -28,3 +28,16 @@ def strategy(op_type: str, where: str = "operations", file=None) -> ModuleType:
         raise JobError(f"{where}.type: unknown operation type {op_type!r} "
                        f"(known: {', '.join(sorted(STRATEGIES))})", file)
     return importlib.import_module(STRATEGIES[op_type])
+
+
+#: keys that change an operation's air time, then its length, in the order to try them
+AIR_KEYS = ("strategy", "region", "rest", "entry", "safe_z")
+LONG_KEYS = ("scallop", "side_step", "stepover", "stepdown", "feed")
+
+
+def time_keys(op_type: str, *, air: bool, long: bool) -> list[str]:
+    """The keys of ``op_type`` that change its air time (``air``) and its length
+    (``long``), as its schema has them."""
+    params = strategy(op_type).PARAMS
+    want = (AIR_KEYS if air else ()) + (LONG_KEYS if long else ())
+    return [k for k in dict.fromkeys(want) if k in params]

@@ -57,6 +57,13 @@ class LineMap:
             return np.zeros(len(motions), np.int64)
         return self.moves[self._index([m.line for m in motions])]
 
+    def line_counts(self, n_lines: int, n_ops: int) -> list[int]:
+        """How many of the program's lines ``1 .. n_lines`` each operation carries out."""
+        if not len(self.lines) or n_lines <= 0:
+            return [0] * n_ops
+        ops = self.ops[self._index(np.arange(1, n_lines + 1))]
+        return np.bincount(ops, minlength=n_ops)[:n_ops].tolist()
+
     def first_lines(self) -> dict[int, int]:
         """Each operation's first program line."""
         out: dict[int, int] = {}

@@ -2,7 +2,8 @@
 
 A run's :class:`RunReport` holds the job's figures (program size, moves, stock, fit,
 cycle time), one :class:`OperationSection` per operation of the tool path (a tool and
-a phase of a strategy: moves, cycle time, in-process stock figures), one
+a phase of a strategy: moves, program lines, cycle time and where it goes, in-process
+stock figures), one
 :class:`PlanSection` per ``[[operations]]`` entry of the job (what its strategy
 reported, under the strategy's own keys, e.g. ``features``, ``surface_finish``,
 ``pocket``, ``curve``), the verification section as the simulator wrote it (a plain
@@ -33,11 +34,17 @@ class OperationSection:
     moves: dict[str, int]                 # counts by kind (MOVE_KINDS)
     cycle_time_s: float                   # of the interpreted program
     in_process: dict | None = None        # in-process stock figures, when carried
+    lines: int | None = None              # program lines it carries out
+    time: dict | None = None              # simulate.airtime.time_use's figures
 
     def to_json(self) -> dict:
         d = {"type": self.type, "name": self.name, "tool": self.tool,
              "spindle": self.spindle, "moves": self.moves,
              "cycle_time_s": round(self.cycle_time_s, 3)}
+        if self.lines is not None:
+            d["lines"] = self.lines
+        if self.time is not None:
+            d["time"] = self.time
         if self.in_process is not None:
             d["in_process"] = self.in_process
         return d

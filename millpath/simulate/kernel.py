@@ -328,15 +328,16 @@ def _sweep_band(H, bmax, B, jlo, jhi, zfloor, gx, gy, dx, dy,
 
 
 @njit(cache=True, nogil=True)
-def sweep_chunk(t, nthreads, H, zfloor, gx, gy, dx, dy, B, S, E, seg_tool, seg_rapid,
-                seg_motion, ttype, tR, trc, tk, hR, hZ, hN, eps, rapid_hit, holder_hit):
+def sweep_chunk(t, nthreads, H, zfloor, gx, gy, dx, dy, B, S, E, seg_tool,
+                seg_motion, ttype, tR, trc, tk, hR, hZ, hN, eps, removes, holder_hit):
     """Sweep chords ``S[n] -> E[n]`` in order over the Z-map ``H`` (modified in place),
     in the bands of ``B`` rows ``t, t + nthreads, ...`` (thread ``t`` of ``nthreads``).
 
     Tool parameters are indexed by ``seg_tool`` (a slot, not a tool number): type code,
     radius, corner radius, cone slope ``k`` (height per unit radius); holder cylinders
     ``hR[slot, c]`` (radius) with bottoms ``hZ[slot, c]`` above the tip, ``hN[slot]`` of
-    them. Sets ``rapid_hit[motion] = 1`` when a rapid chord removes material and
+    them. Sets ``removes[motion] = 1`` when a chord of the motion removes material
+    (more than ``eps`` from a cell) and
     ``holder_hit[motion] = 1`` when a holder cylinder meets material (tested before the
     chord cuts).
     """
@@ -377,5 +378,5 @@ def sweep_chunk(t, nthreads, H, zfloor, gx, gy, dx, dy, B, S, E, seg_tool, seg_r
                                x0, y0, z0, x1, y1, z1, tt, rr, rc, kk, zo, cut, eps):
                     if not cut:
                         holder_hit[seg_motion[s]] = 1
-                    elif seg_rapid[s]:
-                        rapid_hit[seg_motion[s]] = 1
+                    else:
+                        removes[seg_motion[s]] = 1

@@ -64,6 +64,7 @@ class SimResult:
     motion_op: np.ndarray | None = None            # operation of each motion
     rapid_hit: np.ndarray | None = None            # per motion flags (Z-map)
     holder_hit: np.ndarray | None = None
+    removes: np.ndarray | None = None              # per motion: removed material (int8)
     design_grid: DesignGrid | None = None          # the design sampled on the Z-map
 
     def to_json(self, tolerances: dict[int, float] | None = None) -> dict[str, Any]:
@@ -142,9 +143,10 @@ def _tool_arrays(numbers: list[int], tools: dict[int, Tool]):
 
 def sweep(zmap: ZMap, segs: Segments, tools: dict[int, Tool], n_motions: int, *,
           progress: "bool | Progress" = False, lines: list[int] | None = None
-          ) -> tuple[np.ndarray, np.ndarray]:
+          ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Cut ``segs`` into ``zmap`` in place. Returns per-motion flags (rapid through
-    material, holder contact) as int8 arrays of length ``n_motions``. Chords of tool 0
+    material, holder contact, removes material) as int8 arrays of length
+    ``n_motions``. Chords of tool 0
     (no tool in the spindle) cut nothing; other tools missing from ``tools`` are a
     ValueError."""
     if len(segs) and (segs.tool == 0).any():          # empty spindle: nothing cuts
@@ -166,7 +168,7 @@ def sweep(zmap: ZMap, segs: Segments, tools: dict[int, Tool], n_motions: int, *,
         for t, s in slot.items():
             lut[t] = s
         seg_tool = lut[segs.tool]
-    rapid_hit = np.zeros(max(n_motions, 1), np.int8)
+    removes = np.zeros(max(n_motions, 1), np.int8)
     holder_hit = np.zeros(max(n_motions, 1), np.int8)
     eps = 1e-4 * min(zmap.dx, zmap.dy)
     H = zmap.heights
@@ -178,10 +180,12 @@ def sweep(zmap: ZMap, segs: Segments, tools: dict[int, Tool], n_motions: int, *,
         for a in range(0, n, CHUNK):
             b = min(n, a + CHUNK)
             per_thread(sweep_chunk, H, zmap.zmin, zmap.x0, zmap.y0, zmap.dx, zmap.dy, BAND,
-                       segs.start[a:b], segs.end[a:b], seg_tool[a:b], segs.rapid[a:b],
-                       segs.motion[a:b], *arrays, eps, rapid_hit, holder_hit)
+                       segs.start[a:b], segs.end[a:b], seg_tool[a:b],
+                       segs.motion[a:b], *arrays, eps, removes, holder_hit)
             bar.update(completed=b)
-    return rapid_hit[:n_motions], holder_hit[:n_motions]
+    rapid = np.zeros(max(n_motions, 1), np.int8)
+    rapid[segs.motion[segs.rapid != 0]] = 1
+    return ((removes & rapid)[:n_motions], holder_hit[:n_motions], removes[:n_motions])
 
 
 def _cut_mask(zmap: ZMap, h: np.ndarray, j0: int = 0) -> np.ndarray:
@@ -256,7 +260,7 @@ def deviation(zmap: ZMap, design) -> np.ndarray:
 
 
 def _finish(zmap, design, motions, flags, times, resolution, lines, nseg) -> SimResult:
-    rapid_hit, holder_hit = flags
+    rapid_hit, holder_hit = flags[:2]
     grid = design_grid(zmap, design) if design is not None else None
     c = compare_design(zmap, grid) if grid is not None else None
     g = c.max_gouge if c else None
@@ -338,7 +342,7 @@ def simulate_motions(motions: list[Motion], tools: dict[int, Tool], stock: Stock
     if times is None:
         times = motion_times(motions, machine, corner_angle=corner_angle)
     res = _finish(zmap, design, motions, flags, times, resolution, lines, nseg)
-    res.rapid_hit, res.holder_hit = flags
+    res.rapid_hit, res.holder_hit, res.removes = flags
     return _exact(res, motions, tools, stock, design, references, motion_op, accuracy,
                   progress)
 
@@ -353,20 +357,18 @@ def sweep_motions(zmap: ZMap, motions: list[Motion], tools: dict[int, Tool],
     program's length). Returns the per-motion flags of :func:`sweep` and the number of
     chords swept."""
     n = len(motions)
-    rapid_hit = np.zeros(max(n, 1), np.int8)
-    holder_hit = np.zeros(max(n, 1), np.int8)
+    flags = np.zeros((3, max(n, 1)), np.int8)
     nseg = 0
     bars = progress if isinstance(progress, Progress) else Progress(bool(progress))
     with bars.task("simulating: motions swept", total=n) as bar:
         for a, b in motion_blocks(motions, chord_tol, block, CHORD_BLOCK):
             segs = motion_segments(motions[a:b], chord_tol)
             segs.motion += a                      # indices into the whole program
-            r, h = sweep(zmap, segs, tools, b, lines=lines)
-            np.maximum(rapid_hit[:b], r, out=rapid_hit[:b])
-            np.maximum(holder_hit[:b], h, out=holder_hit[:b])
+            for f, new in zip(flags, sweep(zmap, segs, tools, b, lines=lines)):
+                np.maximum(f[:b], new, out=f[:b])
             nseg += len(segs)
             bar.update(completed=b)
-    return (rapid_hit[:n], holder_hit[:n]), nseg
+    return (flags[0, :n], flags[1, :n], flags[2, :n]), nseg
 
 
 def simulate_toolpath(toolpath: Toolpath, tools: dict[int, Tool], stock: Stock, *,
@@ -386,8 +388,8 @@ def simulate_toolpath(toolpath: Toolpath, tools: dict[int, Tool], stock: Stock, 
     motions, src = toolpath_motions(toolpath)
     motions = _lift_start(motions, stock)
     zmap = ZMap.from_stock(stock, resolution)
-    (rapid_hit, holder_hit), nseg = sweep_motions(zmap, motions, tools, resolution / 20.0,
-                                                  progress=progress, lines=src)
+    (rapid_hit, holder_hit, removes), nseg = sweep_motions(
+        zmap, motions, tools, resolution / 20.0, progress=progress, lines=src)
     # fold motion flags onto source moves
     nm = len(toolpath.moves)
     srca = np.asarray(src, np.int64)
@@ -400,7 +402,7 @@ def simulate_toolpath(toolpath: Toolpath, tools: dict[int, Tool], stock: Stock, 
     res = _finish(zmap, design, motions, (rm[:nm], hm[:nm]), times, resolution,
                   list(range(nm)), nseg)
     res.per_operation = times_by_operation(toolpath, src, times)
-    res.rapid_hit, res.holder_hit = rapid_hit, holder_hit
+    res.rapid_hit, res.holder_hit, res.removes = rapid_hit, holder_hit, removes
     _exact(res, motions, tools, stock, design, None,
            np.array([toolpath.moves[i].op for i in src], np.int64), accuracy, progress)
     # by_operation counts toolpath moves like the totals
