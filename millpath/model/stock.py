@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -38,6 +39,16 @@ class Stock:
             return (x >= self.xmin) & (x <= self.xmax) & (y >= self.ymin) & (y <= self.ymax)
         cx, cy, r = self.cylinder
         return (x - cx) ** 2 + (y - cy) ** 2 <= r * r
+
+    def nearest_xy(self, x: float, y: float) -> tuple[float, float]:
+        """The point of the stock's footprint (box or bar's circle) nearest to (x, y)."""
+        if self.cylinder is None:
+            return min(max(x, self.xmin), self.xmax), min(max(y, self.ymin), self.ymax)
+        cx, cy, r = self.cylinder
+        d = math.hypot(x - cx, y - cy)
+        if d <= r:
+            return x, y
+        return cx + (x - cx) * r / d, cy + (y - cy) * r / d
 
     @classmethod
     def from_box(cls, box) -> "Stock":

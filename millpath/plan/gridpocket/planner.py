@@ -32,7 +32,7 @@ from millpath.model import Operation, Tool, Toolpath
 from millpath.model.toolpath import sample_move
 from millpath.plan.gridpocket.cells import PocketGrid, build_grid, check_grid
 from millpath.plan.gridpocket.fitmotion import Chain, Fitter
-from millpath.plan.gridpocket.material import MaterialBound
+from millpath.plan.material import MaterialBound
 from millpath.plan.gridpocket.navigate import adjacent, joined_edges, main_path, zigzag_runs
 from millpath.plan.gridpocket.zfield import ZField, sample_chain
 from millpath.plan.entry import helix_entry, ramp_entry

@@ -6,10 +6,22 @@ midpoint like the passes, holder clearance included); otherwise the tool retract
 ``safe_z``, rapids over, rapids down to ``clearance`` above the next start, or above
 ``approach_z`` if that is higher (the stock top: material the operation has not yet
 cut may stand anywhere below it, so no rapid goes lower), and feeds down at
-``plunge_feed`` - by a helix (millpath.plan.entry) where that start lies below
-``approach_z`` (material may stand there) and a helix clear of the surface fits.
+``plunge_feed`` - straight down to ``approach_z``, then by a helix (millpath.plan.entry)
+where that start lies below ``approach_z`` (material may stand there) and a helix clear
+of the surface fits.
 ``approach_z`` may also be a function of the start point (x, y, z): the highest
-material near it (rest machining on the in-process stock).
+material near it (rest machining on the in-process stock), or the stock top only where
+the tool at the start overlaps the stock (:func:`stock_approach`): beside the stock the
+tool rapids down to ``clearance`` above the start and feeds straight in. With ``stock``
+given, a start outside the stock's footprint whose tool overlaps it is entered from the
+side instead of by a helix: down beside the stock, then straight in at the start's Z,
+where that line stays clear of the surface.
+
+With a ``material`` bound (:class:`millpath.plan.material.MaterialBound`, holder
+included) of the stock before the passes, each pass is cut into it as it is added; a
+link lifts only to ``clearance`` over the bound between the pieces (not to ``safe_z``)
+and an entry starts ``clearance`` over the bound at its start, so a re-entry where
+earlier passes cleared the material descends one layer, not from the stock top.
 """
 
 from __future__ import annotations
@@ -55,19 +67,71 @@ def surface_links(sampler: Sampler, pairs: list[tuple[np.ndarray, np.ndarray]], 
     return out
 
 
+def stock_approach(stock, radius: float):
+    """``approach_z`` for :func:`add_passes` on an uncut ``stock``: its top where a tool of
+    ``radius`` at the start point overlaps the stock's footprint, else the start's own Z
+    (the tool stands wholly beside the stock: there is nothing to enter)."""
+    top = float(stock.zmax)
+
+    def at(p) -> float:
+        x, y = float(p[0]), float(p[1])
+        near = math.hypot(*(np.subtract((x, y), stock.nearest_xy(x, y))))
+        return top if near < radius else -math.inf
+    return at
+
+
+def _side_entry(stock, start, sampler: Sampler, allowance: float, margin: float,
+                top: float, material=None):
+    """Where to go down beside ``stock`` for a start outside its footprint (x, y): out
+    from the footprint's nearest point until the tool clears it by ``margin``; None when
+    the start is over the stock, the straight line in would come closer to the surface
+    than ``allowance``, or (with ``material``) the move over to it at ``top`` or down
+    to the start's Z there would meet material."""
+    x, y, z = (float(v) for v in start)
+    px, py = stock.nearest_xy(x, y)
+    d = math.hypot(x - px, y - py)
+    if d <= 1e-9:
+        return None
+    R = sampler.cutter.radius
+    reach = max(R + margin - d, 0.0)
+    sx, sy = x + (x - px) / d * reach, y + (y - py) / d * reach
+    t = np.linspace(0.0, 1.0, max(2, int(math.ceil(reach / (0.1 * R))) + 1))
+    uw = sampler.uw(sx + (x - sx) * t, sy + (y - sy) * t)
+    if np.any(sampler.z_cut(uw[:, 0], uw[:, 1]) + allowance > z + 1e-9):
+        return None
+    if material is not None and (material.need_segment((x, y), (sx, sy)) + margin > top
+                                 or material.need_at((sx, sy)) > z):
+        return None
+    return sx, sy
+
+
 def _descend(tp: Toolpath, start, safe_z: float, clearance: float, approach_z: float,
              plunge_feed: float, sampler: Sampler | None = None,
-             allowance: float = 0.0) -> bool:
+             allowance: float = 0.0, stock=None, material=None) -> bool:
     """From ``safe_z`` above ``start``: rapid to the approach height, then feed to
-    ``start``: down a helix (else a zigzag ramp) whose every point stays ``allowance``
-    above the surface when ``start`` is below ``approach_z``, else straight. True if a
-    helix or ramp was used. ``approach_z`` may be a function of ``start``."""
+    ``start``: when ``start`` is below ``approach_z``, from the side (see the module) or
+    down a helix (else a zigzag ramp) whose every point stays ``allowance`` above the
+    surface, else straight. True if a side entry, helix or ramp was used.
+    ``approach_z`` may be a function of ``start``."""
     if callable(approach_z):
         approach_z = approach_z(start)
+    if stock is not None and sampler is not None and start[2] < approach_z - 1e-9:
+        side = _side_entry(stock, start, sampler, allowance, clearance, safe_z, material)
+        if side is not None:
+            tp.rapid(side[0], side[1], safe_z)
+            if start[2] + clearance < safe_z - 1e-9:
+                tp.rapid(side[0], side[1], float(start[2]) + clearance)
+            tp.line(side[0], side[1], float(start[2]), plunge_feed)
+            tp.line(*start, plunge_feed)
+            return True
     z = min(safe_z, max(start[2], approach_z) + clearance)
     if z < safe_z - 1e-9:
         tp.rapid(start[0], start[1], z)
     if sampler is not None and start[2] < approach_z - 1e-9:
+        if approach_z < z - 1e-9:           # through air to the material, then the helix
+            tp.line(start[0], start[1], approach_z, plunge_feed)
+            z = approach_z
+
         def floor(xs, ys):
             uw = sampler.uw(xs, ys)
             return sampler.z_cut(uw[:, 0], uw[:, 1]) + allowance
@@ -98,11 +162,14 @@ def _descend(tp: Toolpath, start, safe_z: float, clearance: float, approach_z: f
 def add_passes(tp: Toolpath, sampler: Sampler, passes: list[Pass], *, feed: float,
                plunge_feed: float, safe_z: float, clearance: float, link_max: float,
                tolerance: float, approach_z: float = -math.inf,
-               allowance: float = 0.0, silhouette: bool = False) -> dict:
+               allowance: float = 0.0, silhouette: bool = False, stock=None,
+               material=None) -> dict:
     """Append the passes to ``tp`` (its operation already begun); return link counts.
     ``allowance``: stock the passes leave on the surface (entries leave it too).
     ``silhouette``: a link whose tool would leave the part (touch nothing, see
-    :meth:`.sampler.Sampler.touches`) retracts instead of following the surface."""
+    :meth:`.sampler.Sampler.touches`) retracts instead of following the surface.
+    ``stock``: the uncut stock, for entries from its side; ``material``: a bound of the
+    stock before the passes, for low links and entries (see the module)."""
     links = {"surface": 0, "retract": 0, "helix": 0}
     passes = [p for p in passes if len(p.points)]
     near = [k for k in range(1, len(passes))
@@ -111,6 +178,17 @@ def add_passes(tp: Toolpath, sampler: Sampler, passes: list[Pass], *, feed: floa
                                     for k in near],
                           tolerance, 0.25 * sampler.cutter.radius, silhouette)
     link_to = dict(zip(near, found))
+    if material is not None:
+        # the cutter clear at the start; its shank and holder over the whole square the
+        # entry helix may circle in (radius <= R / 2): the helix cuts, the holder must not
+        h = 0.5 * sampler.cutter.radius
+
+        def approach_z(p) -> float:
+            x, y = float(p[0]), float(p[1])
+            c = [(x - h, y - h), (x + h, y - h), (x + h, y + h), (x - h, y + h)]
+            return max([material.need_at((x, y))]
+                       + [material.need_segment(c[i], c[(i + 1) % 4], cutter=False)
+                          for i in range(4)])
     cur = None
     for k, p in enumerate(passes):
         P = p.points
@@ -118,17 +196,24 @@ def add_passes(tp: Toolpath, sampler: Sampler, passes: list[Pass], *, feed: floa
         if cur is None:
             tp.rapid(start[0], start[1], safe_z)
             links["helix"] += _descend(tp, start, safe_z, clearance, approach_z,
-                                       plunge_feed, sampler, allowance)
+                                       plunge_feed, sampler, allowance, stock, material)
         elif (L := link_to.get(k)) is not None:
             tp.lines(L[1:], feed)
             links["surface"] += 1
         else:
-            tp.rapid(cur[0], cur[1], safe_z)
-            tp.rapid(start[0], start[1], safe_z)
-            links["helix"] += _descend(tp, start, safe_z, clearance, approach_z,
-                                       plunge_feed, sampler, allowance)
+            top = safe_z
+            if material is not None:
+                need = material.need_segment(cur, start) + clearance
+                top = min(safe_z, max(need, float(cur[2]), float(start[2]) + clearance))
+                links["low"] = links.get("low", 0) + (top < safe_z - 1e-9)
+            tp.rapid(cur[0], cur[1], top)
+            tp.rapid(start[0], start[1], top)
+            links["helix"] += _descend(tp, start, top, clearance, approach_z,
+                                       plunge_feed, sampler, allowance, stock, material)
             links["retract"] += 1
         tp.lines(P[1:], feed)
+        if material is not None:
+            material.cut(P)
         cur = P[-1]
     if cur is not None:
         tp.rapid(cur[0], cur[1], safe_z)

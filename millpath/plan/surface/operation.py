@@ -43,7 +43,7 @@ from millpath.plan.base import PlanContext, PlanResult
 from millpath.geometry.cutter import BULL, Cutter
 from millpath.plan.surface.dropcutter import MeshHeight, surface_cutter
 from millpath.plan.surface.estimate import CoarseRaster, Estimate, estimate_finish
-from millpath.plan.surface.linking import add_passes
+from millpath.plan.surface.linking import add_passes, stock_approach
 from millpath.plan.surface.sampler import Sampler
 from millpath.plan.surface.source import (PLUNGE_FEED, SURFACE_PARAMS, load_op_surface,
                                           op_surface_index, plunge_feed)
@@ -214,7 +214,8 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     links = add_passes(tp, sampler, passes, feed=feed, plunge_feed=plunge, safe_z=safe_z,
                        clearance=default("feed_clearance", ctx.units), link_max=3.0 * cutter.radius,
                        tolerance=tol_p,
-                       approach_z=stock_top if ctx.stock is not None else np.inf,
+                       approach_z=(stock_approach(ctx.stock, cutter.radius)
+                                   if ctx.stock is not None else np.inf),
                        silhouette=not params["region"])
     zres = res if strategy == "zigzag" else getattr(res, "zigzag", None)
     wres = res if strategy == "waterline" else getattr(res, "waterline", None)

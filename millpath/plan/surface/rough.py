@@ -33,10 +33,10 @@ from millpath.errors import JobError, PlanningError
 from millpath.io.schema import Param
 from millpath.model.toolpath import Operation, Toolpath
 from millpath.plan.base import PlanContext, PlanResult
-from millpath.geometry.cutter import Cutter
 from millpath.plan.surface.dropcutter import MeshHeight, surface_cutter
 from millpath.plan.surface.estimate import (ROUGH_MAX_RASTER, CoarseRaster,
                                             RoughEstimate, estimate_rough)
+from millpath.plan.material import MaterialBound
 from millpath.plan.surface.linking import add_passes
 from millpath.plan.surface.refine import refine_steps, refine_worst
 from millpath.plan.surface.sampler import Sampler
@@ -190,25 +190,6 @@ def _refine_floor(sampler: Sampler, P: np.ndarray, level: float, allowance: floa
     return refine_steps(sampler, P, judge, tolerance, 1e-3)
 
 
-def _stock_top_near(remaining, tool, tol: float):
-    """For a tip point p (x, y, z): the highest the in-process stock stands under the
-    tool's surface (cells within the radius, less the cutter's profile height there),
-    ``p``'s own Z when that is within ``tol`` of it (the column above p is clear)."""
-    h = float(remaining.resolution) / 2.0
-    R = tool.radius
-    n = int(math.ceil(R / h))
-    ox, oy = np.meshgrid(np.arange(-n, n + 1) * h, np.arange(-n, n + 1) * h)
-    r = np.hypot(ox, oy)
-    inside = r <= R
-    ox, oy, r = ox[inside], oy[inside], r[inside]
-    prof = Cutter.of(tool).height(r)
-
-    def top(p) -> float:
-        t = float(np.max(remaining.height(p[0] + ox, p[1] + oy) - prof))
-        return float(p[2]) if t <= p[2] + tol else t
-    return top
-
-
 def _settings(ctx: PlanContext, params: dict):
     """(mesh, tool, cutter, region, stepdown, step_over, allowance), checked."""
     file = ctx.job_file
@@ -292,12 +273,17 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     passes, levels = rough_passes(sampler, region, ctx.stock.zmax, stepdown, step_over,
                                   allowance, tol)
     rest_info = None
-    approach = ctx.stock.zmax
+    # what the passes meet, holder included: the stock (beside it nothing), or the
+    # in-process stock for rest; each pass is cut into it as it is added
+    material = MaterialBound(region, tool, ctx.stock.zmax, min(0.5, cutter.radius / 4.0),
+                             tol + (0.0001 if inch else 0.001), holder=True)
+    material.clip(stock=ctx.stock)
     if params["rest"] and ctx.remaining is not None and passes:
         from millpath.plan.surface.rest import rest_passes
         passes, rest_info = rest_passes(passes, ctx.remaining, tool, tol)
         rest_info["threshold"] = tol
-        approach = _stock_top_near(ctx.remaining, tool, tol)
+        material.clip(heights=ctx.remaining.height,
+                      step=float(getattr(ctx.remaining, "resolution", cutter.radius / 8)))
     if not passes and rest_info is None:
         raise PlanningError("surface-rough: the stock top is already below the surface "
                             "plus allowance; nothing to rough", file)
@@ -313,14 +299,15 @@ def plan(ctx: PlanContext, params: dict) -> PlanResult:
     if passes:
         links = add_passes(tp, sampler, passes, feed=feed, plunge_feed=plunge, safe_z=safe_z,
                            clearance=0.04 if inch else 1.0, link_max=0.0, tolerance=tol,
-                           approach_z=approach, allowance=allowance)
+                           allowance=allowance, stock=ctx.stock, material=material)
     design = MeshHeight(index)
     section = {
         "operation": params["name"], "tool": tool.number,
         "cutter": f"{cutter.name} D{2 * cutter.radius:g}", "layers": len(levels),
         "levels": [round(z, 4) for z in levels], "stepdown": stepdown,
         "stepover": step_over, "allowance": allowance, "pieces": len(passes),
-        "retracts": links["retract"], "estimate": est.to_json(),
+        "retracts": links["retract"], "low_links": links.get("low", 0),
+        "estimate": est.to_json(),
         "cl_points": int(sum(len(p.points) for p in passes)),
     }
     if rest_info is not None:

@@ -1,4 +1,4 @@
-"""An upper bound on the material a grid-pocket plan has left, for safe links.
+"""An upper bound on the material a plan has left, for safe links and entries.
 
 Job units (mm or inch); Z is the tool tip. The bound lives on a square lattice of
 nodes ``g`` apart (``r0 = g / sqrt(2)``: every point of the plane is within ``r0`` of a
@@ -13,7 +13,11 @@ the walls and cells no layer has visited stay at the stock top.
 A tool whose tip is at ``z`` with its axis at ``p`` clears the bound when, at every node
 within ``R + r0`` of ``p``, ``z + profile(max(0, d - r0)) >= bound``. Tool positions the
 plan has cut through exactly (same XY) are clear above their lowest tip Z too: the cutter
-there sweeps the very disc it swept before.
+there sweeps the very disc it swept before. With ``holder``, the shank and holder
+cylinders (flat, lifted by their bottom height) must clear the bound too.
+
+It starts from the stock top, or from a stock as it is (:meth:`MaterialBound.clip`:
+nothing beside the stock's footprint, nothing above an in-process stock's heights).
 """
 
 from __future__ import annotations
@@ -31,7 +35,7 @@ class MaterialBound:
     by the tool radius; heights above ``top`` are never claimed below it."""
 
     def __init__(self, bounds, tool: Tool, top: float, spacing: float, lift: float,
-                 decimals: int = 6):
+                 decimals: int = 6, holder: bool = False):
         self.tool = tool
         self.cutter = Cutter.of(tool)
         self.top = float(top)
@@ -39,13 +43,41 @@ class MaterialBound:
         self.r0 = self.g / math.sqrt(2.0)
         self.lift = float(lift)
         self.decimals = decimals
-        R = tool.radius
+        self.holder = tool.holder_cylinders() if holder else []
+        R = max([tool.radius] + [r for r, _, _ in self.holder])
         self.x0 = bounds[0] - R - self.g
         self.y0 = bounds[1] - R - self.g
         nx = int(math.ceil((bounds[2] - bounds[0] + 2 * R + 2 * self.g) / self.g)) + 1
         ny = int(math.ceil((bounds[3] - bounds[1] + 2 * R + 2 * self.g) / self.g)) + 1
         self.h = np.full((nx, ny), self.top)
         self.visits: dict[tuple[float, float], float] = {}
+
+    def clip(self, stock=None, heights=None, step: float | None = None) -> None:
+        """Lower the bound to the stock as it is: -inf at nodes whose disc lies wholly
+        beside ``stock``'s footprint; at most the highest of ``heights(x, y)`` (an
+        in-process stock) sampled ``step`` apart over each node's disc."""
+        nx, ny = self.h.shape
+        X, Y = np.meshgrid(self.x0 + np.arange(nx) * self.g, self.y0 + np.arange(ny) * self.g,
+                           indexing="ij")
+        if stock is not None:
+            px = np.clip(X, stock.xmin, stock.xmax)
+            py = np.clip(Y, stock.ymin, stock.ymax)
+            d = np.hypot(X - px, Y - py)
+            if stock.cylinder is not None:
+                cx, cy, r = stock.cylinder
+                d = np.maximum(np.hypot(X - cx, Y - cy) - r, 0.0)
+            self.h[d > self.r0] = -np.inf
+        if heights is not None:
+            s = min(step or self.r0, self.r0)
+            m = int(math.ceil(self.r0 / s))
+            top = np.full(self.h.shape, -np.inf)
+            for a in range(-m, m + 1):
+                for b in range(-m, m + 1):
+                    ox, oy = a * s, b * s
+                    if math.hypot(ox, oy) > self.r0 + s:
+                        continue
+                    top = np.maximum(top, np.asarray(heights(X + ox, Y + oy), float))
+            np.minimum(self.h, top + self.lift, out=self.h)
 
     def _window(self, xs: np.ndarray, ys: np.ndarray, reach: float):
         """Node indices (i, j) of a square window of half-width ``reach`` around each
@@ -77,12 +109,13 @@ class MaterialBound:
             v = c[:, 2:3] + self.cutter.height(d + self.r0) + self.lift
             np.minimum.at(self.h, (i[ok], j[ok]), v[ok])
 
-    def need_segment(self, a, b) -> float:
+    def need_segment(self, a, b, cutter: bool = True) -> float:
         """Lowest tip Z at which the tool moves from XY ``a`` to XY ``b`` clear of the
-        bound (the stock top where the bound is the stock top)."""
+        bound (the stock top where the bound is the stock top); without ``cutter``, only
+        its shank and holder (with ``holder``)."""
         a = np.asarray(a, float)[:2]
         b = np.asarray(b, float)[:2]
-        R = self.tool.radius
+        R = max([self.tool.radius] + [r for r, _, _ in self.holder])
         length = float(np.hypot(*(b - a)))
         n = max(1, int(math.ceil(length / self.g)))
         t = np.linspace(0.0, 1.0, n + 1)
@@ -97,11 +130,14 @@ class MaterialBound:
         u = np.zeros_like(qx) if L2 == 0 else np.clip(((qx - a[0]) * ab[0] + (qy - a[1]) * ab[1])
                                                      / L2, 0.0, 1.0)
         d = np.hypot(qx - a[0] - u * ab[0], qy - a[1] - u * ab[1])
-        near = d <= R + self.r0
-        if not near.any():
-            return -math.inf
+        near = d <= self.tool.radius + self.r0
         need = self.h[i[near], j[near]] - self.cutter.height(np.maximum(d[near] - self.r0, 0.0))
-        return float(need.max())
+        out = float(need.max()) if near.any() and cutter else -math.inf
+        for r, zb, _ in self.holder:
+            near = d <= r + self.r0
+            if near.any():
+                out = max(out, float(self.h[i[near], j[near]].max()) - zb)
+        return out
 
     def need_at(self, p) -> float:
         """Lowest tip Z of the tool standing at XY ``p`` clear of the material: the
