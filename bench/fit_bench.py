@@ -1,4 +1,4 @@
-"""Arc and spline fitting: program size, cycle time and fitting speed (issue 9).
+"""Arc and spline fitting: program size, cycle time and fitting speed.
 
 Cases (tolerance 0.005 mm, 0.0002 in for inch jobs):
 

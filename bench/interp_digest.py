@@ -1,7 +1,7 @@
 """Before/after check of the interpreter's motion: a SHA-256 digest of every motion
 record (the packed bytes of :class:`millpath.interpret.store.MotionList`, states and
 curve controls) of generated programs, to compare two versions of the interpreter
-byte for byte (issue 19: a faster interpreter must not change any motion).
+byte for byte (a faster interpreter must not change any motion).
 
 Programs (``--lines`` each, 100,000 by default; fixed seeds): ``comp-heavy``,
 ``comp-heavy-xz`` (the same in G18: X->Z, Y->X, I->K, J->I), ``comp-heavy-inch``

@@ -1,4 +1,4 @@
-"""Surface operations on real meshes (issue 25): CPU, wall, peak memory, passes, points.
+"""Surface operations on real meshes: CPU, wall, peak memory, passes, points.
 
 Each row is a whole ``millpath run`` of a job written here, in a child process (so the
 CPU seconds include numba's start-up, the simulation and the report), on:

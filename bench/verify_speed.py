@@ -1,5 +1,5 @@
 """Full verification vs today's Z-map simulation: the surface-mould example and a
-200,000-move finishing program (issue 15).
+200,000-move finishing program.
 
 For each program, side by side, in CPU seconds of this process (the machine is shared):
 
