@@ -21,13 +21,10 @@ from millpath.errors import MillpathError
 from millpath.interpret import run
 from millpath.interpret.store import KINDS, MotionList
 from millpath.model.stock import Machine
+from millpath.model.toolpath import PLANE_AXES, PLANES
 
-#: rapid rate assumed for the cycle time estimate, units per minute
-RAPID = {"mm": 5000.0, "inch": 200.0}
-
-
-#: (first, second, normal) axis of each plane code (XY, XZ, YZ)
-PLANE_AXES = ((0, 1, 2), (2, 0, 1), (1, 2, 0))
+#: rapid rate assumed for the cycle time estimate, units per minute: the machine's default
+RAPID = {u: Machine.default_for(u).rapid for u in ("mm", "inch")}
 
 
 def _arc_planes(a: dict[str, np.ndarray]):
@@ -38,7 +35,7 @@ def _arc_planes(a: dict[str, np.ndarray]):
     if not len(idx):
         return
     plane = a["plane"][idx]
-    for p, (i1, i2, i3) in enumerate(PLANE_AXES):
+    for p, (i1, i2, i3) in enumerate(PLANE_AXES[name] for name in PLANES):
         sel = idx if p == 0 and not plane.any() else idx[plane == p]
         if not len(sel):
             continue

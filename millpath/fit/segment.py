@@ -22,10 +22,12 @@ from numba import njit
 
 from millpath.fit.arcs import arc_fit, line_ok, plane_possible
 from millpath.fit.cubics import cubic_fit
+from millpath.model.toolpath import PLANE_AXES
+from millpath.model.toolpath import PLANES as PLANE_NAMES
 
-#: (first, second, normal) axis indices of XY, XZ, YZ, as millpath.model.toolpath.PLANE_AXES
-PLANES = np.array([[0, 1, 2], [2, 0, 1], [1, 2, 0]], dtype=np.int64)
-PLANE_NAMES = ("XY", "XZ", "YZ")
+#: (first, second, normal) axis indices of XY, XZ, YZ (rows in the order of the plane
+#: codes) for the compiled fits
+PLANES = np.array([PLANE_AXES[p] for p in PLANE_NAMES], dtype=np.int64)
 
 #: longest stretch (in vertices) a single primitive may replace
 MAX_SPAN = 4096

@@ -27,7 +27,9 @@ from millpath.interpret.errors import GCodeError
 from millpath.gcode.lexer import AXES, Block, c_int
 from millpath.interpret.offsets import Offsets, rotate
 from millpath.model.nurbs import Nurbs
-from millpath.interpret.state import MM_PER_INCH, PLANE_AXES, MachineState
+from millpath.interpret.state import MachineState
+from millpath.model.toolpath import PLANE_AXES
+from millpath.model.units import MM_PER_INCH
 from millpath.interpret.store import KIND_CODE
 
 PLANE_OF_G = {170: "XY", 180: "XZ", 190: "YZ"}

@@ -12,9 +12,8 @@ from __future__ import annotations
 
 from millpath.interpret.store import KIND_CODE, PACK, MotionList, PLANE_CODE
 from millpath.model.motion import Frame
+from millpath.model.toolpath import PLANE_AXES
 from millpath.model.units import MM_PER_INCH
-
-PLANE_AXES = {"XY": (0, 1, 2), "XZ": (2, 0, 1), "YZ": (1, 2, 0)}
 T_DWELL = KIND_CODE["dwell"]
 
 

@@ -20,10 +20,10 @@ from collections.abc import Sequence
 import numpy as np
 
 from millpath.model.motion import Motion
+from millpath.model.toolpath import PLANES
 
 KINDS = ("traverse", "feed", "arc", "cubic", "dwell", "nurbs")
 KIND_CODE = {k: i for i, k in enumerate(KINDS)}
-PLANES = ("XY", "XZ", "YZ")
 PLANE_CODE = {p: i for i, p in enumerate(PLANES)}
 #: start xyz, end xyz, feed, center xyz (dwell: seconds in center[0]); kind, line,
 #: rotation, plane, index into ``states``

@@ -27,6 +27,8 @@ Plane = Literal["XY", "XZ", "YZ"]
 #: indices (first, second, normal) of each plane's axes in (x, y, z), as in RS274NGC:
 #: XY: first X, second Y; XZ (G18): first Z, second X; YZ (G19): first Y, second Z.
 PLANE_AXES: dict[str, tuple[int, int, int]] = {"XY": (0, 1, 2), "XZ": (2, 0, 1), "YZ": (1, 2, 0)}
+#: the planes in the order of their codes (0 XY / G17, 1 XZ / G18, 2 YZ / G19)
+PLANES: tuple[Plane, ...] = ("XY", "XZ", "YZ")
 
 
 #: move kinds made by :meth:`Toolpath.rapid` and :meth:`Toolpath.line`: only ``end``,
