@@ -1,6 +1,6 @@
 """Grid pockets: the three motion modes, and tool Z against the thesis's surface Z.
 
-The case study of issue 5 (inch: 0.25 in flat end mill, 0.125 x 0.0625 in grid, concave
+The grid-pocket case study (inch: 0.25 in flat end mill, 0.125 x 0.0625 in grid, concave
 pocket about 3 x 2 in, bicubic Bezier bottom, one layer) is planned in ``line``, ``arc``
 and ``bezier`` mode, posted for LinuxCNC and simulated on a Z-map. Printed per mode:
 

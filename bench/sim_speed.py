@@ -7,8 +7,8 @@ about 200,000 moves. The block is simulated at 0.1 mm (2000 x 2000 cells) with t
 tip surface as the design (not a drop-cutter path: beside the tip a ball whose tip
 follows a sloped surface dips below it, so the gouge figure is real but expected).
 Prints wall and CPU time of each stage and peak memory (the machine is shared: CPU
-time shows the work, wall time what a user waits). The target of
-issue 4 is under 10 s for the simulation on the 2-core machine.
+time shows the work, wall time what a user waits). The target is under 10 s for the
+simulation on the 2-core machine.
 
 Run: ``python bench/sim_speed.py [--moves N] [--resolution R] [--threads T] [--ngc]``.
 ``--ngc`` also posts the program as RS274NGC, interprets it with millpath's interpreter

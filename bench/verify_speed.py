@@ -3,7 +3,7 @@
 
 For each program, side by side, in CPU seconds of this process (the machine is shared):
 
-- ``zmap``: the Z-map simulation alone as before issue 15 (``simulate_motions`` with
+- ``zmap``: the Z-map simulation alone (``simulate_motions`` with
   ``accuracy=None``: Z-map gouge / left, rapids, holder contacts, cycle time);
 - ``full``: what ``millpath run`` now does after posting: interpret the program, the
   round trip against the planned toolpath, the Z-map simulation and the exact
