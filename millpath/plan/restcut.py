@@ -29,6 +29,7 @@ import math
 
 import numpy as np
 from numba import njit
+from scipy import ndimage
 
 from millpath.geometry.cutter import Cutter, height
 from millpath.model.toolpath import Move, Toolpath, sample_move
@@ -67,16 +68,21 @@ def meets_stock(P, H, gx, gy, h, kind, R, rc, k, thr, rin):
 
 class StockRaster:
     """The in-process stock's heights on a raster of cell width ``h`` covering
-    ``bounds`` (xmin, ymin, xmax, ymax) grown by ``margin``."""
+    ``bounds`` (xmin, ymin, xmax, ymax) grown by ``margin``; with ``highest``, each cell
+    takes the highest of its 3 x 3 neighbours (between samples the stock can stand
+    higher, on a slope: a test that skips must err toward cutting)."""
 
-    def __init__(self, remaining, bounds, margin: float, h: float):
+    def __init__(self, remaining, bounds, margin: float, h: float, highest: bool = False):
         x0, y0, x1, y1 = bounds
         self.gx, self.gy, self.h = x0 - margin, y0 - margin, h
         nx = int(math.ceil((x1 - x0 + 2 * margin) / h)) + 1
         ny = int(math.ceil((y1 - y0 + 2 * margin) / h)) + 1
         X, Y = np.meshgrid(self.gx + (np.arange(nx) + 0.5) * h,
                            self.gy + (np.arange(ny) + 0.5) * h)
-        self.H = np.ascontiguousarray(remaining.height(X, Y), dtype=float)
+        H = remaining.height(X, Y)
+        if highest:
+            H = ndimage.maximum_filter(H, size=3)
+        self.H = np.ascontiguousarray(H, dtype=float)
 
     def meets(self, P: np.ndarray, tool, thr: float, rin: float) -> np.ndarray:
         return meets_stock(np.ascontiguousarray(P, dtype=float), self.H, self.gx, self.gy,

@@ -13,13 +13,9 @@ cleared higher up. Lengths in job units.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
-from scipy import ndimage
 
-from millpath.geometry.cutter import Cutter
-from millpath.plan.restcut import meets_stock
+from millpath.plan.restcut import StockRaster
 from millpath.plan.surface.zigzag import Pass
 
 
@@ -33,21 +29,15 @@ def rest_passes(passes: list[Pass], remaining, tool, threshold: float,
     allp = np.vstack(pts)
     R = tool.radius
     h = float(getattr(remaining, "resolution", R / 8))
-    x0, y0 = allp[:, 0].min() - R - h, allp[:, 1].min() - R - h
-    nx = int(math.ceil((allp[:, 0].max() - x0 + R + h) / h)) + 1
-    ny = int(math.ceil((allp[:, 1].max() - y0 + R + h) / h)) + 1
-    X, Y = np.meshgrid(x0 + (np.arange(nx) + 0.5) * h, y0 + (np.arange(ny) + 0.5) * h)
-    # each cell takes the highest of its neighbours: between samples the stock can stand
-    # higher (on a slope), and skipping must err toward cutting
-    H = np.ascontiguousarray(ndimage.maximum_filter(remaining.height(X, Y), size=3),
-                             dtype=float)
+    lo, hi = allp[:, :2].min(axis=0), allp[:, :2].max(axis=0)
+    raster = StockRaster(remaining, (lo[0], lo[1], hi[0], hi[1]), R + h, h, highest=True)
     out: list[Pass] = []
     kept = total = 0
     for p in passes:
         P = np.ascontiguousarray(p.points, dtype=float)
         if not len(P):
             continue
-        t = meets_stock(P, H, x0, y0, h, *Cutter.of(tool).row, threshold, 0.0)
+        t = raster.meets(P, tool, threshold, 0.0)
         total += len(P)
         if not t.any():
             continue
