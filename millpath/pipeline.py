@@ -319,8 +319,7 @@ def _run(job_path: str | Path, outdir: str | Path, prog: Progress, force: bool,
                                           "drill": 0})
         if m.kind in c:
             c[m.kind] += 1
-    n_lines = program.count("\n")
-    op_lines = lmap.line_counts(n_lines, len(tp.ops))
+    op_lines = lmap.line_counts(report.lines, len(tp.ops))
     use = [None] * len(tp.ops)
     if sim is not None and sim.removes is not None:
         from millpath.simulate.airtime import time_use

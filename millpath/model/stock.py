@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -40,15 +39,15 @@ class Stock:
         cx, cy, r = self.cylinder
         return (x - cx) ** 2 + (y - cy) ** 2 <= r * r
 
-    def nearest_xy(self, x: float, y: float) -> tuple[float, float]:
-        """The point of the stock's footprint (box or bar's circle) nearest to (x, y)."""
+    def nearest_xy(self, x, y):
+        """The point of the stock's footprint (box or bar's circle) nearest to (x, y):
+        numbers or arrays of equal shape."""
         if self.cylinder is None:
-            return min(max(x, self.xmin), self.xmax), min(max(y, self.ymin), self.ymax)
+            return np.clip(x, self.xmin, self.xmax), np.clip(y, self.ymin, self.ymax)
         cx, cy, r = self.cylinder
-        d = math.hypot(x - cx, y - cy)
-        if d <= r:
-            return x, y
-        return cx + (x - cx) * r / d, cy + (y - cy) * r / d
+        d = np.hypot(np.subtract(x, cx), np.subtract(y, cy))
+        k = np.where(d > r, r / np.maximum(d, 1e-300), 1.0)
+        return cx + (np.subtract(x, cx)) * k, cy + (np.subtract(y, cy)) * k
 
     @classmethod
     def from_box(cls, box) -> "Stock":

@@ -60,13 +60,8 @@ class MaterialBound:
         X, Y = np.meshgrid(self.x0 + np.arange(nx) * self.g, self.y0 + np.arange(ny) * self.g,
                            indexing="ij")
         if stock is not None:
-            px = np.clip(X, stock.xmin, stock.xmax)
-            py = np.clip(Y, stock.ymin, stock.ymax)
-            d = np.hypot(X - px, Y - py)
-            if stock.cylinder is not None:
-                cx, cy, r = stock.cylinder
-                d = np.maximum(np.hypot(X - cx, Y - cy) - r, 0.0)
-            self.h[d > self.r0] = -np.inf
+            px, py = stock.nearest_xy(X, Y)
+            self.h[np.hypot(X - px, Y - py) > self.r0] = -np.inf
         if heights is not None:
             s = min(step or self.r0, self.r0)
             m = int(math.ceil(self.r0 / s))
